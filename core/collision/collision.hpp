@@ -1,0 +1,52 @@
+// Collision: the paper's wrapper, one per contact pair, with one interface for the simulation:
+// it owns the pair's detector (make_detector(spec.detector)) and eliminator
+// (make_eliminator(spec.eliminator)), and each step detects and then eliminates, adding the
+// penalty forces into World::f. It runs after every other force of the step, because the
+// automatic force magnitude is derived from them (auto_contact_forces, collision_eliminator.hpp).
+#pragma once
+
+#include "core/collision/collision_detector.hpp"
+#include "core/collision/collision_eliminator.hpp"
+#include "core/collision/contact_spec.hpp"
+#include "core/world.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace harness {
+
+struct PairStepStats {
+  int contacts = 0;             // contacts detected this step
+  double t_detect_us = 0.0;     // wall time of detection, microseconds (steady_clock)
+  double t_eliminate_us = 0.0;  // wall time of elimination, including the auto force
+  double force = 0.0;           // largest force magnitude of a contact this step, N
+};
+
+class Collision {
+ public:
+  // Makes and initializes the detector on the current (rest) positions. Throws
+  // std::invalid_argument for an unknown detector, bad body indices, a negative margin, a
+  // non-finite or negative force, a bad voxel size, or a region above kMaxVoxels.
+  Collision(const World& w, ContactSpec spec);
+
+  // Detect, then eliminate. dt (s) is used by the automatic force only.
+  PairStepStats step(World& w, double dt);
+  // Detection only (tests, benchmarks, measurement); returns the number of contacts.
+  int detect(const World& w);
+
+  const std::vector<Contact>& contacts() const { return contacts_; }
+  double voxel_size() const { return detector_->voxel_size(); }
+  int rebuilds() const { return detector_->rebuilds(); }
+  const ContactSpec& spec() const { return spec_; }
+  const CollisionDetector& detector() const { return *detector_; }
+  const CollisionEliminator& eliminator() const { return *eliminator_; }
+
+ private:
+  ContactSpec spec_;
+  std::unique_ptr<CollisionDetector> detector_;
+  std::unique_ptr<CollisionEliminator> eliminator_;
+  std::vector<Contact> contacts_;  // reserved for every guest node: no growth per step
+  std::vector<double> magnitude_;  // force per contact, N (same capacity)
+};
+
+}  // namespace harness

@@ -1,0 +1,47 @@
+// CollisionDetector: the paper's interface for collision detection. The voxel detector
+// (the paper's) lives here in core; exact detectors (CGAL, FCL) live in reference/ and are
+// made available through register_detector().
+#pragma once
+
+#include "core/collision/contact_spec.hpp"
+#include "core/world.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace harness {
+
+// One detected contact: a guest node (global index) that detection reports as colliding.
+// `key` is detector-specific (the voxel detector stores the linear voxel index).
+struct Contact {
+  int guest = -1;
+  int key = -1;
+};
+
+class CollisionDetector {
+ public:
+  virtual ~CollisionDetector() = default;
+  virtual const char* name() const = 0;
+  // Called once per pair when the simulation is built (rest state).
+  virtual void initialize(const World& w, const ContactSpec& spec) = 0;
+  // Detect on the current positions; `out` is cleared first and reused without reallocation.
+  virtual void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) = 0;
+  // Up to k host nodes (global indices) nearest to the guest node of contact c, searched in the
+  // detector's neighbourhood of the contact, nearest first. Returns how many were written.
+  virtual int nearest_hosts(const World& w, const Contact& c, int k, int* out) const = 0;
+  // Voxel size in use, m (0 for detectors without a grid).
+  virtual double voxel_size() const { return 0.0; }
+  // Times the detection region was rebuilt because the host outgrew it.
+  virtual int rebuilds() const { return 0; }
+};
+
+using DetectorFactory = std::function<std::unique_ptr<CollisionDetector>()>;
+// Registers a detector by name ("cgal", "fcl"); the harness program does this at start-up.
+void register_detector(const std::string& name, DetectorFactory factory);
+bool detector_known(const std::string& name);
+// Creates the named detector; "voxel" is always known. Throws std::invalid_argument otherwise.
+std::unique_ptr<CollisionDetector> make_detector(const std::string& name);
+
+}  // namespace harness

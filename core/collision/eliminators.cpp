@@ -1,0 +1,130 @@
+#include "core/collision/eliminators.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace harness {
+
+namespace {
+
+bool finite(const Vec3& a) { return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z()); }
+
+// a / |a| when that is a finite unit vector, else zero.
+Vec3 unit_or_zero(const Vec3& a) {
+  const double n = a.norm();
+  if (!(n > 0.0) || !std::isfinite(n)) {
+    // |a| may overflow for huge finite components: rescale before giving up.
+    const double s = a.cwiseAbs().maxCoeff();
+    if (!(s > 0.0) || !std::isfinite(s)) return Vec3::Zero();
+    const Vec3 b = a / s;
+    return b / b.norm();
+  }
+  const Vec3 u = a / n;
+  return finite(u) ? u : Vec3::Zero();
+}
+
+Vec3 host_center_of(const World& w, int host) {
+  Vec3 lo, hi;
+  body_bounds(w, host, lo, hi);
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+Vec3 host_outward_hint(const World& w, int host, int node, const Vec3& host_center) {
+  const Body& b = w.bodies[host];
+  const int s = node - b.begin;
+  if (s < b.n_surface && static_cast<int>(b.vf_start.size()) > s + 1) {
+    const Vec3 n = unit_or_zero(vertex_normal(w, host, s));
+    if (n.squaredNorm() > 0.0) return n;
+  }
+  return unit_or_zero(w.x[node] - host_center);
+}
+
+Vec3 line_direction(const World& w, int host, int guest_node, int host_node,
+                    const Vec3& host_center) {
+  Vec3 n = unit_or_zero(w.x[guest_node] - w.x[host_node]);
+  if (n.squaredNorm() > 0.0) return n;
+  n = host_outward_hint(w, host, host_node, host_center);
+  if (n.squaredNorm() > 0.0) return n;
+  n = unit_or_zero(w.x[guest_node] - host_center);
+  if (n.squaredNorm() > 0.0) return n;
+  return Vec3::UnitZ();
+}
+
+bool plane_normal(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& hint,
+                  const Vec3& second_hint, Vec3& n) {
+  const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+  const double s2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (p2 - p1).squaredNorm()});
+  const Vec3 c = e1.cross(e2);
+  // Negated comparison: also rejects NaN and the all-coincident case (0 < 0 is false).
+  if (!(c.norm() >= 1e-12 * s2) || !(s2 > 0.0)) return false;
+  Vec3 u = unit_or_zero(c);
+  if (u.squaredNorm() == 0.0) return false;
+  double side = u.dot(hint);
+  if (side == 0.0 || !std::isfinite(side)) side = u.dot(second_hint);
+  if (side < 0.0) u = -u;
+  n = u;
+  return true;
+}
+
+void LineEliminator::eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
+                               const std::vector<Contact>& contacts, const std::vector<double>& magnitude) {
+  if (contacts.empty()) return;
+  // The host centre is needed only for degenerate contacts: computed on first need.
+  bool have_center = false;
+  Vec3 center = Vec3::Zero();
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const Contact& c = contacts[i];
+    const double force = magnitude[i];
+    int h = -1;
+    if (det.nearest_hosts(w, c, 1, &h) < 1) continue;
+    Vec3 n = unit_or_zero(w.x[c.guest] - w.x[h]);
+    if (n.squaredNorm() == 0.0) {
+      if (!have_center) {
+        center = host_center_of(w, spec.host);
+        have_center = true;
+      }
+      n = line_direction(w, spec.host, c.guest, h, center);
+    }
+    const Vec3 f = force * n;
+    w.f[c.guest] += f;
+    w.f[h] -= f;
+  }
+}
+
+void PlaneEliminator::eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
+                                const std::vector<Contact>& contacts, const std::vector<double>& magnitude) {
+  if (contacts.empty()) return;
+  const Vec3 center = host_center_of(w, spec.host);
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const Contact& c = contacts[i];
+    const double force = magnitude[i];
+    int h[3] = {-1, -1, -1};
+    const int k = det.nearest_hosts(w, c, 3, h);
+    if (k < 1) continue;
+    Vec3 n;
+    if (k == 3) {
+      const Vec3 hint = host_outward_hint(w, spec.host, h[0], center) +
+                        host_outward_hint(w, spec.host, h[1], center) +
+                        host_outward_hint(w, spec.host, h[2], center);
+      const Vec3 centroid = (w.x[h[0]] + w.x[h[1]] + w.x[h[2]]) / 3.0;
+      if (plane_normal(w.x[h[0]], w.x[h[1]], w.x[h[2]], hint, centroid - center, n)) {
+        const Vec3 f = force * n;
+        const Vec3 f3 = f / 3.0;
+        w.f[c.guest] += f;
+        w.f[h[0]] -= f3;
+        w.f[h[1]] -= f3;
+        w.f[h[2]] -= f3;
+        continue;
+      }
+    }
+    // Too few or collinear neighbours: the line rule with the nearest node.
+    n = line_direction(w, spec.host, c.guest, h[0], center);
+    const Vec3 f = force * n;
+    w.f[c.guest] += f;
+    w.f[h[0]] -= f;
+  }
+}
+
+}  // namespace harness

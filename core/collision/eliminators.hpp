@@ -1,0 +1,65 @@
+// The two collision eliminators (penalty forces, Newton's third law: every contact's forces sum
+// to zero) and the geometric rules they share. F is the force magnitude in N; forces are added
+// into World::f. F is given per contact (constant, or `auto`: collision_eliminator.hpp).
+//
+// Host outward hint at a host node (host_outward_hint): for a host surface vertex (body-local
+// index < n_surface, with faces) the area-weighted vertex normal; for an interior node, or a
+// surface vertex whose normal vanishes, the direction from the host's bounding-box centre to the
+// node. Hints are normalised; a hint may be zero (node at the centre).
+//
+// line  (the paper's rule) n = the unit vector from the nearest host node h of the guest's voxel
+//       to the guest node g; +F n on g, -F n on h.
+//       Fallbacks, in order, when g and h coincide (zero-length line):
+//         the host's outward hint at h; then the direction from the host's box centre to g;
+//         then +z.
+// plane (the paper's rule for the expanding implant) the three nearest host nodes h0, h1, h2
+//       from the guest's voxel and its 26 neighbours span a plane with unit normal n; +F n on g
+//       and -F/3 n on each of h0, h1, h2.
+//       Orientation: the guest must be pushed toward the host's outside, so n is flipped to
+//       agree with the sum of the (normalised) outward hints at h0, h1, h2; when that sum is
+//       perpendicular to n (or zero), with the direction from the host's box centre to the
+//       plane's centroid; when that is perpendicular too, n is kept as the cross product gives it.
+//       Fallbacks: fewer than three host nodes in the neighbourhood, or collinear or
+//       near-collinear points (|(h1 - h0) x (h2 - h0)| < 1e-12 s^2, s the largest distance among
+//       them) -> the line rule with the nearest node h0.
+// The host's box centre is recomputed from the positions once per eliminate() call (always for
+// plane, only when a degenerate contact needs it for line): eliminators work with any detector.
+// A contact for which the detector reports no host node at all gets no force (the voxel
+// detector always reports one). Directions are always finite unit vectors, so forces are finite
+// whenever F is.
+#pragma once
+
+#include "core/collision/collision_eliminator.hpp"
+
+namespace harness {
+
+// Normalised outward hint of global host node `node` of body `host` (see above); may be zero.
+Vec3 host_outward_hint(const World& w, int host, int node, const Vec3& host_center);
+
+// Unit direction of the line rule (force on the guest node), with its fallbacks.
+Vec3 line_direction(const World& w, int host, int guest_node, int host_node,
+                    const Vec3& host_center);
+
+// Unit normal of the plane through p0, p1, p2, oriented to agree with `hint` (or, when the hint
+// is perpendicular, with `second_hint`). Returns false, leaving n untouched, when the points are
+// (near-)collinear as defined above.
+bool plane_normal(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& hint,
+                  const Vec3& second_hint, Vec3& n);
+
+class LineEliminator final : public CollisionEliminator {
+ public:
+  using CollisionEliminator::eliminate;
+  const char* name() const override { return "line"; }
+  void eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
+                 const std::vector<Contact>& contacts, const std::vector<double>& magnitude) override;
+};
+
+class PlaneEliminator final : public CollisionEliminator {
+ public:
+  using CollisionEliminator::eliminate;
+  const char* name() const override { return "plane"; }
+  void eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
+                 const std::vector<Contact>& contacts, const std::vector<double>& magnitude) override;
+};
+
+}  // namespace harness

@@ -1,0 +1,74 @@
+#include "core/collision/voxel_detector.hpp"
+
+namespace harness {
+
+void VoxelDetector::initialize(const World& w, const ContactSpec& spec) {
+  init_.initialize(w, spec, grid_);  // validates the spec first
+  spec_ = spec;
+  const Body& hb = w.bodies[spec.host];
+  fill_begin_ = hb.begin;
+  fill_end_ = spec.host_nodes == HostNodes::surface ? hb.begin + hb.n_surface : hb.end;
+}
+
+void VoxelDetector::detect(const World& w, const ContactSpec&, std::vector<Contact>& out) {
+  out.clear();
+  const GridGeometry g = init_.update(w, grid_);
+  grid_.fill(g, w.x, fill_begin_, fill_end_);
+  if (grid_.listed_nodes() == 0) return;
+  const Body& gb = w.bodies[spec_.guest];
+  for (int i = gb.begin; i < gb.end; ++i) {
+    const int cell = voxel_of(g, w.x[i]);
+    if (cell >= 0 && grid_.occupied(cell)) out.push_back(Contact{i, cell});
+  }
+}
+
+namespace {
+
+// Keeps out[0..n) sorted by (distance, index), at most k entries. k is small (1 or 3 in the
+// eliminators), so insertion with recomputed distances beats any heap structure.
+inline void offer(const World& w, const Vec3& p, int node, int k, int* out, int& n) {
+  const double d = (w.x[node] - p).squaredNorm();
+  auto before = [&](int other) {
+    const double e = (w.x[other] - p).squaredNorm();
+    return d < e || (d == e && node < other);
+  };
+  if (n == k && !before(out[n - 1])) return;
+  int j = n < k ? n++ : k - 1;
+  while (j > 0 && before(out[j - 1])) {
+    out[j] = out[j - 1];
+    --j;
+  }
+  out[j] = node;
+}
+
+}  // namespace
+
+int VoxelDetector::nearest_hosts(const World& w, const Contact& c, int k, int* out) const {
+  if (k <= 0 || c.key < 0 || c.key >= grid_.geometry().num_voxels()) return 0;
+  const Vec3& p = w.x[c.guest];
+  int n = 0;
+  if (k == 1) {
+    for (int node : grid_.nodes(c.key)) offer(w, p, node, 1, out, n);
+    return n;
+  }
+  const GridGeometry& g = grid_.geometry();
+  const Vec3i ijk = voxel_ijk(g, c.key);
+  for (int dz = -1; dz <= 1; ++dz) {
+    const int z = ijk.z() + dz;
+    if (z < 0 || z >= g.dims.z()) continue;
+    for (int dy = -1; dy <= 1; ++dy) {
+      const int y = ijk.y() + dy;
+      if (y < 0 || y >= g.dims.y()) continue;
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int x = ijk.x() + dx;
+        if (x < 0 || x >= g.dims.x()) continue;
+        const int cell = x + g.dims.x() * (y + g.dims.y() * z);
+        if (!grid_.occupied(cell)) continue;
+        for (int node : grid_.nodes(cell)) offer(w, p, node, k, out, n);
+      }
+    }
+  }
+  return n;
+}
+
+}  // namespace harness

@@ -1,0 +1,56 @@
+// Measurement of a contact pair by exact references (implemented in reference/, so that
+// core stays free of FCL and CGAL). A measurement only reads the world: it never changes
+// the simulation.
+#pragma once
+
+#include "core/collision/collision_detector.hpp"
+#include "core/collision/contact_spec.hpp"
+#include "core/world.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace harness {
+
+struct ReferenceSpec {
+  bool cgal = false;
+  bool fcl = false;
+  bool ccd = false;
+  int every = 1;        // measure on steps that are multiples of `every`
+  bool volume = false;  // penetration volume by corefinement (CGAL), slow
+};
+
+// One pair on one measured step. `has_*` says which groups were measured.
+struct Measurement {
+  bool has_cgal = false, has_fcl = false, has_ccd = false, has_volume = false;
+  // CGAL (exact predicates): nodes strictly inside the other body's closed surface.
+  int true_pen_guest = 0, true_pen_host = 0;
+  int tp = 0, fp = 0, fn = 0;  // detected guest nodes against truly penetrating guest nodes
+  double max_depth = 0.0, mean_depth = 0.0;  // m, over penetrating nodes of both bodies
+  bool surfaces_intersect = false;
+  double t_cgal_us = 0.0;
+  double penetration_volume = 0.0;  // m^3, when has_volume
+  double t_volume_us = 0.0;         // corefinement time, not included in t_cgal_us
+  // FCL: intersecting triangle pairs and deepest local contact depth.
+  int fcl_pairs = 0;
+  double fcl_max_depth = 0.0;
+  double t_fcl_us = 0.0;
+  // libccd (GJK/EPA on convex hulls): signed distance, negative = penetration depth.
+  double ccd_distance = 0.0;
+  double t_ccd_us = 0.0;
+};
+
+class Measurer {
+ public:
+  virtual ~Measurer() = default;
+  // `detected` is what the pair's detector reported this step (guest nodes, global indices).
+  virtual void measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected,
+                       Measurement& out) = 0;
+};
+
+using MeasurerFactory =
+    std::function<std::unique_ptr<Measurer>(const World&, const ContactSpec&, const ReferenceSpec&)>;
+
+}  // namespace harness

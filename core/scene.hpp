@@ -1,0 +1,127 @@
+// Scene format (DESIGN.md, "Scene format"): one JSON object, SI units, loaded once and
+// validated strictly. Every bad input throws InputError naming the file and the key path
+// (or line and column for malformed JSON). Defaults are written into `resolved`, which the
+// run records in summary.json.
+#pragma once
+
+#include "core/collision/contact_spec.hpp"
+#include "core/measure.hpp"
+#include "core/types.hpp"
+#include "core/world.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace harness {
+
+enum class Integrator { symplectic_euler, implicit_euler };
+enum class Guard { refuse, substep };
+
+// Effects a scene may list; exactly the listed ones are simulated.
+enum Effect : unsigned {
+  kSprings = 1u << 0,
+  kDamping = 1u << 1,
+  kGravity = 1u << 2,
+  kPins = 1u << 3,
+  kDrivers = 1u << 4,
+  kPressure = 1u << 5,
+  kContact = 1u << 6,
+};
+const std::vector<std::pair<Effect, const char*>>& effect_names();
+
+struct Selection {
+  enum Kind { side, box, all } kind = all;
+  int axis = 0;  // side: 0,1,2 for x,y,z
+  int sign = 1;  // side: -1 or +1
+  Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // box: rest position inside (inclusive)
+  std::string path;  // key path, for errors
+};
+
+struct DriverSpec {
+  Selection select;
+  Vec3 velocity = Vec3::Zero();  // m/s
+  int from_step = 0;             // first step (1-based step numbers) that is driven
+  int to_step = -1;              // last driven step; -1 = until the end
+};
+
+struct PressureSpec {
+  bool present = false;
+  double from = 0.0, to = 0.0;  // Pa
+  int ramp_steps = 0;           // linear ramp from `from` to `to` over this many steps
+};
+
+struct ShapeSpec {
+  std::string type;  // box | sphere | ellipsoid | cylinder | mesh
+  Vec3 min = Vec3::Zero(), max = Vec3::Zero();
+  Vec3i cells = Vec3i::Ones();
+  Vec3 center = Vec3::Zero();
+  double radius = 0.0;
+  Vec3 radii = Vec3::Zero();
+  int subdivisions = 2;
+  Vec3 axis = Vec3::UnitZ();
+  double length = 0.0;
+  int segments = 16, rings = 4;
+  std::string path;      // mesh: resolved absolute or scene-relative path
+  double scale = 1.0;
+  Vec3 translate = Vec3::Zero();
+  bool volume_fill = false;
+};
+
+struct BodySpec {
+  std::string name;
+  ShapeSpec shape;
+  Material material;
+  Vec3 velocity = Vec3::Zero();
+  std::vector<Selection> pins;
+  std::vector<DriverSpec> drivers;
+  PressureSpec pressure;
+  std::string path;  // "bodies.N"
+};
+
+struct ContactPairSpec {
+  std::string host, guest;
+  ContactSpec spec;  // host/guest indices filled when the world is built
+  std::string path;  // "contacts.N"
+};
+
+struct Scene {
+  std::string file;  // where it was read from (for messages)
+  std::string dir;   // directory mesh paths are relative to
+  std::string name;
+  std::optional<long long> seed;
+  double dt = 1e-4;
+  int steps = 0;
+  Integrator integrator = Integrator::symplectic_euler;
+  Guard guard = Guard::refuse;
+  unsigned effects = 0;
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  std::vector<BodySpec> bodies;
+  std::vector<ContactPairSpec> contacts;
+  ReferenceSpec references;
+  int frames_every = 0;
+  nlohmann::json resolved;  // the scene with every default written in
+
+  bool has(Effect e) const { return (effects & e) != 0; }
+};
+
+// Parses JSON text (errors as "file:line:col: ..."), applies the overrides, validates.
+Scene parse_scene(const std::string& text, const std::string& file,
+                  const std::vector<std::pair<std::string, std::string>>& overrides = {});
+// Reads the file then parse_scene. Throws InputError if unreadable.
+Scene load_scene(const std::string& path,
+                 const std::vector<std::pair<std::string, std::string>>& overrides = {});
+// Validates an already parsed JSON document (used by parse_scene and by tests).
+Scene scene_from_json(const nlohmann::json& doc, const std::string& file, const std::string& dir);
+
+// Sets the value at a dotted key path with list indices ("contacts.0.force"), creating
+// missing object members; `value_json` is a JSON literal. Throws InputError("--set KEY", ...).
+void apply_override(nlohmann::json& doc, const std::string& key, const std::string& value_json);
+
+// Reads a whole text file; throws InputError(path, ...) when missing or unreadable.
+std::string read_text_file(const std::string& path);
+
+}  // namespace harness

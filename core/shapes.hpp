@@ -1,0 +1,48 @@
+// Generation of mass-spring models from shape descriptions. Every generator returns a
+// ShapeModel whose first n_surface nodes are the vertices of a closed, outward-oriented,
+// 2-manifold triangle surface; volumetric models add interior nodes after them.
+#pragma once
+
+#include "core/mesh.hpp"
+#include "core/types.hpp"
+
+#include <string>
+
+namespace harness {
+
+enum class Fill { shell, volume };
+
+struct ShapeModel {
+  Points nodes;              // rest positions, m
+  int n_surface = 0;         // nodes[0..n_surface) are the surface vertices
+  std::vector<Tri> faces;    // outward triangles over 0..n_surface-1
+  std::vector<Edge> springs; // node index pairs, no duplicates, no self-springs
+  std::vector<double> node_volume;  // lumped volume per node, m^3; sums to the enclosed volume
+  double volume = 0.0;       // enclosed volume, m^3
+};
+
+// Box lattice of (nx+1)(ny+1)(nz+1) nodes: structural, face-shear and body-diagonal springs.
+// Always volumetric. Lumped volume: each cell gives 1/8 of its volume to each corner.
+ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells);
+
+// Icosphere: an icosahedron subdivided `subdivisions` times (each splits every triangle in
+// four), projected onto the sphere; 10*4^s + 2 surface vertices.
+ShapeModel make_sphere(const Vec3& center, double radius, int subdivisions, Fill fill);
+// Icosphere scaled by radii (a, b, c) along x, y, z.
+ShapeModel make_ellipsoid(const Vec3& center, const Vec3& radii, int subdivisions, Fill fill);
+// Cylinder of given axis (normalised internally), radius and length centred at `center`:
+// `segments` nodes around, `rings` + 1 circles along the length, caps closed by a fan around
+// a centre node each.
+ShapeModel make_cylinder(const Vec3& center, const Vec3& axis, double radius, double length,
+                         int segments, int rings, Fill fill);
+// A closed 2-manifold surface (already validated), scaled then translated.
+ShapeModel make_from_surface(const SurfaceMesh& mesh, double scale, const Vec3& translate,
+                             Fill fill);
+
+// Shell fill: edge springs plus one bending spring across each edge (joining the two
+// vertices opposite it). Volume fill: interior lattice nodes (spacing = mean edge length)
+// strictly inside the surface, joined to lattice neighbours and to nearby surface nodes.
+// Applied by the generators above; exposed for tests.
+ShapeModel finish_model(Points surface_nodes, std::vector<Tri> faces, Fill fill);
+
+}  // namespace harness

@@ -1,0 +1,28 @@
+// Nonlinear spring laws (DESIGN.md). Strain eps = (l - L0)/L0, tension positive:
+//   linear       f = k L0 eps
+//   cubic        f = k L0 (eps + beta eps^3)
+//   exponential  f = k L0 (exp(beta eps) - 1)/beta        (linear as beta -> 0)
+// k in N/m, L0 and l in m, f in N, energy in J. Energy is the integral of f over l from L0,
+// so f = dE/dl exactly (tested by finite differences).
+#pragma once
+
+namespace harness {
+
+enum class SpringLawKind { linear, cubic, exponential };
+
+struct SpringLaw {
+  SpringLawKind kind = SpringLawKind::linear;
+  double k = 0.0;     // N/m
+  double beta = 0.0;  // dimensionless nonlinearity, >= 0
+};
+
+// Tension (N) of a spring of rest length L0 stretched to length l.
+double spring_tension(const SpringLaw& law, double L0, double l);
+// Stored energy (J).
+double spring_energy(const SpringLaw& law, double L0, double l);
+// Tangent stiffness df/dl (N/m) at length l.
+double spring_tangent(const SpringLaw& law, double L0, double l);
+
+const char* to_string(SpringLawKind kind);
+
+}  // namespace harness

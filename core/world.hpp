@@ -1,0 +1,76 @@
+// The simulated state: every body's nodes in one set of contiguous arrays (hot, per step),
+// with per-body topology kept apart (cold). Node indices in these arrays are "global";
+// a body owns the global range [begin, end).
+#pragma once
+
+#include "core/springs.hpp"
+#include "core/types.hpp"
+
+#include <string>
+#include <vector>
+
+namespace harness {
+
+struct Material {
+  double density = 1000.0;   // kg/m^3
+  double stiffness = 100.0;  // N/m, per spring
+  SpringLawKind law = SpringLawKind::linear;
+  double nonlinearity = 0.0;  // beta >= 0
+  double damping = 0.0;       // N s/m, dashpot along each spring (effect "damping")
+  double mass_damping = 0.0;  // 1/s, global damping force -mass_damping * m * v (effect "damping")
+};
+
+struct Body {
+  std::string name;
+  int begin = 0;      // first global node index
+  int end = 0;        // one past the last
+  int n_surface = 0;  // the first n_surface nodes of the body are its surface vertices
+  // Closed, outward-oriented triangles over body-local node indices 0..n_surface-1.
+  std::vector<Tri> faces;
+  // Body-local vertex -> incident faces (CSR), for vertex normals on demand.
+  std::vector<int> vf_start, vf_faces;
+  int spring_begin = 0, spring_end = 0;  // range in World::springs
+  Material material;
+  Vec3 rest_min = Vec3::Zero(), rest_max = Vec3::Zero();  // rest bounding box
+  double volume = 0.0;                                    // rest enclosed volume, m^3
+
+  int size() const { return end - begin; }
+  int surface_node(int s) const { return begin + s; }  // global index of surface vertex s
+};
+
+struct Springs {
+  std::vector<Edge> ends;      // global node indices
+  std::vector<double> rest;    // rest length L0, m
+  std::vector<int> body;       // owning body index (law and damping come from its material)
+  std::size_t size() const { return ends.size(); }
+};
+
+struct World {
+  Points x;   // positions, m
+  Points v;   // velocities, m/s
+  Points f;   // force accumulator, N (cleared each step)
+  std::vector<double> m;      // lumped masses, kg
+  std::vector<double> inv_m;  // 1/m
+  // Kinematic nodes (pins, drivers) are moved with kin_v instead of integrated.
+  std::vector<std::uint8_t> kinematic;
+  Points kin_v;
+  std::vector<Body> bodies;
+  std::vector<SpringLaw> body_law;  // per body
+  Springs springs;
+
+  int num_nodes() const { return static_cast<int>(x.size()); }
+  int find_body(const std::string& name) const {
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      if (bodies[i].name == name) return static_cast<int>(i);
+    return -1;
+  }
+};
+
+// Axis-aligned bounding box of a body's current nodes.
+void body_bounds(const World& w, int body, Vec3& lo, Vec3& hi);
+// Area-weighted outward normal (unnormalised) of a body's surface vertex at body-local index s.
+Vec3 vertex_normal(const World& w, int body, int s);
+// Enclosed volume of a body's current surface (divergence theorem), m^3.
+double enclosed_volume(const World& w, int body);
+
+}  // namespace harness

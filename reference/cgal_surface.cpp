@@ -1,0 +1,126 @@
+// CGAL translation unit 1 of 2: surfaces, classification, distances, intersection tests.
+#include "reference/cgal_surface.hpp"
+
+#include "reference/cgal_types.hpp"
+
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+#include <CGAL/boost/graph/helpers.h>
+#include <CGAL/version_macros.h>
+
+#include <limits>
+#include <stdexcept>
+
+namespace harness {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using cgal::Mesh;
+
+CgalSurface::CgalSurface() : impl_(std::make_unique<Impl>()) {}
+CgalSurface::~CgalSurface() = default;
+CgalSurface::CgalSurface(CgalSurface&&) noexcept = default;
+CgalSurface& CgalSurface::operator=(CgalSurface&&) noexcept = default;
+
+void CgalSurface::set_topology(int n_vertices, const std::vector<Tri>& F) {
+  if (n_vertices < 4 || F.size() < 4)
+    throw std::invalid_argument("CgalSurface: a closed surface needs at least 4 vertices and 4 faces");
+  Impl& s = *impl_;
+  s.side_of.reset();
+  s.tree.clear();
+  s.kd_ready = false;
+  s.ready = false;
+  s.mesh.clear();
+  s.faces = F;
+  s.mesh.reserve(static_cast<Mesh::size_type>(n_vertices),
+                 static_cast<Mesh::size_type>(3 * F.size() / 2),
+                 static_cast<Mesh::size_type>(F.size()));
+  for (int i = 0; i < n_vertices; ++i) s.mesh.add_vertex(cgal::Point(0, 0, 0));
+  for (std::size_t f = 0; f < F.size(); ++f) {
+    for (int k = 0; k < 3; ++k)
+      if (F[f][k] < 0 || F[f][k] >= n_vertices)
+        throw std::invalid_argument("CgalSurface: vertex index out of range in face " +
+                                    std::to_string(f));
+    const Mesh::Face_index fi = s.mesh.add_face(Mesh::Vertex_index(F[f][0]),
+                                                Mesh::Vertex_index(F[f][1]),
+                                                Mesh::Vertex_index(F[f][2]));
+    // Face indices must stay equal to positions in F (closest_face() relies on it).
+    if (fi == Mesh::null_face() || static_cast<std::size_t>(fi) != f)
+      throw std::invalid_argument("CgalSurface: face " + std::to_string(f) +
+                                  " breaks the 2-manifold surface");
+  }
+  if (!CGAL::is_closed(s.mesh) || !CGAL::is_triangle_mesh(s.mesh))
+    throw std::invalid_argument("CgalSurface: the surface is not closed");
+  s.tree.insert(CGAL::faces(s.mesh).first, CGAL::faces(s.mesh).second, s.mesh);
+}
+
+void CgalSurface::update(const Vec3* points) {
+  Impl& s = *impl_;
+  const int n = static_cast<int>(s.mesh.number_of_vertices());
+  for (int i = 0; i < n; ++i) s.mesh.point(Mesh::Vertex_index(i)) = cgal::to_point(points[i]);
+  s.side_of.reset();
+  s.tree.build();  // the primitives read the points through the mesh: only the hierarchy is stale
+  s.tree.do_not_accelerate_distance_queries();  // drops the kd-tree of old points
+  s.kd_ready = false;
+  s.side_of.emplace(s.tree);
+  s.ready = true;
+}
+
+int CgalSurface::num_vertices() const { return static_cast<int>(impl_->mesh.number_of_vertices()); }
+const std::vector<Tri>& CgalSurface::faces() const { return impl_->faces; }
+bool CgalSurface::ready() const { return impl_->ready; }
+
+SurfaceSide CgalSurface::side(const Vec3& p) const {
+  switch ((*impl_->side_of)(cgal::to_point(p))) {
+    case CGAL::ON_BOUNDED_SIDE: return SurfaceSide::inside;
+    case CGAL::ON_BOUNDARY: return SurfaceSide::boundary;
+    default: return SurfaceSide::outside;
+  }
+}
+
+namespace {
+void ensure_kd(const CgalSurface::Impl& s) {
+  if (!s.kd_ready) {
+    s.tree.accelerate_distance_queries();
+    s.kd_ready = true;
+  }
+}
+}  // namespace
+
+double CgalSurface::squared_distance(const Vec3& p) const {
+  ensure_kd(*impl_);
+  return CGAL::to_double(impl_->tree.squared_distance(cgal::to_point(p)));
+}
+
+int CgalSurface::closest_face(const Vec3& p, Vec3* closest) const {
+  ensure_kd(*impl_);
+  const auto pp = impl_->tree.closest_point_and_primitive(cgal::to_point(p));
+  if (closest) *closest = cgal::to_vec(pp.first);
+  return static_cast<int>(pp.second);
+}
+
+void CgalSurface::bounds(Vec3& lo, Vec3& hi) const {
+  lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  hi = -lo;
+  for (const auto v : impl_->mesh.vertices()) {
+    const Vec3 q = cgal::to_vec(impl_->mesh.point(v));
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+}
+
+bool surfaces_intersect(const CgalSurface& a, const CgalSurface& b, bool bounded_sides) {
+  return PMP::do_intersect(a.impl().mesh, b.impl().mesh,
+                           CGAL::parameters::do_overlap_test_of_bounded_sides(bounded_sides));
+}
+
+std::vector<bool> inside_surface(const Points& V, const std::vector<Tri>& F, const Points& queries) {
+  CgalSurface s;
+  s.set_topology(static_cast<int>(V.size()), F);
+  s.update(V.data());
+  std::vector<bool> in(queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i) in[i] = s.strictly_inside(queries[i]);
+  return in;
+}
+
+std::string cgal_version() { return CGAL_VERSION_STR; }
+
+}  // namespace harness

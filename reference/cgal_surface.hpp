@@ -1,0 +1,69 @@
+// Exact ground truth on a closed triangle surface with CGAL (Exact_predicates_inexact_constructions
+// kernel: predicates exact, constructions such as distances in double). No CGAL type appears here:
+// the CGAL state sits behind a pointer and is compiled in reference/cgal_surface.cpp only.
+#pragma once
+
+#include "core/types.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace harness {
+
+// Where a point lies with respect to a closed surface (CGAL's Bounded_side).
+enum class SurfaceSide { outside = -1, boundary = 0, inside = 1 };
+
+// A closed, outward-oriented triangle surface whose vertices move: the topology is set once,
+// the points are replaced every measured step and the AABB tree (and everything cached from
+// it) is rebuilt on each update, because CGAL 5.5 cannot refit and a stale tree answers
+// silently wrong.
+class CgalSurface {
+ public:
+  CgalSurface();
+  ~CgalSurface();
+  CgalSurface(CgalSurface&&) noexcept;
+  CgalSurface& operator=(CgalSurface&&) noexcept;
+
+  // F: #F triangles over vertices 0..n_vertices-1, counter-clockwise seen from outside. Throws
+  // std::invalid_argument if they do not form a closed 2-manifold triangle mesh.
+  void set_topology(int n_vertices, const std::vector<Tri>& F);
+  // Replaces the vertex positions with points[0..n_vertices) and rebuilds the tree.
+  void update(const Vec3* points);
+
+  int num_vertices() const;
+  const std::vector<Tri>& faces() const;
+  bool ready() const;  // update() has been called since set_topology()
+
+  // Queries are const but not safe to run concurrently on one surface: the first distance query
+  // after an update builds the tree's kd-tree of seeds.
+  // Exact classification (Side_of_triangle_mesh).
+  SurfaceSide side(const Vec3& p) const;
+  bool strictly_inside(const Vec3& p) const { return side(p) == SurfaceSide::inside; }
+  // Squared distance from p to the surface, m^2.
+  double squared_distance(const Vec3& p) const;
+  // Index (into faces()) of the triangle holding the surface point nearest to p; that point in
+  // *closest when given.
+  int closest_face(const Vec3& p, Vec3* closest = nullptr) const;
+  // Bounding box of the current vertices.
+  void bounds(Vec3& lo, Vec3& hi) const;
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Whether two updated surfaces intersect (any pair of triangles meets, touching included), with
+// PMP::do_intersect. With bounded_sides, a surface wholly inside the other counts too.
+bool surfaces_intersect(const CgalSurface& a, const CgalSurface& b, bool bounded_sides);
+
+// One-shot helper: for each query point, whether it lies strictly inside the closed surface
+// (V: #V positions, F: #F outward triangles). On the surface counts as outside.
+std::vector<bool> inside_surface(const Points& V, const std::vector<Tri>& F, const Points& queries);
+
+// "5.5.1"
+std::string cgal_version();
+
+}  // namespace harness

@@ -1,0 +1,45 @@
+// CGAL types behind CgalSurface. Internal: included only by the (at most two) CGAL translation
+// units under reference/, because CGAL headers cost tens of seconds of compile time each.
+#pragma once
+
+#include "reference/cgal_surface.hpp"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <optional>
+
+namespace harness {
+namespace cgal {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+using TreeTraits = CGAL::AABB_traits<Kernel, Primitive>;
+using Tree = CGAL::AABB_tree<TreeTraits>;
+using SideOf = CGAL::Side_of_triangle_mesh<Mesh, Kernel, CGAL::Default, Tree>;
+
+inline Point to_point(const Vec3& p) { return Point(p.x(), p.y(), p.z()); }
+inline Vec3 to_vec(const Point& p) { return Vec3(p.x(), p.y(), p.z()); }
+
+}  // namespace cgal
+
+struct CgalSurface::Impl {
+  cgal::Mesh mesh;  // vertex i and face f are index i and f of the topology given
+  std::vector<Tri> faces;
+  // Mutable: the kd-tree that seeds distance queries is built lazily on the first query after an
+  // update (CGAL 5.5's build() does not rebuild it, and a stale seed can give a wrong distance).
+  mutable cgal::Tree tree;
+  mutable bool kd_ready = false;
+  // Side_of_triangle_mesh caches the tree's bounding box when constructed: it is re-made after
+  // every rebuild, or points that moved beyond the old box would read as outside.
+  std::optional<cgal::SideOf> side_of;
+  bool ready = false;
+};
+
+}  // namespace harness

@@ -1,0 +1,129 @@
+#include "reference/exact_detectors.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace harness {
+
+namespace {
+
+// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// The (up to 3) vertices of host triangle t, as global indices, nearest to p first.
+int triangle_vertices_nearest_first(const World& w, int host_begin, const Tri& t, const Vec3& p,
+                                    int k, int* out) {
+  if (k <= 0) return 0;
+  std::array<int, 3> g{host_begin + t[0], host_begin + t[1], host_begin + t[2]};
+  std::array<double, 3> d{};
+  for (int j = 0; j < 3; ++j) d[j] = (w.x[g[j]] - p).squaredNorm();
+  std::array<int, 3> order{0, 1, 2};
+  std::sort(order.begin(), order.end(), [&](int i, int j) { return d[i] < d[j] || (d[i] == d[j] && g[i] < g[j]); });
+  const int n = std::min(k, 3);
+  for (int j = 0; j < n; ++j) out[j] = g[order[j]];
+  return n;
+}
+
+}  // namespace
+
+// ---- CGAL -----------------------------------------------------------------------------------
+
+void CgalDetector::initialize(const World& w, const ContactSpec& spec) {
+  const Body& H = w.bodies.at(spec.host);
+  host_begin_ = H.begin;
+  host_surface_.set_topology(H.n_surface, H.faces);
+}
+
+void CgalDetector::detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) {
+  out.clear();
+  const Body& H = w.bodies[spec.host];
+  const Body& G = w.bodies[spec.guest];
+  host_surface_.update(&w.x[H.begin]);
+  for (int i = G.begin; i < G.end; ++i)
+    if (host_surface_.strictly_inside(w.x[i]))
+      out.push_back(Contact{i, host_surface_.closest_face(w.x[i])});
+}
+
+int CgalDetector::nearest_hosts(const World& w, const Contact& c, int k, int* out) const {
+  if (c.key < 0 || c.key >= static_cast<int>(host_surface_.faces().size())) return 0;
+  return triangle_vertices_nearest_first(w, host_begin_, host_surface_.faces()[c.key], w.x[c.guest],
+                                         k, out);
+}
+
+// ---- FCL ------------------------------------------------------------------------------------
+
+void FclDetector::initialize(const World& w, const ContactSpec& spec) {
+  const Body& H = w.bodies.at(spec.host);
+  const Body& G = w.bodies.at(spec.guest);
+  host_begin_ = H.begin;
+  host_.set_topology(H.n_surface, H.faces);
+  guest_.set_topology(G.n_surface, G.faces);
+  best_d2_.assign(G.n_surface, std::numeric_limits<double>::infinity());
+  best_tri_.assign(G.n_surface, -1);
+  touched_.clear();
+  touched_.reserve(G.n_surface);
+}
+
+void FclDetector::detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) {
+  out.clear();
+  const Body& H = w.bodies[spec.host];
+  const Body& G = w.bodies[spec.guest];
+  host_.update(&w.x[H.begin]);
+  guest_.update(&w.x[G.begin]);
+  intersecting_pairs(guest_, host_, pairs_, /*with_depth=*/false);
+  const auto& gf = guest_.faces();
+  const auto& hf = host_.faces();
+  for (const TrianglePair& p : pairs_) {
+    const Tri& ht = hf[p.b];
+    for (int v : gf[p.a]) {
+      const Vec3& x = w.x[G.begin + v];
+      const double d2 =
+          (closest_on_triangle(x, w.x[H.begin + ht[0]], w.x[H.begin + ht[1]], w.x[H.begin + ht[2]]) - x)
+              .squaredNorm();
+      if (best_tri_[v] < 0) touched_.push_back(v);
+      if (best_tri_[v] < 0 || d2 < best_d2_[v] || (d2 == best_d2_[v] && p.b < best_tri_[v])) {
+        best_d2_[v] = d2;
+        best_tri_[v] = p.b;
+      }
+    }
+  }
+  std::sort(touched_.begin(), touched_.end());  // deterministic order: by node
+  for (int v : touched_) {
+    out.push_back(Contact{G.begin + v, best_tri_[v]});
+    best_tri_[v] = -1;
+    best_d2_[v] = std::numeric_limits<double>::infinity();
+  }
+  touched_.clear();
+}
+
+int FclDetector::nearest_hosts(const World& w, const Contact& c, int k, int* out) const {
+  if (c.key < 0 || c.key >= static_cast<int>(host_.faces().size())) return 0;
+  return triangle_vertices_nearest_first(w, host_begin_, host_.faces()[c.key], w.x[c.guest], k, out);
+}
+
+void register_reference_detectors() {
+  register_detector("cgal", [] { return std::make_unique<CgalDetector>(); });
+  register_detector("fcl", [] { return std::make_unique<FclDetector>(); });
+}
+
+}  // namespace harness

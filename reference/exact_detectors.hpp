@@ -1,0 +1,50 @@
+// Exact detection driving elimination, behind the core CollisionDetector interface:
+//  "cgal": contacts are the guest nodes (all of them, interior ones too) strictly inside the
+//          host's closed surface (Side_of_triangle_mesh); a contact's key is the host triangle
+//          holding the surface point nearest to the node.
+//  "fcl":  contacts are the guest surface vertices of guest triangles that intersect a host
+//          triangle (FCL BVH traversal); the key is, of the host triangles intersecting the
+//          node's triangles, the one nearest to the node.
+// nearest_hosts() returns the vertices (global indices) of the key triangle, nearest first, at
+// most 3 whatever k asks.
+#pragma once
+
+#include "core/collision/collision_detector.hpp"
+#include "reference/cgal_surface.hpp"
+#include "reference/fcl_surface.hpp"
+
+namespace harness {
+
+class CgalDetector final : public CollisionDetector {
+ public:
+  const char* name() const override { return "cgal"; }
+  void initialize(const World& w, const ContactSpec& spec) override;
+  void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
+  int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
+
+ private:
+  CgalSurface host_surface_;
+  int host_begin_ = 0;
+};
+
+class FclDetector final : public CollisionDetector {
+ public:
+  explicit FclDetector(FclBv bv = FclBv::aabb) : host_(bv), guest_(bv) {}
+  const char* name() const override { return "fcl"; }
+  void initialize(const World& w, const ContactSpec& spec) override;
+  void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
+  int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
+
+ private:
+  FclSurface host_, guest_;
+  int host_begin_ = 0;
+  std::vector<TrianglePair> pairs_;
+  std::vector<double> best_d2_;  // per guest surface vertex: distance^2 to its nearest host triangle
+  std::vector<int> best_tri_;    // that triangle, -1 when none intersects
+  std::vector<int> touched_;     // guest surface vertices with best_tri_ set this call
+};
+
+// Registers "cgal" and "fcl" with harness::register_detector().
+void register_reference_detectors();
+
+}  // namespace harness

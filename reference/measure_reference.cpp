@@ -1,0 +1,139 @@
+#include "reference/measure_reference.hpp"
+
+#include "reference/cgal_constructions.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace harness {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double us_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+void check_pair(const World& w, const ContactSpec& pair) {
+  const int n = static_cast<int>(w.bodies.size());
+  if (pair.host < 0 || pair.host >= n || pair.guest < 0 || pair.guest >= n || pair.host == pair.guest)
+    throw std::invalid_argument("reference measurer: host and guest must be two distinct bodies");
+}
+
+// Nodes [begin, end) of one body against the other body's surface: count the strictly inside
+// ones, add their distances to the surface into the depth sums, flag them when `flags` is given.
+int classify(const World& w, const Body& b, const CgalSurface& other, double& max_depth,
+             double& sum_depth, std::uint8_t* flags) {
+  int count = 0;
+  for (int i = b.begin; i < b.end; ++i) {
+    const bool in = other.strictly_inside(w.x[i]);
+    if (flags) flags[i - b.begin] = in ? 1 : 0;
+    if (!in) continue;
+    ++count;
+    const double d = std::sqrt(other.squared_distance(w.x[i]));
+    max_depth = std::max(max_depth, d);
+    sum_depth += d;
+  }
+  return count;
+}
+
+}  // namespace
+
+ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
+                                     const ReferenceSpec& spec, FclBv bv, FclRefitPolicy refit)
+    : spec_(spec), host_(pair.host), guest_(pair.guest), fc_host_(bv, refit), fc_guest_(bv, refit) {
+  check_pair(w, pair);
+  const Body& H = w.bodies[host_];
+  const Body& G = w.bodies[guest_];
+  if (spec_.cgal || spec_.volume) {
+    cg_host_.set_topology(H.n_surface, H.faces);
+    cg_guest_.set_topology(G.n_surface, G.faces);
+    pen_guest_.assign(G.size(), 0);
+    seen_.assign(G.size(), 0);
+  }
+  if (spec_.fcl) {
+    fc_host_.set_topology(H.n_surface, H.faces);
+    fc_guest_.set_topology(G.n_surface, G.faces);
+  }
+}
+
+void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair,
+                                const std::vector<Contact>& detected, Measurement& out) {
+  if (pair.host != host_ || pair.guest != guest_)
+    throw std::invalid_argument("reference measurer: called for another pair than it was made for");
+  out = Measurement{};
+  const Body& H = w.bodies[host_];
+  const Body& G = w.bodies[guest_];
+
+  if (spec_.cgal || spec_.volume) {
+    const auto t0 = Clock::now();
+    cg_host_.update(&w.x[H.begin]);
+    cg_guest_.update(&w.x[G.begin]);
+    if (spec_.cgal) {
+      double max_depth = 0.0, sum_depth = 0.0;
+      out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data());
+      out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, nullptr);
+      const int n_pen = out.true_pen_guest + out.true_pen_host;
+      out.max_depth = max_depth;
+      out.mean_depth = n_pen > 0 ? sum_depth / n_pen : 0.0;
+      // Each guest node once, however often it was reported; a node outside the guest body is
+      // a false report.
+      if (++stamp_ == 0) {
+        std::fill(seen_.begin(), seen_.end(), 0);
+        stamp_ = 1;
+      }
+      for (const Contact& c : detected) {
+        const int li = c.guest - G.begin;
+        if (li < 0 || li >= G.size()) {
+          ++out.fp;
+          continue;
+        }
+        if (seen_[li] == stamp_) continue;
+        seen_[li] = stamp_;
+        if (pen_guest_[li]) ++out.tp;
+        else ++out.fp;
+      }
+      out.fn = out.true_pen_guest - out.tp;
+      out.surfaces_intersect = surfaces_intersect(cg_guest_, cg_host_, /*bounded_sides=*/true);
+      out.has_cgal = true;
+      out.t_cgal_us = us_since(t0);
+    }
+    if (spec_.volume) {
+      const auto t1 = Clock::now();
+      out.has_volume = intersection_volume(cg_guest_, cg_host_, out.penetration_volume);
+      out.t_volume_us = us_since(t1);
+    }
+  }
+
+  if (spec_.fcl) {
+    const auto t0 = Clock::now();
+    fc_host_.update(&w.x[H.begin]);
+    fc_guest_.update(&w.x[G.begin]);
+    intersecting_pairs(fc_guest_, fc_host_, pairs_, /*with_depth=*/true);
+    out.fcl_pairs = static_cast<int>(pairs_.size());
+    for (const TrianglePair& p : pairs_)
+      if (p.has_depth) out.fcl_max_depth = std::max(out.fcl_max_depth, p.depth);
+    out.has_fcl = true;
+    out.t_fcl_us = us_since(t0);
+  }
+
+  if (spec_.ccd) {
+    const auto t0 = Clock::now();
+    const bool hulls = convex_hull(&w.x[G.begin], G.size(), hull_v_[0], hull_f_[0]) &&
+                       convex_hull(&w.x[H.begin], H.size(), hull_v_[1], hull_f_[1]);
+    out.has_ccd = hulls && convex_signed_distance(hull_v_[0], hull_f_[0], hull_v_[1], hull_f_[1],
+                                                  out.ccd_distance);
+    out.t_ccd_us = us_since(t0);
+  }
+}
+
+std::unique_ptr<Measurer> make_reference_measurer(const World& w, const ContactSpec& pair,
+                                                  const ReferenceSpec& spec) {
+  return std::make_unique<ReferenceMeasurer>(w, pair, spec);
+}
+
+std::string reference_versions() { return "FCL " + fcl_version() + ", CGAL " + cgal_version(); }
+
+}  // namespace harness

@@ -1,0 +1,61 @@
+// The exact references of a contact pair (DESIGN.md, "Measured quantities"): CGAL ground truth,
+// FCL triangle pairs, libccd signed distance of the convex hulls. A measurer reads the world and
+// never changes it; it keeps its meshes and trees between calls.
+#pragma once
+
+#include "core/measure.hpp"
+#include "reference/cgal_surface.hpp"
+#include "reference/fcl_surface.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace harness {
+
+// Per measure() call, for the solvers the spec asks for:
+//  cgal: every node of each body (interior nodes too) classified against the other body's
+//        closed surface; residual depths; tp/fp/fn of `detected`; surfaces_intersect with the
+//        bounded-side test (containment counts); t_cgal_us. With spec.volume also the penetration
+//        volume by corefinement (has_volume false when CGAL cannot give it), timed apart in
+//        t_volume_us and not in t_cgal_us.
+//  fcl:  intersecting triangle pairs of the two surfaces and the deepest local contact depth;
+//        t_fcl_us (vertex replacement and refit included).
+//  ccd:  convex hulls of each body's nodes, recomputed, and their signed distance by GJK/EPA;
+//        t_ccd_us (hulls included).
+// spec.every is the caller's business: every call measures.
+class ReferenceMeasurer final : public Measurer {
+ public:
+  ReferenceMeasurer(const World& w, const ContactSpec& pair, const ReferenceSpec& spec,
+                    FclBv bv = FclBv::aabb, FclRefitPolicy refit = {});
+  void measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected,
+               Measurement& out) override;
+
+  // The surfaces as last updated (tests, diagnostics).
+  const CgalSurface& cgal_surface(bool host) const { return host ? cg_host_ : cg_guest_; }
+  const FclSurface& fcl_surface(bool host) const { return host ? fc_host_ : fc_guest_; }
+  // Per guest node (body-local index): truly penetrating at the last CGAL measurement.
+  const std::vector<std::uint8_t>& guest_penetrating() const { return pen_guest_; }
+
+ private:
+  ReferenceSpec spec_;
+  int host_ = -1, guest_ = -1;
+  CgalSurface cg_host_, cg_guest_;
+  FclSurface fc_host_, fc_guest_;
+  std::vector<std::uint8_t> pen_guest_;
+  std::vector<int> seen_;  // per guest node: stamp of the last call that counted it as detected
+  int stamp_ = 0;
+  std::vector<TrianglePair> pairs_;
+  Points hull_v_[2];
+  std::vector<Tri> hull_f_[2];
+};
+
+// The factory the harness program installs (a MeasurerFactory).
+std::unique_ptr<Measurer> make_reference_measurer(const World& w, const ContactSpec& pair,
+                                                  const ReferenceSpec& spec);
+
+// "FCL 0.7.0, CGAL 5.5.1"
+std::string reference_versions();
+
+}  // namespace harness

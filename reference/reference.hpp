@@ -1,0 +1,6 @@
+// Public interface of the harness_reference library (FCL, libccd and CGAL adapters).
+#pragma once
+
+#include "reference/cgal_surface.hpp"       // inside_surface(), CgalSurface
+#include "reference/exact_detectors.hpp"    // register_reference_detectors()
+#include "reference/measure_reference.hpp"  // make_reference_measurer(), reference_versions()

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages the harness needs, only those missing.
+# Usage: scripts/install-deps.sh [--latex]   (--latex adds what paper/ needs)
+set -euo pipefail
+pkgs=(g++ cmake ninja-build make git pkg-config libeigen3-dev libfcl-dev libccd-dev libcgal-dev
+      libgmp-dev libmpfr-dev libboost-dev catch2 nlohmann-json3-dev libcli11-dev
+      python3 python3-matplotlib python3-numpy)
+if [[ "${1:-}" == "--latex" ]]; then
+  pkgs+=(texlive-latex-base texlive-latex-recommended texlive-latex-extra latexmk)
+fi
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "install-deps: all ${#pkgs[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+[[ $(id -u) -eq 0 ]] || SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

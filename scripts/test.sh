@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, runs every test. Exit non-zero on any failure.
+# Usage: scripts/test.sh [--sanitize]   (--sanitize: AddressSanitizer + UBSan build)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+preset=release
+dir=build
+if [[ "${1:-}" == "--sanitize" ]]; then preset=asan; dir=build-asan; fi
+scripts/install-deps.sh
+scripts/build.sh "$preset"
+cd "$dir"
+ctest --output-on-failure -j "${JOBS:-2}" --timeout 1200

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# End-to-end checks of the command line: outputs, exit statuses, one-line errors,
+# and that bad input leaves an earlier run's outputs untouched.
+# Usage: test_cli.sh HARNESS SOURCE_DIR
+set -u
+H="$1"; SRC="$2"
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+fail=0; pass=0
+ok() { pass=$((pass+1)); }
+bad() { echo "FAIL: $*"; fail=$((fail+1)); }
+
+# --help and list
+"$H" --help >/dev/null 2>&1 && ok || bad "--help"
+"$H" list > "$T/list.txt" 2>&1 && grep -q cylinder_press "$T/list.txt" && ok || bad "list shows cylinder_press"
+
+# A good run writes the three outputs.
+"$H" run cylinder_press --out "$T/run" --steps 20 --set output.frames_every=10 --quiet 2>"$T/err" \
+  && ok || { bad "run cylinder_press"; cat "$T/err"; }
+[[ -f "$T/run/steps.csv" && -f "$T/run/summary.json" ]] && ok || bad "outputs written"
+head -1 "$T/run/steps.csv" | grep -q '^step,time,pair,detector,contacts,t_step_us,t_physics_us,t_detect_us,t_eliminate_us,kinetic_energy,true_pen_guest,true_pen_host,tp,fp,fn,max_depth,mean_depth,surfaces_intersect,fcl_pairs,t_cgal_us,t_fcl_us' \
+  && ok || bad "steps.csv columns"
+[[ $(($(wc -l < "$T/run/steps.csv") - 1)) -eq 20 ]] && ok || bad "one row per step and pair"
+ls "$T/run/frames/" | grep -q '_000000.vtk' && ls "$T/run/frames/" | grep -q '_000020.vtk' && ok || bad "frames at 0 and last step"
+grep -q '"status": "ok"' "$T/run/summary.json" && ok || bad "summary status ok"
+for k in scene status error steps_run finite effects git_commit versions resolved_scene state_hash timing_us pairs; do
+  grep -q "\"$k\"" "$T/run/summary.json" && ok || bad "summary key $k"
+done
+f=$(ls "$T"/run/frames/*_000000.vtk | head -1)
+head -5 "$f" | grep -q "DATASET POLYDATA" && grep -q "^POLYGONS" "$f" && ok || bad "VTK polydata"
+
+# Bad inputs: exit 2, exactly one line on stderr naming the file, nothing touched.
+cp "$T/run/summary.json" "$T/summary.before"
+bad_case() {  # name, expected substring, scene text
+  local name="$1" expect="$2"
+  printf '%s' "$3" > "$T/$name.json"
+  "$H" run "$T/$name.json" --out "$T/run" --quiet 2>"$T/err" >/dev/null
+  local rc=$?
+  [[ $rc -eq 2 ]] && ok || bad "$name: exit $rc, expected 2"
+  [[ $(wc -l < "$T/err") -eq 1 ]] && ok || { bad "$name: stderr not one line"; cat "$T/err"; }
+  grep -q -- "$expect" "$T/err" && ok || { bad "$name: message lacks '$expect'"; cat "$T/err"; }
+  cmp -s "$T/run/summary.json" "$T/summary.before" && ok || bad "$name: earlier summary changed"
+}
+good='{"name":"g","time":{"dt":1e-4,"steps":2},"effects":["springs"],"bodies":[{"name":"a","shape":{"type":"sphere","radius":0.01,"subdivisions":1}}]}'
+bad_case malformed "malformed.json:1:" '{"name": "x",'
+bad_case unknown "unknown.json: bodies.0.colour: unknown key" "${good/\"name\":\"a\"/\"name\":\"a\",\"colour\":1}"
+bad_case dt "dt.json: time.dt" "${good/1e-4/-1}"
+bad_case steps "steps.json: time.steps" "${good/\"steps\":2/\"steps\":-2}"
+"$H" run "$T/nonexistent.json" --out "$T/run" --quiet 2>"$T/err"; rc=$?
+[[ $rc -eq 2 ]] && grep -q "nonexistent.json" "$T/err" && ok || bad "missing scene file: exit $rc"
+"$H" run cylinder_press --out "$T/run" --set time.dt=abc --quiet 2>"$T/err"; rc=$?
+[[ $rc -eq 2 ]] && grep -q -- "--set time.dt" "$T/err" && ok || bad "bad --set: exit $rc"
+"$H" run cylinder_press --out "$T/run" --bogus 2>"$T/err"; rc=$?
+[[ $rc -eq 2 ]] && ok || bad "unknown option: exit $rc"
+cmp -s "$T/run/summary.json" "$T/summary.before" && ok || bad "summary survived bad inputs"
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]

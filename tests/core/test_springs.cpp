@@ -1,0 +1,74 @@
+// Spring laws: force equals the derivative of energy, by central finite differences.
+#include "core/effects.hpp"
+#include "core/simulation.hpp"
+#include "core/springs.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+using namespace harness;
+
+TEST_CASE("spring tension is dE/dl for every law (central differences)", "[springs]") {
+  const double L0 = 0.01;
+  for (SpringLawKind kind : {SpringLawKind::linear, SpringLawKind::cubic, SpringLawKind::exponential}) {
+    for (double beta : {0.0, 1e-9, 0.5, 3.0, 10.0}) {
+      const SpringLaw law{kind, 80.0, beta};
+      for (double strain : {-0.6, -0.2, -0.01, 0.003, 0.05, 0.3, 1.0}) {
+        const double l = L0 * (1.0 + strain);
+        const double h = 1e-6 * L0;
+        const double fd = (spring_energy(law, L0, l + h) - spring_energy(law, L0, l - h)) / (2.0 * h);
+        const double f = spring_tension(law, L0, l);
+        INFO(to_string(kind) << " beta " << beta << " strain " << strain);
+        CHECK(std::fabs(fd - f) <= 1e-6 * std::fabs(f) + 1e-12);
+        // Tangent stiffness is df/dl.
+        const double kd = (spring_tension(law, L0, l + h) - spring_tension(law, L0, l - h)) / (2.0 * h);
+        CHECK(std::fabs(kd - spring_tangent(law, L0, l)) <= 1e-6 * std::fabs(kd) + 1e-9);
+      }
+    }
+  }
+}
+
+TEST_CASE("spring laws match DESIGN.md formulas", "[springs]") {
+  const double L0 = 0.02, l = 0.025, k = 50.0, eps = 0.25;
+  CHECK(spring_tension({SpringLawKind::linear, k, 0.0}, L0, l) == Approx(k * L0 * eps));
+  CHECK(spring_tension({SpringLawKind::cubic, k, 2.0}, L0, l) == Approx(k * L0 * (eps + 2.0 * eps * eps * eps)));
+  CHECK(spring_tension({SpringLawKind::exponential, k, 2.0}, L0, l) ==
+        Approx(k * L0 * (std::exp(2.0 * eps) - 1.0) / 2.0));
+  // Exponential tends to linear as beta -> 0; cubic with beta = 0 is linear.
+  CHECK(spring_tension({SpringLawKind::exponential, k, 0.0}, L0, l) == Approx(k * L0 * eps));
+  CHECK(spring_tension({SpringLawKind::cubic, k, 0.0}, L0, l) == Approx(k * L0 * eps));
+  CHECK(spring_energy({SpringLawKind::exponential, k, 1e-12}, L0, l) == Approx(0.5 * k * L0 * L0 * eps * eps));
+}
+
+TEST_CASE("assembled spring forces are minus the gradient of the spring potential", "[springs]") {
+  for (const char* law : {"linear", "cubic", "exponential"}) {
+    const std::string text = std::string(R"({"name":"fd","time":{"dt":1e-5,"steps":0},"effects":["springs"],
+      "bodies":[{"name":"b","shape":{"type":"box","min":[0,0,0],"max":[0.02,0.01,0.01],"cells":[2,1,1]},
+      "material":{"stiffness":40,"law":")") + law + R"(","nonlinearity":2.0}}]})";
+    Simulation sim(parse_scene(text, "fd.json"));
+    World& w = sim.world;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-0.002, 0.002);
+    for (Vec3& p : w.x) p += Vec3(u(rng), u(rng), u(rng));
+    Points f(w.num_nodes(), Vec3::Zero());
+    add_spring_forces(w, f);
+    const double h = 1e-7;
+    double worst = 0.0, scale = 0.0;
+    for (int i = 0; i < w.num_nodes(); ++i)
+      for (int a = 0; a < 3; ++a) {
+        const double x0 = w.x[i][a];
+        w.x[i][a] = x0 + h;
+        const double ep = spring_potential(w);
+        w.x[i][a] = x0 - h;
+        const double em = spring_potential(w);
+        w.x[i][a] = x0;
+        const double fd = -(ep - em) / (2.0 * h);
+        worst = std::max(worst, std::fabs(fd - f[i][a]));
+        scale = std::max(scale, std::fabs(f[i][a]));
+      }
+    INFO(law);
+    CHECK(worst <= 1e-6 * scale);
+  }
+}

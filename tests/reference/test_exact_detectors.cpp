@@ -1,0 +1,138 @@
+// The exact detectors ("cgal", "fcl") behind the core CollisionDetector interface.
+#include "reference/reference.hpp"
+#include "tests/reference/reference_test_worlds.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+using namespace harness;
+using namespace harness::reftest;
+
+namespace {
+struct TwoSpheres {
+  World w;
+  ContactSpec pair;
+  TwoSpheres() {
+    Surface guest = icosphere(Vec3(1.5, 0.1, 0.05), 1.0, 2);
+    guest.V.push_back(Vec3(0.7, 0.1, 0.05));  // an interior node, inside the host too
+    guest.V.push_back(Vec3(2.0, 0.1, 0.05));  // an interior node outside the host
+    pair.host = add_body(w, "host", icosphere(Vec3::Zero(), 1.0, 3));
+    pair.guest = add_body(w, "guest", guest);
+  }
+};
+}  // namespace
+
+TEST_CASE("detectors register and are made by name", "[reference][detector]") {
+  register_reference_detectors();
+  CHECK(detector_known("cgal"));
+  CHECK(detector_known("fcl"));
+  CHECK(std::string(make_detector("cgal")->name()) == "cgal");
+  CHECK(std::string(make_detector("fcl")->name()) == "fcl");
+}
+
+TEST_CASE("cgal detector: contacts are the truly penetrating guest nodes", "[reference][detector][cgal]") {
+  TwoSpheres s;
+  CgalDetector det;
+  det.initialize(s.w, s.pair);
+  std::vector<Contact> contacts;
+  det.detect(s.w, s.pair, contacts);
+  ReferenceSpec spec;
+  spec.cgal = true;
+  ReferenceMeasurer m(s.w, s.pair, spec);
+  Measurement out;
+  m.measure(s.w, s.pair, contacts, out);
+  REQUIRE(out.true_pen_guest > 0);
+  CHECK(static_cast<int>(contacts.size()) == out.true_pen_guest);
+  CHECK(out.tp == out.true_pen_guest);
+  CHECK(out.fp == 0);
+  CHECK(out.fn == 0);
+  const Body& G = s.w.bodies[s.pair.guest];
+  const Body& H = s.w.bodies[s.pair.host];
+  CHECK(std::any_of(contacts.begin(), contacts.end(), [&](const Contact& c) { return c.guest == G.end - 2; }));
+  CHECK(std::none_of(contacts.begin(), contacts.end(), [&](const Contact& c) { return c.guest == G.end - 1; }));
+
+  for (const Contact& c : contacts) {
+    int hosts[5] = {-1, -1, -1, -1, -1};
+    REQUIRE(det.nearest_hosts(s.w, c, 5, hosts) == 3);  // k > 3 gives the triangle's 3
+    CHECK(hosts[3] == -1);
+    const Vec3& p = s.w.x[c.guest];
+    for (int j = 0; j < 3; ++j) {
+      CHECK(hosts[j] >= H.begin);
+      CHECK(hosts[j] < H.begin + H.n_surface);
+    }
+    CHECK((s.w.x[hosts[0]] - p).norm() <= (s.w.x[hosts[1]] - p).norm());
+    CHECK((s.w.x[hosts[1]] - p).norm() <= (s.w.x[hosts[2]] - p).norm());
+    // The triangle holds the nearest surface point: its nearest vertex is no farther than the
+    // distance to the surface plus the triangle's size.
+    const double d = std::sqrt(m.cgal_surface(true).squared_distance(p));
+    CHECK((s.w.x[hosts[0]] - p).norm() <= d + 0.2);
+    int one = -1;
+    CHECK(det.nearest_hosts(s.w, c, 1, &one) == 1);
+    CHECK(one == hosts[0]);
+  }
+
+  // Moved apart: no contacts (the tree follows the host).
+  translate_body(s.w, s.pair.host, Vec3(-5, 0, 0));
+  det.detect(s.w, s.pair, contacts);
+  CHECK(contacts.empty());
+}
+
+TEST_CASE("fcl detector: guest vertices of intersecting triangles", "[reference][detector][fcl]") {
+  TwoSpheres s;
+  FclDetector det;
+  det.initialize(s.w, s.pair);
+  std::vector<Contact> contacts;
+  det.detect(s.w, s.pair, contacts);
+  REQUIRE(!contacts.empty());
+  const Body& G = s.w.bodies[s.pair.guest];
+  const Body& H = s.w.bodies[s.pair.host];
+
+  // Oracle: vertices of guest triangles in the all-pairs intersecting list.
+  FclSurface fg, fh;
+  fg.set_topology(G.n_surface, G.faces);
+  fg.update(&s.w.x[G.begin]);
+  fh.set_topology(H.n_surface, H.faces);
+  fh.update(&s.w.x[H.begin]);
+  std::vector<TrianglePair> brute;
+  intersecting_pairs_brute_force(fg, fh, brute);
+  std::set<int> expected;
+  std::set<std::pair<int, int>> tri_pairs;
+  for (const TrianglePair& p : brute) {
+    tri_pairs.insert({p.a, p.b});
+    for (int v : G.faces[p.a]) expected.insert(G.begin + v);
+  }
+  std::set<int> got;
+  for (const Contact& c : contacts) got.insert(c.guest);
+  CHECK(got == expected);
+  CHECK(got.size() == contacts.size());  // each node once
+  CHECK(std::is_sorted(contacts.begin(), contacts.end(),
+                       [](const Contact& a, const Contact& b) { return a.guest < b.guest; }));
+
+  for (const Contact& c : contacts) {
+    // The key is a host triangle intersecting one of the node's triangles.
+    const int v = c.guest - G.begin;
+    bool ok = false;
+    for (int f = 0; f < static_cast<int>(G.faces.size()); ++f)
+      if (std::find(G.faces[f].begin(), G.faces[f].end(), v) != G.faces[f].end() && tri_pairs.count({f, c.key}))
+        ok = true;
+    CHECK(ok);
+    int hosts[3];
+    REQUIRE(det.nearest_hosts(s.w, c, 3, hosts) == 3);
+    const Vec3& p = s.w.x[c.guest];
+    CHECK((s.w.x[hosts[0]] - p).norm() <= (s.w.x[hosts[1]] - p).norm());
+    CHECK((s.w.x[hosts[1]] - p).norm() <= (s.w.x[hosts[2]] - p).norm());
+    for (int h : hosts) CHECK((h >= H.begin && h < H.begin + H.n_surface));
+  }
+
+  // Twice in a row: the same answer (the per-node scratch is reset).
+  std::vector<Contact> again;
+  det.detect(s.w, s.pair, again);
+  CHECK(again.size() == contacts.size());
+
+  translate_body(s.w, s.pair.guest, Vec3(5, 0, 0));
+  det.detect(s.w, s.pair, contacts);
+  CHECK(contacts.empty());
+}

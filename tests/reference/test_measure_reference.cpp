@@ -1,0 +1,303 @@
+// The CGAL ground truth of a pair (ReferenceMeasurer with solver cgal) on analytic
+// configurations: two icospheres, a cube in a layer; bookkeeping of tp/fp/fn; no stale trees.
+#include "reference/reference.hpp"
+#include "tests/reference/reference_test_worlds.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+using namespace harness;
+using namespace harness::reftest;
+
+namespace {
+
+ReferenceSpec cgal_only() {
+  ReferenceSpec s;
+  s.cgal = true;
+  return s;
+}
+
+ContactSpec pair_of(int host, int guest) {
+  ContactSpec p;
+  p.host = host;
+  p.guest = guest;
+  return p;
+}
+
+// Interior nodes for a sphere: lattice points (spacing h) strictly within radius 0.9 r.
+Points interior_nodes(const Vec3& c, double r, double h) {
+  Points p;
+  const int n = static_cast<int>(r / h);
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k) {
+        const Vec3 q = c + h * Vec3(i, j, k);
+        if ((q - c).norm() < 0.9 * r) p.push_back(q);
+      }
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("two icospheres: truly penetrating nodes match the analytic spheres", "[reference][cgal]") {
+  const double r = 1.0;
+  const int sub = 3;
+  // centre distance d: deep (a centre inside the other sphere), overlapping, shallow, apart
+  const double d = GENERATE(0.5, 1.5, 1.8, 1.95, 2.2);
+  const bool volumetric = GENERATE(false, true);  // guest with interior nodes too
+  const Vec3 ca(0.1, -0.2, 0.3);
+  const Vec3 dir = Vec3(1.0, 0.37, -0.21).normalized();  // not along a symmetry axis
+  const Vec3 cb = ca + d * dir;
+  CAPTURE(d, volumetric);
+
+  Surface A = icosphere(ca, r, sub);
+  if (volumetric)
+    for (const Vec3& q : interior_nodes(ca, r, 0.2)) A.V.push_back(q);
+  const Surface B = icosphere(cb, r, sub);
+  World w;
+  const int host = add_body(w, "B", B);
+  const int guest = add_body(w, "A", A);
+  ReferenceMeasurer m(w, pair_of(host, guest), cgal_only());
+  Measurement out;
+  m.measure(w, pair_of(host, guest), {}, out);
+  REQUIRE(out.has_cgal);
+  REQUIRE_FALSE(out.has_fcl);
+
+  // Band of the discretisation: each polyhedron lies between its nearest face plane and the
+  // sphere of radius r. Outside the band the classification must be the analytic one.
+  const double inner = min_plane_distance(B, cb);  // the same for A about ca
+  REQUIRE(inner < r);
+  REQUIRE(inner > r * std::cos(max_edge_angle(B, cb)));
+  int sure = 0, band = 0;
+  double analytic_nodes = 0.0;  // deepest node by the analytic spheres
+  const auto& flags = m.guest_penetrating();
+  for (int i = 0; i < static_cast<int>(A.V.size()); ++i) {
+    const double rho = (A.V[i] - cb).norm();
+    if (rho < r) analytic_nodes = std::max(analytic_nodes, r - rho);
+    if (rho < inner) {
+      ++sure;
+      CHECK(flags[i] == 1);
+    } else if (rho > r) {
+      CHECK(flags[i] == 0);
+    } else {
+      ++band;
+    }
+  }
+  CHECK(out.true_pen_guest >= sure);
+  CHECK(out.true_pen_guest <= sure + band);
+  CHECK(band <= static_cast<int>(A.V.size()) / 10);  // the band is thin
+
+  // Host nodes (B's surface) against A: the same with the roles swapped.
+  int sure_h = 0, band_h = 0;
+  for (const Vec3& q : B.V) {
+    const double rho = (q - ca).norm();
+    if (rho < r) analytic_nodes = std::max(analytic_nodes, r - rho);
+    if (rho < inner) ++sure_h;
+    else if (rho <= r) ++band_h;
+  }
+  CHECK(out.true_pen_host >= sure_h);
+  CHECK(out.true_pen_host <= sure_h + band_h);
+
+  if (d < 2 * r) {
+    // Per node: the distance to a polyhedron inscribed in the sphere is at most the distance to
+    // the sphere, and at least that less the polyhedron's gap r - inner.
+    CAPTURE(analytic_nodes, out.max_depth);
+    CHECK(out.max_depth <= analytic_nodes + 1e-12);
+    CHECK(out.max_depth >= analytic_nodes - (r - inner) - 1e-12);
+    if (!volumetric) {
+      // Against the continuous spheres: depth r - |r - d|, found by surface vertices up to the
+      // angular sampling alpha (second order where the depth is stationary).
+      const double analytic = r - std::fabs(r - d);
+      const double alpha = max_edge_angle(B, cb);
+      const double sampling =
+          std::sqrt((r - d) * (r - d) + 2 * r * d * (1 - std::cos(alpha))) - std::fabs(r - d);
+      CAPTURE(analytic, sampling);
+      CHECK(out.max_depth <= analytic + 1e-12);
+      CHECK(out.max_depth >= analytic - sampling - (r - inner) - 1e-12);
+    }
+    CHECK(out.mean_depth > 0.0);
+    CHECK(out.mean_depth <= out.max_depth);
+    CHECK(out.surfaces_intersect);
+  } else {
+    CHECK(out.true_pen_guest == 0);
+    CHECK(out.true_pen_host == 0);
+    CHECK(out.max_depth == 0.0);
+    CHECK(out.mean_depth == 0.0);
+    CHECK_FALSE(out.surfaces_intersect);
+  }
+}
+
+TEST_CASE("a sphere inside a sphere: containment without surface contact", "[reference][cgal]") {
+  World w;
+  const int host = add_body(w, "big", icosphere(Vec3::Zero(), 1.0, 2));
+  const Surface small = icosphere(Vec3(0.1, 0, 0), 0.3, 1);
+  const int guest = add_body(w, "small", small);
+  ReferenceSpec spec = cgal_only();
+  spec.fcl = true;
+  ReferenceMeasurer m(w, pair_of(host, guest), spec);
+  Measurement out;
+  m.measure(w, pair_of(host, guest), {}, out);
+  CHECK(out.true_pen_guest == small.n_surface);
+  CHECK(out.true_pen_host == 0);
+  CHECK(out.surfaces_intersect);  // bounded sides overlap
+  CHECK(out.fcl_pairs == 0);      // FCL sees no triangle pair
+  CHECK_FALSE(surfaces_intersect(m.cgal_surface(false), m.cgal_surface(true), false));
+}
+
+namespace {
+// Cube [0,1]^3 (4 cells a side) as guest, sunk 0.25 into the layer [-1,2]x[-1,2]x[-0.5,0.25]
+// (cells 0.5 x 0.5 x 0.25) as host. Exactly representable coordinates throughout.
+struct CubeInLayer {
+  World w;
+  int host = -1, guest = -1;
+  CubeInLayer() {
+    host = add_body(w, "layer", box_surface(Vec3(-1, -1, -0.5), Vec3(2, 2, 0.25), Vec3i(6, 6, 3)));
+    guest = add_body(w, "cube", box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3i(4, 4, 4)));
+  }
+  ContactSpec pair() const { return pair_of(host, guest); }
+  int guest_node(const Vec3& p) const {
+    const Body& b = w.bodies[guest];
+    for (int i = b.begin; i < b.end; ++i)
+      if ((w.x[i] - p).norm() < 1e-12) return i;
+    return -1;
+  }
+};
+}  // namespace
+
+TEST_CASE("cube sunk into a layer: exact counts, boundary vertices outside, depth", "[reference][cgal]") {
+  CubeInLayer s;
+  ReferenceSpec spec = cgal_only();
+  spec.volume = true;
+  spec.fcl = true;
+  spec.ccd = true;
+  ReferenceMeasurer m(s.w, s.pair(), spec);
+  Measurement out;
+  m.measure(s.w, s.pair(), {}, out);
+  // The 25 vertices of the cube's bottom face are inside; the ring at z = 0.25 lies on the
+  // layer's top face and counts as outside.
+  CHECK(out.true_pen_guest == 25);
+  // One layer vertex, (0.5, 0.5, 0.25), is strictly inside the cube; (0, y, 0.25) and (1, y, 0.25)
+  // lie on its faces.
+  CHECK(out.true_pen_host == 1);
+  CHECK(out.max_depth == Approx(0.25).margin(1e-12));
+  CHECK(out.mean_depth == Approx(0.25).margin(1e-12));
+  CHECK(out.surfaces_intersect);
+  REQUIRE(out.has_volume);
+  CHECK(out.penetration_volume == Approx(0.25).margin(1e-9));
+  CHECK(out.has_fcl);
+  CHECK(out.fcl_pairs > 0);
+  CHECK(out.fcl_max_depth > 0.0);
+  REQUIRE(out.has_ccd);
+  CHECK(out.ccd_distance == Approx(-0.25).margin(1e-6));  // hulls: the boxes themselves
+  CHECK(out.t_cgal_us > 0.0);
+  CHECK(out.t_fcl_us > 0.0);
+  CHECK(out.t_ccd_us > 0.0);
+}
+
+TEST_CASE("tp, fp and fn of a hand-made detected list", "[reference][cgal]") {
+  CubeInLayer s;
+  ReferenceMeasurer m(s.w, s.pair(), cgal_only());
+  const int in = s.guest_node(Vec3(0.25, 0.5, 0.0));      // bottom face: truly penetrating
+  const int in2 = s.guest_node(Vec3(1.0, 1.0, 0.0));      // bottom corner: truly penetrating
+  const int ring = s.guest_node(Vec3(0.0, 0.5, 0.25));    // on the layer's surface: not
+  const int top = s.guest_node(Vec3(0.5, 0.5, 1.0));      // far above: not
+  REQUIRE(in >= 0);
+  REQUIRE(in2 >= 0);
+  REQUIRE(ring >= 0);
+  REQUIRE(top >= 0);
+  const int host_node = s.w.bodies[s.host].begin;  // not a guest node at all
+  const std::vector<Contact> detected = {{in, 7}, {ring, 0}, {in, 3}, {top, 1}, {in2, 0}, {host_node, 0}, {ring, 2}};
+  Measurement out;
+  m.measure(s.w, s.pair(), detected, out);
+  CHECK(out.true_pen_guest == 25);
+  CHECK(out.tp == 2);  // `in` twice counts once
+  CHECK(out.fp == 3);  // ring (once), top, the host node
+  CHECK(out.fn == 23);
+  // A second call counts afresh.
+  m.measure(s.w, s.pair(), {}, out);
+  CHECK(out.tp == 0);
+  CHECK(out.fp == 0);
+  CHECK(out.fn == 25);
+}
+
+TEST_CASE("results follow the bodies: no stale tree", "[reference][cgal][fcl]") {
+  CubeInLayer s;
+  ReferenceSpec spec = cgal_only();
+  spec.fcl = true;
+  ReferenceMeasurer m(s.w, s.pair(), spec);
+  Measurement out;
+  m.measure(s.w, s.pair(), {}, out);
+  REQUIRE(out.true_pen_guest == 25);
+  const int pairs0 = out.fcl_pairs;
+  REQUIRE(pairs0 > 0);
+
+  // Both bodies far away, same relative pose: nothing changes.
+  translate_body(s.w, s.host, Vec3(10, -3, 7));
+  translate_body(s.w, s.guest, Vec3(10, -3, 7));
+  m.measure(s.w, s.pair(), {}, out);
+  CHECK(out.true_pen_guest == 25);
+  CHECK(out.true_pen_host == 1);
+  CHECK(out.max_depth == Approx(0.25).margin(1e-12));
+  CHECK(out.fcl_pairs == pairs0);
+
+  // Cube lifted clear of the layer.
+  translate_body(s.w, s.guest, Vec3(0, 0, 0.5));
+  m.measure(s.w, s.pair(), {}, out);
+  CHECK(out.true_pen_guest == 0);
+  CHECK(out.true_pen_host == 0);
+  CHECK_FALSE(out.surfaces_intersect);
+  CHECK(out.fcl_pairs == 0);
+
+  // Cube pushed down to z in [-0.375, 0.625]: its bottom face (z = -0.375) and the rings at
+  // z = -0.125 and 0.125 are inside the layer; of the layer, still (0.5, 0.5, 0.25) alone is
+  // inside the cube. Deepest: the ring at z = -0.125 and that layer vertex, 0.375.
+  translate_body(s.w, s.guest, Vec3(0, 0, -0.875));
+  m.measure(s.w, s.pair(), {}, out);
+  CHECK(out.true_pen_guest == 25 + 16 + 16);
+  CHECK(out.true_pen_host == 1);
+  CHECK(out.max_depth == Approx(0.375).margin(1e-12));
+  CHECK(out.fcl_pairs > 0);
+}
+
+TEST_CASE("inside_surface: strict inside, boundary outside", "[reference][cgal]") {
+  const Surface box = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3i(2, 2, 2));
+  const Points q = {{0.5, 0.5, 0.5}, {0.0, 0.5, 0.5}, {1e-9, 0.5, 0.5}, {-1e-9, 0.5, 0.5},
+                    {1, 1, 1},       {0.5, 0.5, 2.0}};
+  const std::vector<bool> in = inside_surface(box.V, box.F, q);
+  CHECK(in == std::vector<bool>{true, false, true, false, false, false});
+}
+
+TEST_CASE("reference_versions names FCL and CGAL", "[reference]") {
+  CHECK(reference_versions() == "FCL 0.7.0, CGAL 5.5.1");
+}
+
+// Cost of each reference per measured step on two overlapping icospheres. Hidden from the
+// default run: `harness_reference_tests "[.bench]"`.
+TEST_CASE("bench: reference cost per measured step", "[.bench][cgal][fcl]") {
+  std::printf("%5s %7s %9s %9s %9s %9s %9s\n", "sub", "nodes", "cgal_us", "fcl_us", "ccd_us",
+              "volume_us", "pen");
+  for (int sub = 3; sub <= 5; ++sub) {
+    World w;
+    const int host = add_body(w, "B", icosphere(Vec3(1.6, 0.05, -0.03), 1.0, sub));
+    const int guest = add_body(w, "A", icosphere(Vec3::Zero(), 1.0, sub));
+    ReferenceSpec spec;
+    spec.cgal = spec.fcl = spec.ccd = true;
+    spec.volume = sub <= 4;
+    ReferenceMeasurer m(w, pair_of(host, guest), spec);
+    Measurement out, sum;
+    const int steps = 5;
+    for (int s = 0; s < steps; ++s) {
+      translate_body(w, guest, Vec3(0.001, 0, 0));  // moving: trees must follow
+      m.measure(w, pair_of(host, guest), {}, out);
+      sum.t_cgal_us += out.t_cgal_us / steps;
+      sum.t_fcl_us += out.t_fcl_us / steps;
+      sum.t_ccd_us += out.t_ccd_us / steps;
+      sum.t_volume_us += out.t_volume_us / steps;
+    }
+    std::printf("%5d %7d %9.0f %9.0f %9.0f %9.0f %9d\n", sub, w.num_nodes(), sum.t_cgal_us, sum.t_fcl_us,
+                sum.t_ccd_us, sum.t_volume_us, out.true_pen_guest + out.true_pen_host);
+  }
+}
