@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <stdexcept>
 
 namespace harness {
 
@@ -206,15 +207,25 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   for (int s = 1; s <= scene.steps; ++s) {
     std::copy(w.x.begin(), w.x.end(), good_x.begin());
     std::copy(w.v.begin(), w.v.end(), good_v.begin());
-    sim.step();
-    if (!finite_state(w)) {
+    std::string failure;
+    try {
+      sim.step();
+    } catch (const std::runtime_error& e) {
+      // A failure inside the step (the voxel region outgrew its cap during a rebuild).
+      failure = e.what();
+    }
+    if (failure.empty() && !finite_state(w)) {
       int bad = 0;
       while (bad < n && w.x[bad].allFinite() && w.v[bad].allFinite()) ++bad;
       std::string body;
       for (const Body& b : w.bodies)
         if (bad >= b.begin && bad < b.end) body = b.name;
-      error = "state not finite at step " + std::to_string(s) + " (body " + body + ", node " +
-              std::to_string(bad) + "); last good state is step " + std::to_string(s - 1);
+      failure = "state not finite (body " + body + ", node " + std::to_string(bad) + ")";
+    }
+    if (!failure.empty()) {
+      error = "step " + std::to_string(s) + ": " + failure + "; last good state is step " +
+              std::to_string(s - 1);
+      std::fprintf(stderr, "harness: simulation failed: %s\n", error.c_str());
       status = "error";
       exit_code = 3;
       std::copy(good_x.begin(), good_x.end(), w.x.begin());

@@ -1,6 +1,7 @@
 // The command-line program `harness` (DESIGN.md, "Command line").
 #include "core/run.hpp"
 #include "core/scene.hpp"
+#include "experiments/sweep.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
 #include "reference/reference.hpp"
@@ -107,6 +108,17 @@ int main(int argc, char** argv) {
 
   app.add_subcommand("list", "list the bundled scenes");
 
+  SweepOptions sw;
+  std::string sweep_scene;
+  CLI::App* sweep = app.add_subcommand("sweep", "run the Cartesian product of --grid values, one run folder per point, merged into DIR/runs.csv");
+  sweep->add_option("SCENE", sweep_scene, "scene file, or the name of a bundled scene")->required();
+  sweep->add_option("--grid", sw.grids, "KEY=V1,V2,... (JSON values; bare words are strings)")->required();
+  sweep->add_option("--set", sw.sets, "a fixed override for every point: KEY=JSON");
+  sweep->add_option("--out", sw.out_dir, "output folder")->required();
+  sweep->add_option("-j", sw.jobs, "points run at once")->capture_default_str();
+  sweep->add_flag("--list", sw.list, "print one `harness run` command per point and exit");
+  sweep->add_option("--index", sw.index, "run only point I (0-based), then merge runs.csv");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -120,6 +132,16 @@ int main(int argc, char** argv) {
 
   try {
     if (app.got_subcommand("list")) return cmd_list();
+    if (app.got_subcommand("sweep")) {
+      sw.scene = resolve_scene(sweep_scene);
+      sw.scene_arg = sweep_scene;
+      std::error_code ec;
+      sw.self = fs::read_symlink("/proc/self/exe", ec).string();
+      if (ec) sw.self = argv[0];
+      if (sw.jobs < 1) throw InputError("-j", "must be >= 1");
+      if (sweep->count("--index") && sw.index < 0) throw InputError("--index", "must be >= 0");
+      return run_sweep(sw);
+    }
     const std::string path = resolve_scene(scene_arg);
     auto overrides = parse_sets(sets);
     if (steps >= 0) overrides.emplace_back("time.steps", std::to_string(steps));

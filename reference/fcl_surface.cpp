@@ -222,12 +222,10 @@ void intersecting_pairs_brute_force(const FclSurface& a, const FclSurface& b,
 }
 
 FclCollideResult fcl_collide(const FclSurface& a, const FclSurface& b, bool enable_contact) {
-  const fcl::CollisionGeometryd* ga =
-      a.bv() == FclBv::aabb ? static_cast<const fcl::CollisionGeometryd*>(a.impl().aabb.get())
-                            : a.impl().obbrss.get();
-  const fcl::CollisionGeometryd* gb =
-      b.bv() == FclBv::aabb ? static_cast<const fcl::CollisionGeometryd*>(b.impl().aabb.get())
-                            : b.impl().obbrss.get();
+  if (a.bv() != FclBv::obbrss || b.bv() != FclBv::obbrss)
+    throw std::invalid_argument("fcl_collide: OBBRSS models only (FCL 0.7 copies AABB models unsafely)");
+  const fcl::CollisionGeometryd* ga = a.impl().obbrss.get();
+  const fcl::CollisionGeometryd* gb = b.impl().obbrss.get();
   fcl::CollisionResultd res;
   fcl::collide(ga, identity(), gb, identity(), all_pairs_request(enable_contact), res);
   FclCollideResult r;

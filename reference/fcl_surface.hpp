@@ -76,7 +76,10 @@ void intersecting_pairs_brute_force(const FclSurface& a, const FclSurface& b,
                                     std::vector<TrianglePair>& out);
 
 // fcl::collide itself, for validation and benchmarks: contacts returned, distinct triangle pairs
-// among them, deepest contact.
+// among them, deepest contact. Use it with OBBRSS: for AABB models fcl::collide deep-copies both
+// models on every call, and FCL 0.7's BVHModel copy constructor mallocs what its destructor frees
+// with delete[] (AddressSanitizer: alloc-dealloc-mismatch), so it throws std::invalid_argument.
+
 struct FclCollideResult {
   int contacts = 0;
   int pairs = 0;

@@ -1,0 +1,271 @@
+#include "experiments/sweep.hpp"
+
+#include "core/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fcntl.h>
+
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+extern char** environ;
+
+namespace harness {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::vector<std::pair<std::string, std::vector<std::string>>> parse_grids(const std::vector<std::string>& grids) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> out;
+  for (const std::string& g : grids) {
+    const auto eq = g.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError("--grid " + g, "expected KEY=V1,V2,...");
+    const std::string key = g.substr(0, eq), rest = g.substr(eq + 1);
+    std::vector<std::string> values;
+    std::string cur;
+    int depth = 0;
+    bool quoted = false;
+    for (std::size_t i = 0; i < rest.size(); ++i) {
+      const char c = rest[i];
+      if (quoted) {
+        cur += c;
+        if (c == '\\' && i + 1 < rest.size()) cur += rest[++i];
+        else if (c == '"') quoted = false;
+        continue;
+      }
+      if (c == '"') quoted = true;
+      if (c == '[' || c == '{') ++depth;
+      if (c == ']' || c == '}') --depth;
+      if (c == ',' && depth == 0) {
+        values.push_back(cur);
+        cur.clear();
+      } else {
+        cur += c;
+      }
+    }
+    values.push_back(cur);
+    for (std::string& v : values) {
+      if (v.empty()) throw InputError("--grid " + key, "empty value in the list");
+      try {
+        const json parsed = json::parse(v);
+        (void)parsed;
+      } catch (const json::exception&) {
+        // A bare word (auto, plane) is taken as a JSON string, so shells need no extra quotes.
+        bool word = std::isalpha(static_cast<unsigned char>(v[0])) || v[0] == '_';
+        for (char c : v) word = word && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+        if (!word) throw InputError("--grid " + key, "value is not valid JSON (" + v + ")");
+        v = "\"" + v + "\"";
+      }
+    }
+    for (const auto& [k, vs] : out)
+      if (k == key) throw InputError("--grid " + key, "key given twice");
+    out.emplace_back(key, values);
+  }
+  return out;
+}
+
+std::vector<SweepPoint> expand_grid(const std::vector<std::pair<std::string, std::vector<std::string>>>& g) {
+  std::vector<SweepPoint> points(1);
+  for (const auto& [key, values] : g) {
+    std::vector<SweepPoint> next;
+    for (const SweepPoint& p : points)
+      for (const std::string& v : values) {
+        SweepPoint q = p;
+        q.emplace_back(key, v);
+        next.push_back(std::move(q));
+      }
+    points = std::move(next);
+  }
+  return points;
+}
+
+namespace {
+// A value as shown to people: JSON strings without their quotes.
+std::string plain(const std::string& v) {
+  if (v.size() >= 2 && v.front() == '"' && v.back() == '"') {
+    try {
+      return json::parse(v).get<std::string>();
+    } catch (const json::exception&) {
+    }
+  }
+  return v;
+}
+}  // namespace
+
+std::string point_name(const SweepPoint& p) {
+  std::string name;
+  for (const auto& [k, v] : p) {
+    if (!name.empty()) name += "__";
+    name += k + "-" + plain(v);
+  }
+  for (char& c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_')) c = '_';
+  return name.empty() ? "default" : name;
+}
+
+namespace {
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::vector<std::string> run_args(const SweepOptions& opt, const SweepPoint& p, const std::string& scene) {
+  std::vector<std::string> a = {opt.self, "run", scene, "--out", (fs::path(opt.out_dir) / point_name(p)).string(), "--quiet"};
+  for (const std::string& s : opt.sets) a.insert(a.end(), {"--set", s});
+  for (const auto& [k, v] : p) a.insert(a.end(), {"--set", k + "=" + v});
+  return a;
+}
+
+pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
+  std::vector<char*> argv;
+  for (const std::string& s : args) argv.push_back(const_cast<char*>(s.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) throw std::runtime_error("cannot start " + args[0]);
+  return pid;
+}
+
+std::string csv_field(const json& v) {
+  if (v.is_null()) return "";
+  if (v.is_string()) {
+    std::string s = v.get<std::string>();
+    if (s.find_first_of(",\"\n") != std::string::npos) {
+      std::string q = "\"";
+      for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+      return q + "\"";
+    }
+    return s;
+  }
+  if (v.is_boolean()) return v.get<bool>() ? "1" : "0";
+  if (v.is_number_integer()) return std::to_string(v.get<long long>());
+  if (v.is_number()) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.9g", v.get<double>());
+    return b;
+  }
+  return csv_field(json(v.dump()));
+}
+
+}  // namespace
+
+void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& points) {
+  static const std::vector<std::string> timing = {"step", "physics", "detect", "eliminate", "cgal", "fcl"};
+  static const std::vector<std::string> pair_keys = {"voxel_size_used", "region_rebuilds", "contacts_total",
+                                                     "true_pen_final", "max_depth_final", "max_depth_peak",
+                                                     "recall", "precision"};
+  const fs::path tmp = fs::path(out_dir) / "runs.csv.tmp";
+  std::ofstream o(tmp);
+  o << "point,name";
+  if (!points.empty())
+    for (const auto& [k, v] : points[0]) o << "," << csv_field(json(k));
+  o << ",status,steps_run,finite,state_hash,kinetic_energy_final,substeps";
+  for (const auto& t : timing) o << ",t_" << t << "_us";
+  for (const auto& k : pair_keys) o << "," << k;
+  o << "\n";
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const fs::path sp = fs::path(out_dir) / point_name(points[i]) / "summary.json";
+    if (!fs::exists(sp)) continue;
+    json s;
+    try {
+      std::ifstream in(sp);
+      s = json::parse(in);
+    } catch (const json::exception&) {
+      continue;
+    }
+    o << i << "," << csv_field(json(point_name(points[i])));
+    for (const auto& [k, v] : points[i]) o << "," << csv_field(json(plain(v)));
+    o << "," << csv_field(s.value("status", json())) << "," << csv_field(s.value("steps_run", json()))
+      << "," << csv_field(s.value("finite", json())) << "," << csv_field(s.value("state_hash", json()))
+      << "," << csv_field(s.value("kinetic_energy_final", json()));
+    o << "," << csv_field(s.contains("stability") ? s["stability"].value("substeps", json()) : json());
+    for (const auto& t : timing) o << "," << csv_field(s.contains("timing_us") ? s["timing_us"].value(t, json()) : json());
+    const json pair = s.contains("pairs") && !s["pairs"].empty() ? s["pairs"][0] : json::object();
+    for (const auto& k : pair_keys) o << "," << csv_field(pair.value(k, json()));
+    o << "\n";
+  }
+  o.close();
+  if (!o) throw std::runtime_error("cannot write " + tmp.string());
+  fs::rename(tmp, fs::path(out_dir) / "runs.csv");
+}
+
+int run_sweep(const SweepOptions& opt) {
+  const auto grids = parse_grids(opt.grids);
+  if (grids.empty()) throw InputError("--grid", "at least one --grid KEY=V1,V2,... is needed");
+  const std::vector<SweepPoint> points = expand_grid(grids);
+  // Every point is validated before anything runs: a bad key or value is bad input now.
+  std::vector<std::pair<std::string, std::string>> fixed;
+  for (const std::string& s : opt.sets) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError("--set " + s, "expected KEY=JSON");
+    fixed.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+  }
+  const std::string text = read_text_file(opt.scene);
+  for (const SweepPoint& p : points) {
+    auto ov = fixed;
+    ov.insert(ov.end(), p.begin(), p.end());
+    (void)parse_scene(text, opt.scene, ov);
+  }
+  if (opt.index >= static_cast<int>(points.size()))
+    throw InputError("--index", "point " + std::to_string(opt.index) + " does not exist (" +
+                                    std::to_string(points.size()) + " points, 0-based)");
+  if (opt.list) {
+    for (const SweepPoint& p : points) {
+      std::string line;
+      std::vector<std::string> a = run_args(opt, p, opt.scene_arg);
+      a[0] = "harness";
+      for (const std::string& s : a) line += (line.empty() ? "" : " ") + (s.find_first_of(" '\"{}[],$*") != std::string::npos ? shell_quote(s) : s);
+      std::printf("%s\n", line.c_str());
+    }
+    return 0;
+  }
+  fs::create_directories(opt.out_dir);
+  std::vector<std::size_t> todo;
+  if (opt.index >= 0) todo.push_back(static_cast<std::size_t>(opt.index));
+  else
+    for (std::size_t i = 0; i < points.size(); ++i) todo.push_back(i);
+
+  std::map<pid_t, std::size_t> running;
+  int worst = 0;
+  std::size_t next = 0, done = 0;
+  auto reap = [&]() {
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid <= 0) return;
+    const std::size_t i = running[pid];
+    running.erase(pid);
+    ++done;
+    const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::fprintf(stderr, "sweep: [%zu/%zu] %s: %s\n", done, todo.size(), point_name(points[i]).c_str(),
+                 rc == 0 ? "ok" : rc == 3 ? "simulation failed (exit 3)" : ("exit " + std::to_string(rc)).c_str());
+    if (rc != 0 && rc != 3) worst = std::max(worst, 1);
+  };
+  while (next < todo.size() || !running.empty()) {
+    while (next < todo.size() && static_cast<int>(running.size()) < std::max(1, opt.jobs)) {
+      const std::size_t i = todo[next++];
+      const fs::path dir = fs::path(opt.out_dir) / point_name(points[i]);
+      fs::create_directories(dir);
+      running[spawn(run_args(opt, points[i], opt.scene), (dir / "stderr.log").string())] = i;
+    }
+    reap();
+  }
+  merge_runs(opt.out_dir, points);
+  return worst;
+}
+
+}  // namespace harness
