@@ -299,11 +299,18 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   sum["timing_us"] = {{"step", num_or_null(median(t_step))},       {"physics", num_or_null(median(t_phys))},
                       {"detect", num_or_null(median(t_det))},      {"eliminate", num_or_null(median(t_elim))},
                       {"cgal", num_or_null(median(t_cgal))},       {"fcl", num_or_null(median(t_fcl))}};
-  sum["stability"] = {{"integrator", "symplectic_euler"},
+  sum["stability"] = {{"integrator", scene.integrator == Integrator::symplectic_euler ? "symplectic_euler" : "implicit_euler"},
                       {"dt", scene.dt},
                       {"dt_crit", num_or_null(sim.dt_crit)},
+                      {"dt_crit_min", num_or_null(sim.dt_crit_min)},
                       {"guard", scene.guard == Guard::refuse ? "refuse" : "substep"},
-                      {"substeps", sim.substeps}};
+                      {"guard_every_steps", Simulation::kGuardEvery},
+                      {"substeps", sim.substeps},
+                      {"max_substeps", sim.max_substeps},
+                      {"guard_violations", sim.guard_violations}};
+  if (scene.integrator == Integrator::implicit_euler)
+    sum["stability"]["implicit"] = {{"cg_max_iterations", sim.implicit_max_iterations},
+                                    {"cg_unconverged_solves", sim.implicit_unconverged}};
   sum["nodes"] = w.num_nodes();
   sum["springs"] = w.springs.size();
   sum["kinetic_energy_final"] = sim.kinetic_energy();

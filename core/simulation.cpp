@@ -70,9 +70,6 @@ std::vector<int> select_nodes(const World& w, int body, const Selection& sel) {
 
 Simulation::Simulation(const Scene& scene) : scene_(scene) {
   const Scene& sc = scene_;
-  if (sc.integrator == Integrator::implicit_euler)
-    throw InputError(sc.file + ": time.integrator",
-                     "\"implicit_euler\" is not available in this build yet; use \"symplectic_euler\"");
   World& w = world;
   // Generate every body, then lay the nodes out in one set of arrays.
   for (const BodySpec& bs : sc.bodies) {
@@ -179,9 +176,10 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
     pairs.push_back(std::move(slot));
   }
 
-  // Stability guard of the explicit integrator (at rest).
+  // Stability guard of the explicit integrator (at rest); implicit Euler needs none.
   dt_crit = critical_dt(w);
-  if (std::isfinite(dt_crit) && sc.dt > 0.9 * dt_crit) {
+  dt_crit_min = dt_crit;
+  if (sc.integrator == Integrator::symplectic_euler && std::isfinite(dt_crit) && sc.dt > 0.9 * dt_crit) {
     char buf[256];
     if (sc.guard == Guard::refuse) {
       std::snprintf(buf, sizeof buf,
@@ -193,6 +191,20 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
     const double ratio = sc.dt / (0.9 * dt_crit);
     if (ratio > 1e6) throw InputError(sc.file + ": time.dt", "dt needs more than 1e6 substeps");
     substeps = static_cast<int>(std::ceil(ratio));
+  }
+  max_substeps = substeps;
+}
+
+void Simulation::guard_check() {
+  const double d = critical_dt(world);
+  dt_crit_min = std::min(dt_crit_min, d);
+  if (scene_.integrator != Integrator::symplectic_euler || !std::isfinite(d)) return;
+  const double ratio = scene_.dt / (0.9 * d);
+  if (scene_.guard == Guard::substep) {
+    substeps = std::max(1, static_cast<int>(std::ceil(std::min(ratio, 1e6))));
+    max_substeps = std::max(max_substeps, substeps);
+  } else if (ratio > 1.0) {
+    ++guard_violations;
   }
 }
 
@@ -244,6 +256,7 @@ void Simulation::step() {
   const auto t0 = Clock::now();
   ++step_index;
   World& w = world;
+  if (scene_.has(kSprings) && (step_index - 1) % kGuardEvery == 0 && step_index > 1) guard_check();
   const double h = scene_.dt / substeps;
   update_kinematics(step_index);
   for (PairSlot& p : pairs) p.contacts = 0, p.t_detect_us = p.t_eliminate_us = p.force = 0.0;
@@ -263,7 +276,13 @@ void Simulation::step() {
       p.force = std::max(p.force, st.force);
     }
     const auto ti = Clock::now();
-    integrate(h);
+    if (scene_.integrator == Integrator::implicit_euler) {
+      implicit_last = implicit_.step(w, h, scene_.has(kSprings), scene_.has(kDamping));
+      implicit_max_iterations = std::max(implicit_max_iterations, implicit_last.iterations);
+      if (!implicit_last.converged) ++implicit_unconverged;
+    } else {
+      integrate(h);
+    }
     physics += us_since(ti);
   }
   if (substeps > 1)

@@ -3,6 +3,7 @@
 
 #include "core/collision/collision.hpp"
 #include "core/effects.hpp"
+#include "core/implicit.hpp"
 #include "core/scene.hpp"
 #include "core/world.hpp"
 
@@ -43,6 +44,15 @@ class Simulation {
   StepTimes last;      // timings of the last step
   int substeps = 1;    // explicit substeps per step chosen by the stability guard
   double dt_crit = 0.0;  // s, Gershgorin bound at rest (infinity without springs)
+  // Stability guard during the run (explicit integrator): dt_crit is re-evaluated at the
+  // current strain every kGuardEvery steps; with guard "substep" the substeps follow it.
+  static constexpr int kGuardEvery = 10;
+  double dt_crit_min = 0.0;   // smallest dt_crit seen, s
+  int max_substeps = 1;       // largest substep count used
+  int guard_violations = 0;   // checks with dt > 0.9 dt_crit under guard "refuse"
+  ImplicitStats implicit_last;  // of the last implicit solve
+  int implicit_max_iterations = 0;
+  int implicit_unconverged = 0;
 
   const Scene& scene() const { return scene_; }
   // Names of the effects built (and simulated), in canonical order.
@@ -65,6 +75,8 @@ class Simulation {
   };
   std::vector<DriverNodes> driver_nodes_;
   std::vector<std::uint8_t> pinned_;
+  ImplicitEuler implicit_;
+  void guard_check();
 };
 
 // Critical time step of symplectic Euler from a Gershgorin bound on M^-1 K (spring tangent

@@ -1,0 +1,40 @@
+// Linearised backward Euler (Baraff and Witkin 1998) for stiff scenes:
+//   (M - h D - h^2 K) dv = h (f0 + h K v0),   v1 = v0 + dv,   x1 = x0 + h v1
+// f0 is every force of the step at (x0, v0) (w.f, contact included, treated explicitly);
+// K = df/dx of the springs, D = df/dv of the dashpots and mass damping. The spring block is
+// k_t u u^T + max(T/l, 0) (I - u u^T): the compressive geometric term is dropped so that
+// M - h D - h^2 K stays symmetric positive definite and conjugate gradient applies.
+// Kinematic nodes (pins, drivers) are not unknowns: pinned nodes stay put, driven ones move
+// with their kin_v; their coupling enters the right-hand side through K v0.
+#pragma once
+
+#include "core/world.hpp"
+
+#include <Eigen/Sparse>
+
+#include <vector>
+
+namespace harness {
+
+struct ImplicitStats {
+  int iterations = 0;     // conjugate-gradient iterations of the last solve
+  double error = 0.0;     // relative residual reached
+  bool converged = true;
+};
+
+class ImplicitEuler {
+ public:
+  // springs/damping: whether those effects are simulated (their Jacobians enter the matrix).
+  ImplicitStats step(World& w, double h, bool springs, bool damping);
+  double tolerance = 1e-9;   // relative residual of CG
+  int max_iterations = 1000;
+
+ private:
+  std::vector<int> dof_;  // node -> first unknown (3 per free node), -1 for kinematic nodes
+  std::vector<Eigen::Triplet<double>> triplets_;
+  Eigen::SparseMatrix<double> A_;
+  Eigen::VectorXd b_, dv_;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg_;
+};
+
+}  // namespace harness
