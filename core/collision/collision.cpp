@@ -25,6 +25,11 @@ Collision::Collision(const World& w, ContactSpec spec) : spec_(std::move(spec)) 
   detector_->initialize(w, spec_);
   contacts_.reserve(static_cast<std::size_t>(w.bodies[spec_.guest].size()));
   magnitude_.reserve(contacts_.capacity());
+  // Length scale of the automatic force for detectors without a grid: mean host spring length.
+  const Body& hb = w.bodies[spec_.host];
+  double sum = 0.0;
+  for (int k = hb.spring_begin; k < hb.spring_end; ++k) sum += w.springs.rest[k];
+  length_scale_ = hb.spring_end > hb.spring_begin ? sum / (hb.spring_end - hb.spring_begin) : 0.0;
 }
 
 int Collision::detect(const World& w) {
@@ -38,7 +43,8 @@ PairStepStats Collision::step(World& w, double dt) {
   detector_->detect(w, spec_, contacts_);
   const auto t1 = Clock::now();
   if (spec_.force_auto) {
-    s.force = auto_contact_forces(w, *detector_, contacts_, dt, magnitude_);
+    const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
+    s.force = auto_contact_forces(w, *detector_, contacts_, dt, dt > 0.0 ? L / (200.0 * dt) : 0.0, magnitude_);
   } else {
     magnitude_.assign(contacts_.size(), spec_.force);  // capacity reserved: no allocation
     s.force = contacts_.empty() ? 0.0 : spec_.force;

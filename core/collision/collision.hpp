@@ -47,6 +47,7 @@ class Collision {
   std::unique_ptr<CollisionEliminator> eliminator_;
   std::vector<Contact> contacts_;  // reserved for every guest node: no growth per step
   std::vector<double> magnitude_;  // force per contact, N (same capacity)
+  double length_scale_ = 0.0;      // m, for the automatic force without a grid
 };
 
 }  // namespace harness

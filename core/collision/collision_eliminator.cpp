@@ -32,7 +32,8 @@ void raise(double& m, double candidate) {
 }  // namespace
 
 double auto_contact_forces(const World& w, const CollisionDetector& det,
-                           const std::vector<Contact>& contacts, double dt, std::vector<double>& out) {
+                           const std::vector<Contact>& contacts, double dt, double separation_speed,
+                           std::vector<double>& out) {
   out.resize(contacts.size());
   double largest = 0.0;
   for (std::size_t i = 0; i < contacts.size(); ++i) {
@@ -48,18 +49,17 @@ double auto_contact_forces(const World& w, const CollisionDetector& det,
     // Relative acceleration from the forces accumulated so far (kinematic nodes: none).
     const Vec3 da = (kg ? Vec3::Zero() : Vec3(w.inv_m[c.guest] * w.f[c.guest])) -
                     (kh ? Vec3::Zero() : Vec3(w.inv_m[h] * w.f[h]));
-    double s, q;
+    // Separating speed along u expected at the end of the step without contact force.
+    double predicted;
     if (len > 0.0) {
       const Vec3 u = r / len;
-      s = std::max(0.0, -dv.dot(u));
-      q = std::max(0.0, -da.dot(u));
+      predicted = dv.dot(u) + dt * da.dot(u);
     } else {
-      s = dv.norm();
-      q = da.norm();
+      predicted = -(dv.norm() + dt * da.norm());
     }
     const double mu = kg ? w.m[h] : kh ? w.m[c.guest] : w.m[c.guest] * w.m[h] / (w.m[c.guest] + w.m[h]);
     double f = 0.0;
-    raise(f, mu * (s / dt + q));
+    raise(f, mu * std::max(0.0, separation_speed - predicted) / dt);
     out[i] = f;
     largest = std::max(largest, f);
   }

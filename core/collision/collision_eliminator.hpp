@@ -31,21 +31,24 @@ std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind);
 // Force magnitudes (N) of `"force": "auto"`, one per contact, written into `out` (resized to
 // contacts.size(); reuse it across steps to avoid allocation). The paper tunes one constant F
 // by hand, with the rule that it must beat the deformation forces. `auto` applies that rule
-// per contact and per step, along the contact line u (unit vector from h to g), as the force
-// that brings the pair's approach to rest within the step:
-//   F_c = mu * (s / dt + q)
-//   s = max(0, -(v_g - v_h) . u)            approach speed
-//   q = max(0, -(f_g/m_g - f_h/m_h) . u)    approach acceleration from the forces so far
-// with g the guest node, h the nearest host node (det.nearest_hosts(k = 1)), f what the step
-// has already accumulated in w.f (springs, pressure, gravity, ...; contact runs after them)
-// and mu = m_g m_h / (m_g + m_h) the reduced mass (a kinematic node counts as infinitely heavy
-// and contributes no force or acceleration; velocities of kinematic nodes are their kin_v).
-// So F_c exceeds the deformation forces pressing the pair together, and stops the approach
-// without overshoot. A larger gain (say 2x the load) was tried first: it feeds back through
-// the deformation it causes and diverged in cylinder_press. When g and h coincide, |dv| and
-// |da| are used. Non-finite terms are ignored. A resting penetration with no load and no
-// motion gets F_c = 0. Returns the largest F_c (0 without contacts).
+// per contact and per step, along the contact line u (unit vector from h to g): the force that
+// makes the pair separate at `separation_speed` (v_sep, m/s) by the end of the step:
+//   F_c = mu * max(0, v_sep - w) / dt,   w = (v_g - v_h) . u + dt (f_g/m_g - f_h/m_h) . u
+// w is the separating speed the pair would have after the step without contact force: the
+// force therefore beats the deformation forces that press the pair together (the f term) and
+// stops the approach (the v term). g is the guest node, h the nearest host node
+// (det.nearest_hosts(k = 1)), f what the step has already accumulated in w.f (springs,
+// pressure, gravity, ...; contact runs after them), mu = m_g m_h / (m_g + m_h) the reduced
+// mass (a kinematic node counts as infinitely heavy and contributes no acceleration; velocities
+// of kinematic nodes are their kin_v). When g and h coincide, w = -(|dv| + dt |da|).
+// Collision uses v_sep = L / (200 dt), L the voxel size (or the host's mean spring length for
+// detectors without a grid): a pair resting in one voxel is pushed out within about 200 steps,
+// so initial overlaps resolve, while the ejection energy 1/2 mu v_sep^2 stays small. With
+// v_sep = 0 the rule only stops the approach. A larger gain (2x the load) was tried first: it
+// feeds back through the deformation it causes and diverged in cylinder_press. Non-finite
+// terms are ignored. Returns the largest F_c (0 without contacts).
 double auto_contact_forces(const World& w, const CollisionDetector& det,
-                           const std::vector<Contact>& contacts, double dt, std::vector<double>& out);
+                           const std::vector<Contact>& contacts, double dt, double separation_speed,
+                           std::vector<double>& out);
 
 }  // namespace harness
