@@ -1,6 +1,7 @@
 #include "core/simulation.hpp"
 
 #include "core/mesh.hpp"
+#include "core/parallel.hpp"
 #include "core/shapes.hpp"
 
 #include <algorithm>
@@ -237,6 +238,8 @@ void Simulation::update_kinematics(int step) {
 void Simulation::integrate(double h) {
   World& w = world;
   const int n = w.num_nodes();
+  // Per node, independent: parallel (core/parallel.hpp) with the same result for any thread count.
+#pragma omp parallel for num_threads(threads_for(static_cast<std::size_t>(n))) schedule(static)
   for (int i = 0; i < n; ++i) {
     switch (w.kinematic[i]) {
       case 0:

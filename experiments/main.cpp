@@ -1,6 +1,8 @@
 // The command-line program `harness` (DESIGN.md, "Command line").
+#include "core/parallel.hpp"
 #include "core/run.hpp"
 #include "core/scene.hpp"
+#include "experiments/bench.hpp"
 #include "experiments/sweep.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
@@ -105,6 +107,8 @@ int main(int argc, char** argv) {
   run->add_option("--set", sets, "override a scene value: KEY=JSON (dotted key, list indices)");
   run->add_option("--steps", steps, "override time.steps");
   run->add_flag("--quiet", quiet, "no progress line");
+  int run_threads = 0;
+  run->add_option("--threads", run_threads, "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
 
   app.add_subcommand("list", "list the bundled scenes");
 
@@ -119,6 +123,15 @@ int main(int argc, char** argv) {
   sweep->add_flag("--list", sw.list, "print one `harness run` command per point and exit");
   sweep->add_option("--index", sw.index, "run only point I (0-based), then merge runs.csv");
 
+  BenchOptions bo;
+  CLI::App* bench = app.add_subcommand("bench", "time detection, references, steps and bandwidth limits on generated scenes; one CSV");
+  bench->add_flag("--quick", bo.quick, "stop at 10^5 nodes per body");
+  bench->add_option("--out", bo.out, "CSV file")->required();
+  bench->add_option("--sizes", bo.sizes, "nodes per body (default 1000,10000,100000[,1000000])")->delimiter(',');
+  bench->add_option("--threads", bo.threads, "thread counts to time")->delimiter(',')->capture_default_str();
+  bench->add_option("--min-time", bo.min_seconds, "seconds of repetitions per row (at least 3 reps)")->capture_default_str();
+  bench->add_flag("!--no-references", bo.references, "skip the fcl and cgal rows");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -132,6 +145,14 @@ int main(int argc, char** argv) {
 
   try {
     if (app.got_subcommand("list")) return cmd_list();
+    if (app.got_subcommand("bench")) {
+      for (long long n : bo.sizes)
+        if (n < 8) throw InputError("--sizes", "nodes per body must be >= 8");
+      for (int t : bo.threads)
+        if (t < 1) throw InputError("--threads", "must be >= 1");
+      if (!(bo.min_seconds >= 0.0)) throw InputError("--min-time", "must be >= 0");
+      return run_bench(bo);
+    }
     if (app.got_subcommand("sweep")) {
       sw.scene = resolve_scene(sweep_scene);
       sw.scene_arg = sweep_scene;
@@ -141,6 +162,10 @@ int main(int argc, char** argv) {
       if (sw.jobs < 1) throw InputError("-j", "must be >= 1");
       if (sweep->count("--index") && sw.index < 0) throw InputError("--index", "must be >= 0");
       return run_sweep(sw);
+    }
+    if (run->count("--threads")) {
+      if (run_threads < 1) throw InputError("--threads", "must be >= 1");
+      set_threads(run_threads);
     }
     const std::string path = resolve_scene(scene_arg);
     auto overrides = parse_sets(sets);
@@ -152,7 +177,7 @@ int main(int argc, char** argv) {
     opt.progress = !quiet;
 #ifdef HARNESS_HAVE_REFERENCE
     opt.measurer = make_reference_measurer;
-    opt.versions = reference_versions();
+    opt.versions = reference_version_map();
 #endif
     return run_scene(scene, opt);
   } catch (const InputError& e) {

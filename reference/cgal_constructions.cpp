@@ -21,9 +21,10 @@ bool intersection_volume(const CgalSurface& a, const CgalSurface& b, double& vol
   volume = 0.0;
   if (!surfaces_intersect(a, b, /*bounded_sides=*/true)) return true;
   try {
-    // Corefinement requires inputs free of self-intersections, which a deformed soft body need
-    // not be: refuse rather than return a wrong number.
-    if (PMP::does_self_intersect(a.impl().mesh) || PMP::does_self_intersect(b.impl().mesh))
+    // Corefinement requires inputs free of self-intersections and collapsed faces, which a
+    // deformed soft body need not be: refuse rather than return a wrong number.
+    if (a.num_degenerate_faces() > 0 || b.num_degenerate_faces() > 0 ||
+        PMP::does_self_intersect(a.impl().mesh) || PMP::does_self_intersect(b.impl().mesh))
       return false;
     Mesh ma = a.impl().mesh, mb = b.impl().mesh, out;  // corefinement modifies its inputs
     if (!PMP::corefine_and_compute_intersection(ma, mb, out)) return false;

@@ -7,6 +7,7 @@
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/version_macros.h>
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 
@@ -61,6 +62,29 @@ void CgalSurface::update(const Vec3* points) {
   s.tree.do_not_accelerate_distance_queries();  // drops the kd-tree of old points
   s.kd_ready = false;
   s.side_of.emplace(s.tree);
+
+  s.degenerate.clear();
+  s.proper.clear();
+  for (int f = 0; f < static_cast<int>(s.faces.size()); ++f)
+    if (is_degenerate(points[s.faces[f][0]], points[s.faces[f][1]], points[s.faces[f][2]]))
+      s.degenerate.push_back(f);
+  s.distance_tree.clear();
+  s.distance_kd_ready = false;
+  if (!s.degenerate.empty()) {
+    std::size_t next = 0;
+    for (int f = 0; f < static_cast<int>(s.faces.size()); ++f) {
+      if (next < s.degenerate.size() && s.degenerate[next] == f) {
+        ++next;
+        continue;
+      }
+      s.proper.push_back(Mesh::Face_index(static_cast<Mesh::size_type>(f)));
+    }
+    if (!s.proper.empty()) {
+      s.distance_tree.insert(s.proper.begin(), s.proper.end(), s.mesh);
+      s.distance_tree.build();
+      s.distance_tree.do_not_accelerate_distance_queries();
+    }
+  }
   s.ready = true;
 }
 
@@ -77,24 +101,68 @@ SurfaceSide CgalSurface::side(const Vec3& p) const {
 }
 
 namespace {
-void ensure_kd(const CgalSurface::Impl& s) {
-  if (!s.kd_ready) {
-    s.tree.accelerate_distance_queries();
-    s.kd_ready = true;
-  }
+
+// Closest point to p on segment [a, b], in plain double arithmetic (safe when a == b).
+Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  if (!(l2 > 0.0)) return a;
+  const double t = std::clamp((p - a).dot(ab) / l2, 0.0, 1.0);
+  return a + t * ab;
 }
+
+// Nearest surface point to p: face index, point, squared distance.
+struct Nearest {
+  int face = -1;
+  Vec3 point = Vec3::Zero();
+  double d2 = std::numeric_limits<double>::infinity();
+};
+
+Nearest nearest(const CgalSurface::Impl& s, const Vec3& p) {
+  Nearest n;
+  const bool split = !s.degenerate.empty();
+  cgal::Tree& tree = split ? s.distance_tree : s.tree;  // mutable members: the kd-tree is lazy
+  bool& kd_ready = split ? s.distance_kd_ready : s.kd_ready;
+  if (!tree.empty()) {
+    if (!kd_ready) {
+      tree.accelerate_distance_queries();
+      kd_ready = true;
+    }
+    const auto pp = tree.closest_point_and_primitive(cgal::to_point(p));
+    n.face = static_cast<int>(pp.second);
+    n.point = cgal::to_vec(pp.first);
+    n.d2 = (n.point - p).squaredNorm();
+  }
+  for (int f : s.degenerate) {
+    const Tri& t = s.faces[f];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 q = closest_on_segment(p, cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[k]))),
+                                        cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[(k + 1) % 3]))));
+      const double d2 = (q - p).squaredNorm();
+      if (d2 < n.d2) n = Nearest{f, q, d2};
+    }
+  }
+  return n;
+}
+
 }  // namespace
 
-double CgalSurface::squared_distance(const Vec3& p) const {
-  ensure_kd(*impl_);
-  return CGAL::to_double(impl_->tree.squared_distance(cgal::to_point(p)));
-}
+double CgalSurface::squared_distance(const Vec3& p) const { return nearest(*impl_, p).d2; }
 
 int CgalSurface::closest_face(const Vec3& p, Vec3* closest) const {
-  ensure_kd(*impl_);
-  const auto pp = impl_->tree.closest_point_and_primitive(cgal::to_point(p));
-  if (closest) *closest = cgal::to_vec(pp.first);
-  return static_cast<int>(pp.second);
+  const Nearest n = nearest(*impl_, p);
+  if (closest) *closest = n.point;
+  return n.face;
+}
+
+int CgalSurface::num_degenerate_faces() const { return static_cast<int>(impl_->degenerate.size()); }
+
+bool is_degenerate(const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Twice the area against the longest edge squared: a relative sine below 1e-12 (or a NaN)
+  // counts as collapsed. Far below any triangle a simulation would keep on purpose.
+  const double n2 = (b - a).cross(c - a).squaredNorm();
+  const double e2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return !(n2 > 1e-24 * e2 * e2) || !(e2 > 0.0);
 }
 
 void CgalSurface::bounds(Vec3& lo, Vec3& hi) const {

@@ -47,6 +47,9 @@ class CgalSurface {
   int closest_face(const Vec3& p, Vec3* closest = nullptr) const;
   // Bounding box of the current vertices.
   void bounds(Vec3& lo, Vec3& hi) const;
+  // Faces collapsed (is_degenerate) at the last update: distances to them are taken to their
+  // edges in double arithmetic, not by CGAL (whose projection onto them is NaN).
+  int num_degenerate_faces() const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }
@@ -54,6 +57,9 @@ class CgalSurface {
  private:
   std::unique_ptr<Impl> impl_;
 };
+
+// A triangle whose normal vanishes numerically (relative to its longest edge), or with a NaN.
+bool is_degenerate(const Vec3& a, const Vec3& b, const Vec3& c);
 
 // Whether two updated surfaces intersect (any pair of triangles meets, touching included), with
 // PMP::do_intersect. With bounded_sides, a surface wholly inside the other counts too.

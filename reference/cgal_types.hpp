@@ -40,6 +40,14 @@ struct CgalSurface::Impl {
   // every rebuild, or points that moved beyond the old box would read as outside.
   std::optional<cgal::SideOf> side_of;
   bool ready = false;
+  // Distances are constructions: CGAL projects onto a triangle's supporting plane, which is NaN
+  // for a (numerically) degenerate triangle, and the exact fallback of the next comparison then
+  // aborts inside GMP. A deformed soft body can collapse triangles, so those are kept out of a
+  // separate distance tree (built only when some exist) and measured as three segments instead.
+  std::vector<int> degenerate;                 // faces collapsed at the last update
+  std::vector<cgal::Mesh::Face_index> proper;  // the others, when `degenerate` is not empty
+  mutable cgal::Tree distance_tree;
+  mutable bool distance_kd_ready = false;
 };
 
 }  // namespace harness

@@ -1,5 +1,7 @@
 #include "reference/exact_detectors.hpp"
 
+#include <cmath>
+
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
@@ -30,6 +32,14 @@ Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+// Exact predicates on a NaN abort the program inside GMP: a diverged state gets no contacts
+// (the run's finiteness check then stops it).
+bool all_finite(const World& w, const Body& b) {
+  for (int i = b.begin; i < b.end; ++i)
+    if (!w.x[i].allFinite()) return false;
+  return true;
+}
+
 // The (up to 3) vertices of host triangle t, as global indices, nearest to p first.
 int triangle_vertices_nearest_first(const World& w, int host_begin, const Tri& t, const Vec3& p,
                                     int k, int* out) {
@@ -58,6 +68,7 @@ void CgalDetector::detect(const World& w, const ContactSpec& spec, std::vector<C
   out.clear();
   const Body& H = w.bodies[spec.host];
   const Body& G = w.bodies[spec.guest];
+  if (!all_finite(w, H) || !all_finite(w, G)) return;
   host_surface_.update(&w.x[H.begin]);
   for (int i = G.begin; i < G.end; ++i)
     if (host_surface_.strictly_inside(w.x[i]))
@@ -68,6 +79,32 @@ int CgalDetector::nearest_hosts(const World& w, const Contact& c, int k, int* ou
   if (c.key < 0 || c.key >= static_cast<int>(host_surface_.faces().size())) return 0;
   return triangle_vertices_nearest_first(w, host_begin_, host_surface_.faces()[c.key], w.x[c.guest],
                                          k, out);
+}
+
+namespace {
+// Outward unit normal of host triangle t (global node offset `begin`); false when degenerate.
+bool face_normal(const World& w, int begin, const Tri& t, Vec3& n) {
+  const Vec3& a = w.x[begin + t[0]];
+  const Vec3 c = (w.x[begin + t[1]] - a).cross(w.x[begin + t[2]] - a);
+  const double len = c.norm();
+  if (!(len > 0.0) || !std::isfinite(len)) return false;
+  n = c / len;
+  return true;
+}
+}  // namespace
+
+bool CgalDetector::contact_direction(const World& w, const Contact& c, Vec3& n) const {
+  if (c.key < 0 || c.key >= static_cast<int>(host_surface_.faces().size())) return false;
+  const Tri& t = host_surface_.faces()[c.key];
+  const Vec3& x = w.x[c.guest];
+  const Vec3 p = closest_on_triangle(x, w.x[host_begin_ + t[0]], w.x[host_begin_ + t[1]], w.x[host_begin_ + t[2]]);
+  const Vec3 d = p - x;
+  const double len = d.norm();
+  if (len > 1e-12 * (1.0 + x.norm()) && std::isfinite(len)) {
+    n = d / len;
+    return true;
+  }
+  return face_normal(w, host_begin_, t, n);
 }
 
 // ---- FCL ------------------------------------------------------------------------------------
@@ -88,6 +125,7 @@ void FclDetector::detect(const World& w, const ContactSpec& spec, std::vector<Co
   out.clear();
   const Body& H = w.bodies[spec.host];
   const Body& G = w.bodies[spec.guest];
+  if (!all_finite(w, H) || !all_finite(w, G)) return;
   host_.update(&w.x[H.begin]);
   guest_.update(&w.x[G.begin]);
   intersecting_pairs(guest_, host_, pairs_, /*with_depth=*/false);
@@ -119,6 +157,11 @@ void FclDetector::detect(const World& w, const ContactSpec& spec, std::vector<Co
 int FclDetector::nearest_hosts(const World& w, const Contact& c, int k, int* out) const {
   if (c.key < 0 || c.key >= static_cast<int>(host_.faces().size())) return 0;
   return triangle_vertices_nearest_first(w, host_begin_, host_.faces()[c.key], w.x[c.guest], k, out);
+}
+
+bool FclDetector::contact_direction(const World& w, const Contact& c, Vec3& n) const {
+  if (c.key < 0 || c.key >= static_cast<int>(host_.faces().size())) return false;
+  return face_normal(w, host_begin_, host_.faces()[c.key], n);
 }
 
 void register_reference_detectors() {

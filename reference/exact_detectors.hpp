@@ -6,7 +6,10 @@
 //          triangle (FCL BVH traversal); the key is, of the host triangles intersecting the
 //          node's triangles, the one nearest to the node.
 // nearest_hosts() returns the vertices (global indices) of the key triangle, nearest first, at
-// most 3 whatever k asks.
+// most 3 whatever k asks. contact_direction() (what the eliminators push the guest along):
+//  "cgal": from the node to the nearest point of the host surface (outward, since the node is
+//          inside), or the key triangle's outward normal when the node lies on it;
+//  "fcl":  the key triangle's outward normal (FCL's contact normal of the pair).
 #pragma once
 
 #include "core/collision/collision_detector.hpp"
@@ -21,6 +24,7 @@ class CgalDetector final : public CollisionDetector {
   void initialize(const World& w, const ContactSpec& spec) override;
   void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
+  bool contact_direction(const World& w, const Contact& c, Vec3& n) const override;
 
  private:
   CgalSurface host_surface_;
@@ -34,6 +38,7 @@ class FclDetector final : public CollisionDetector {
   void initialize(const World& w, const ContactSpec& spec) override;
   void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
+  bool contact_direction(const World& w, const Contact& c, Vec3& n) const override;
 
  private:
   FclSurface host_, guest_;

@@ -66,6 +66,10 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair,
   out = Measurement{};
   const Body& H = w.bodies[host_];
   const Body& G = w.bodies[guest_];
+  // Exact predicates on a NaN abort inside GMP: a diverged state is not measured (has_* false).
+  for (const Body* b : {&H, &G})
+    for (int i = b->begin; i < b->end; ++i)
+      if (!w.x[i].allFinite()) return;
 
   if (spec_.cgal || spec_.volume) {
     const auto t0 = Clock::now();
@@ -135,5 +139,9 @@ std::unique_ptr<Measurer> make_reference_measurer(const World& w, const ContactS
 }
 
 std::string reference_versions() { return "FCL " + fcl_version() + ", CGAL " + cgal_version(); }
+
+std::map<std::string, std::string> reference_version_map() {
+  return {{"FCL", fcl_version()}, {"CGAL", cgal_version()}};
+}
 
 }  // namespace harness

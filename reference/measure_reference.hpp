@@ -8,6 +8,7 @@
 #include "reference/fcl_surface.hpp"
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,7 +25,8 @@ namespace harness {
 //        t_fcl_us (vertex replacement and refit included).
 //  ccd:  convex hulls of each body's nodes, recomputed, and their signed distance by GJK/EPA;
 //        t_ccd_us (hulls included).
-// spec.every is the caller's business: every call measures.
+// spec.every is the caller's business: every call measures. A state with a non-finite position
+// is not measured (all has_* false): exact predicates abort on NaN.
 class ReferenceMeasurer final : public Measurer {
  public:
   ReferenceMeasurer(const World& w, const ContactSpec& pair, const ReferenceSpec& spec,
@@ -57,5 +59,7 @@ std::unique_ptr<Measurer> make_reference_measurer(const World& w, const ContactS
 
 // "FCL 0.7.0, CGAL 5.5.1"
 std::string reference_versions();
+// {{"FCL", "0.7.0"}, {"CGAL", "5.5.1"}}: for summary.json's `versions` (RunOptions::versions).
+std::map<std::string, std::string> reference_version_map();
 
 }  // namespace harness

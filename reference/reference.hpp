@@ -3,4 +3,5 @@
 
 #include "reference/cgal_surface.hpp"       // inside_surface(), CgalSurface
 #include "reference/exact_detectors.hpp"    // register_reference_detectors()
-#include "reference/measure_reference.hpp"  // make_reference_measurer(), reference_versions()
+#include "reference/measure_reference.hpp"  // make_reference_measurer(), reference_versions(),
+                                            // reference_version_map()

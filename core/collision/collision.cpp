@@ -25,6 +25,8 @@ Collision::Collision(const World& w, ContactSpec spec) : spec_(std::move(spec)) 
   detector_->initialize(w, spec_);
   contacts_.reserve(static_cast<std::size_t>(w.bodies[spec_.guest].size()));
   magnitude_.reserve(contacts_.capacity());
+  pushes_.reserve(contacts_.capacity());
+  share_.assign(w.x.size(), 0);
   // Length scale of the automatic force for detectors without a grid: mean host spring length.
   const Body& hb = w.bodies[spec_.host];
   double sum = 0.0;
@@ -42,14 +44,16 @@ PairStepStats Collision::step(World& w, double dt) {
   const auto t0 = Clock::now();
   detector_->detect(w, spec_, contacts_);
   const auto t1 = Clock::now();
+  eliminator_->pushes(w, spec_, *detector_, contacts_, pushes_);
   if (spec_.force_auto) {
     const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
-    s.force = auto_contact_forces(w, *detector_, contacts_, dt, dt > 0.0 ? L / (200.0 * dt) : 0.0, magnitude_);
+    s.force = auto_contact_forces(w, pushes_, dt, dt > 0.0 ? L / (kSeparationSteps * dt) : 0.0,
+                                  magnitude_, share_);
   } else {
-    magnitude_.assign(contacts_.size(), spec_.force);  // capacity reserved: no allocation
-    s.force = contacts_.empty() ? 0.0 : spec_.force;
+    magnitude_.assign(pushes_.size(), spec_.force);  // capacity reserved: no allocation
+    s.force = pushes_.empty() ? 0.0 : spec_.force;
   }
-  eliminator_->eliminate(w, spec_, *detector_, contacts_, magnitude_);
+  apply_pushes(w, pushes_, magnitude_);
   const auto t2 = Clock::now();
   s.contacts = static_cast<int>(contacts_.size());
   s.t_detect_us = micros(t0, t1);

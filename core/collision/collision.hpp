@@ -24,6 +24,12 @@ struct PairStepStats {
 
 class Collision {
  public:
+  // The automatic force separates a contact at v_sep = L / (kSeparationSteps dt), L the voxel
+  // size: a pair resting in one voxel leaves it in about this many steps (see
+  // auto_contact_forces). 200 injected energy through the voxel-thick contact skin once voxels
+  // reached 8 mm (cylinder_press diverged); 2000 keeps the ejection speed at a few cm/s.
+  static constexpr double kSeparationSteps = 2000.0;
+
   // Makes and initializes the detector on the current (rest) positions. Throws
   // std::invalid_argument for an unknown detector, bad body indices, a negative margin, a
   // non-finite or negative force, a bad voxel size, or a region above kMaxVoxels.
@@ -40,14 +46,17 @@ class Collision {
   const ContactSpec& spec() const { return spec_; }
   const CollisionDetector& detector() const { return *detector_; }
   const CollisionEliminator& eliminator() const { return *eliminator_; }
+  const std::vector<Push>& pushes() const { return pushes_; }
 
  private:
   ContactSpec spec_;
   std::unique_ptr<CollisionDetector> detector_;
   std::unique_ptr<CollisionEliminator> eliminator_;
   std::vector<Contact> contacts_;  // reserved for every guest node: no growth per step
+  std::vector<Push> pushes_;       // direction and reactions per contact (same capacity)
   std::vector<double> magnitude_;  // force per contact, N (same capacity)
   double length_scale_ = 0.0;      // m, for the automatic force without a grid
+  std::vector<int> share_;         // per node: contacts leaning on it (scratch, all zero)
 };
 
 }  // namespace harness

@@ -31,6 +31,13 @@ class CollisionDetector {
   // Up to k host nodes (global indices) nearest to the guest node of contact c, searched in the
   // detector's neighbourhood of the contact, nearest first. Returns how many were written.
   virtual int nearest_hosts(const World& w, const Contact& c, int k, int* out) const = 0;
+  // Exact detectors know the direction that pushes a contact's guest node out of the host
+  // (unit vector, written to n); the eliminators then use it instead of their geometric rule
+  // for the guest's direction. The voxel detector knows none (returns false).
+  virtual bool contact_direction(const World& w, const Contact& c, Vec3& n) const {
+    (void)w, (void)c, (void)n;
+    return false;
+  }
   // Voxel size in use, m (0 for detectors without a grid).
   virtual double voxel_size() const { return 0.0; }
   // Times the detection region was rebuilt because the host outgrew it.

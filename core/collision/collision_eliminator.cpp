@@ -16,53 +16,64 @@ std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind) {
   throw std::invalid_argument("unknown eliminator kind");
 }
 
-namespace {
-const Vec3& velocity(const World& w, int i) {
-  const bool kin = i < static_cast<int>(w.kinematic.size()) && w.kinematic[i] &&
-                   i < static_cast<int>(w.kin_v.size());
-  return kin ? w.kin_v[i] : w.v[i];
+void CollisionEliminator::eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
+                                    const std::vector<Contact>& contacts, double force) const {
+  std::vector<Push> p;
+  pushes(w, spec, det, contacts, p);
+  apply_pushes(w, p, std::vector<double>(p.size(), force));
 }
+
+void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<double>& magnitude) {
+  for (std::size_t i = 0; i < pushes.size(); ++i) {
+    const Push& p = pushes[i];
+    if (p.count == 0) continue;
+    const Vec3 f = magnitude[i] * p.n;
+    w.f[p.guest] += f;
+    for (int k = 0; k < p.count; ++k) w.f[p.hosts[k]] -= p.weight[k] * f;
+  }
+}
+
+namespace {
 bool is_kinematic(const World& w, int i) {
   return i < static_cast<int>(w.kinematic.size()) && w.kinematic[i];
 }
-// max that ignores a non-finite candidate.
-void raise(double& m, double candidate) {
-  if (std::isfinite(candidate) && candidate > m) m = candidate;
+const Vec3& velocity(const World& w, int i) { return is_kinematic(w, i) ? w.kin_v[i] : w.v[i]; }
+Vec3 acceleration(const World& w, int i) {
+  return is_kinematic(w, i) ? Vec3::Zero() : Vec3(w.inv_m[i] * w.f[i]);
 }
+double inverse_mass(const World& w, int i) { return is_kinematic(w, i) ? 0.0 : w.inv_m[i]; }
 }  // namespace
 
-double auto_contact_forces(const World& w, const CollisionDetector& det,
-                           const std::vector<Contact>& contacts, double dt, double separation_speed,
-                           std::vector<double>& out) {
-  out.resize(contacts.size());
+double auto_contact_forces(const World& w, const std::vector<Push>& pushes, double dt,
+                           double separation_speed, std::vector<double>& out, std::vector<int>& share) {
+  out.assign(pushes.size(), 0.0);
+  if (share.size() < w.x.size()) share.assign(w.x.size(), 0);
+  for (const Push& p : pushes)
+    for (int k = 0; k < p.count; ++k) ++share[p.hosts[k]];
   double largest = 0.0;
-  for (std::size_t i = 0; i < contacts.size(); ++i) {
-    const Contact& c = contacts[i];
-    out[i] = 0.0;
-    int h = -1;
-    if (det.nearest_hosts(w, c, 1, &h) < 1 || !(dt > 0.0)) continue;
-    const bool kg = is_kinematic(w, c.guest), kh = is_kinematic(w, h);
-    if (kg && kh) continue;  // neither can move: nothing to stop
-    const Vec3 r = w.x[c.guest] - w.x[h];
-    const double len = r.norm();
-    const Vec3 dv = velocity(w, c.guest) - velocity(w, h);
-    // Relative acceleration from the forces accumulated so far (kinematic nodes: none).
-    const Vec3 da = (kg ? Vec3::Zero() : Vec3(w.inv_m[c.guest] * w.f[c.guest])) -
-                    (kh ? Vec3::Zero() : Vec3(w.inv_m[h] * w.f[h]));
-    // Separating speed along u expected at the end of the step without contact force.
-    double predicted;
-    if (len > 0.0) {
-      const Vec3 u = r / len;
-      predicted = dv.dot(u) + dt * da.dot(u);
-    } else {
-      predicted = -(dv.norm() + dt * da.norm());
+  if (dt > 0.0) {
+    for (std::size_t i = 0; i < pushes.size(); ++i) {
+      const Push& p = pushes[i];
+      if (p.count == 0) continue;
+      Vec3 dv = velocity(w, p.guest), da = acceleration(w, p.guest);
+      double c = inverse_mass(w, p.guest);
+      for (int k = 0; k < p.count; ++k) {
+        const int h = p.hosts[k];
+        dv -= p.weight[k] * velocity(w, h);
+        da -= p.weight[k] * acceleration(w, h);
+        c += p.weight[k] * p.weight[k] * share[h] * inverse_mass(w, h);
+      }
+      if (!(c > 0.0)) continue;  // every node kinematic: nothing can move
+      const double sep = dv.dot(p.n) + dt * da.dot(p.n);
+      const double f = std::max(0.0, separation_speed - sep) / (dt * c);
+      if (std::isfinite(f)) {
+        out[i] = f;
+        largest = std::max(largest, f);
+      }
     }
-    const double mu = kg ? w.m[h] : kh ? w.m[c.guest] : w.m[c.guest] * w.m[h] / (w.m[c.guest] + w.m[h]);
-    double f = 0.0;
-    raise(f, mu * std::max(0.0, separation_speed - predicted) / dt);
-    out[i] = f;
-    largest = std::max(largest, f);
   }
+  for (const Push& p : pushes)  // reset only what was touched: no O(nodes) pass
+    for (int k = 0; k < p.count; ++k) share[p.hosts[k]] = 0;
   return largest;
 }
 

@@ -68,62 +68,63 @@ bool plane_normal(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& hi
   return true;
 }
 
-void LineEliminator::eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
-                               const std::vector<Contact>& contacts, const std::vector<double>& magnitude) {
-  if (contacts.empty()) return;
+void LineEliminator::pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
+                            const std::vector<Contact>& contacts, std::vector<Push>& out) const {
+  out.resize(contacts.size());
   // The host centre is needed only for degenerate contacts: computed on first need.
   bool have_center = false;
   Vec3 center = Vec3::Zero();
   for (std::size_t i = 0; i < contacts.size(); ++i) {
     const Contact& c = contacts[i];
-    const double force = magnitude[i];
+    Push& p = out[i];
+    p = Push{};
+    p.guest = c.guest;
     int h = -1;
     if (det.nearest_hosts(w, c, 1, &h) < 1) continue;
-    Vec3 n = unit_or_zero(w.x[c.guest] - w.x[h]);
-    if (n.squaredNorm() == 0.0) {
+    p.count = 1;
+    p.hosts[0] = h;
+    p.weight[0] = 1.0;
+    if (det.contact_direction(w, c, p.n)) continue;  // exact detectors: their outward direction
+    p.n = unit_or_zero(w.x[c.guest] - w.x[h]);
+    if (p.n.squaredNorm() == 0.0) {
       if (!have_center) {
         center = host_center_of(w, spec.host);
         have_center = true;
       }
-      n = line_direction(w, spec.host, c.guest, h, center);
+      p.n = line_direction(w, spec.host, c.guest, h, center);
     }
-    const Vec3 f = force * n;
-    w.f[c.guest] += f;
-    w.f[h] -= f;
   }
 }
 
-void PlaneEliminator::eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
-                                const std::vector<Contact>& contacts, const std::vector<double>& magnitude) {
+void PlaneEliminator::pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
+                             const std::vector<Contact>& contacts, std::vector<Push>& out) const {
+  out.resize(contacts.size());
   if (contacts.empty()) return;
   const Vec3 center = host_center_of(w, spec.host);
   for (std::size_t i = 0; i < contacts.size(); ++i) {
     const Contact& c = contacts[i];
-    const double force = magnitude[i];
+    Push& p = out[i];
+    p = Push{};
+    p.guest = c.guest;
     int h[3] = {-1, -1, -1};
     const int k = det.nearest_hosts(w, c, 3, h);
     if (k < 1) continue;
-    Vec3 n;
     if (k == 3) {
       const Vec3 hint = host_outward_hint(w, spec.host, h[0], center) +
                         host_outward_hint(w, spec.host, h[1], center) +
                         host_outward_hint(w, spec.host, h[2], center);
       const Vec3 centroid = (w.x[h[0]] + w.x[h[1]] + w.x[h[2]]) / 3.0;
-      if (plane_normal(w.x[h[0]], w.x[h[1]], w.x[h[2]], hint, centroid - center, n)) {
-        const Vec3 f = force * n;
-        const Vec3 f3 = f / 3.0;
-        w.f[c.guest] += f;
-        w.f[h[0]] -= f3;
-        w.f[h[1]] -= f3;
-        w.f[h[2]] -= f3;
+      if (plane_normal(w.x[h[0]], w.x[h[1]], w.x[h[2]], hint, centroid - center, p.n)) {
+        p.count = 3;
+        for (int j = 0; j < 3; ++j) p.hosts[j] = h[j], p.weight[j] = 1.0 / 3.0;
         continue;
       }
     }
     // Too few or collinear neighbours: the line rule with the nearest node.
-    n = line_direction(w, spec.host, c.guest, h[0], center);
-    const Vec3 f = force * n;
-    w.f[c.guest] += f;
-    w.f[h[0]] -= f;
+    p.n = line_direction(w, spec.host, c.guest, h[0], center);
+    p.count = 1;
+    p.hosts[0] = h[0];
+    p.weight[0] = 1.0;
   }
 }
 

@@ -8,7 +8,10 @@
 // node. Hints are normalised; a hint may be zero (node at the centre).
 //
 // line  (the paper's rule) n = the unit vector from the nearest host node h of the guest's voxel
-//       to the guest node g; +F n on g, -F n on h.
+//       to the guest node g; +F n on g, -F n on h. With an exact detector (cgal, fcl) that
+//       knows the outward direction (CollisionDetector::contact_direction), n is that direction
+//       instead: the nearest host vertex is inside the contact's own triangle, and the line to
+//       it points inward for a guest node that is already inside.
 //       Fallbacks, in order, when g and h coincide (zero-length line):
 //         the host's outward hint at h; then the direction from the host's box centre to g;
 //         then +z.
@@ -48,18 +51,16 @@ bool plane_normal(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& hi
 
 class LineEliminator final : public CollisionEliminator {
  public:
-  using CollisionEliminator::eliminate;
   const char* name() const override { return "line"; }
-  void eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
-                 const std::vector<Contact>& contacts, const std::vector<double>& magnitude) override;
+  void pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
+              const std::vector<Contact>& contacts, std::vector<Push>& out) const override;
 };
 
 class PlaneEliminator final : public CollisionEliminator {
  public:
-  using CollisionEliminator::eliminate;
   const char* name() const override { return "plane"; }
-  void eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
-                 const std::vector<Contact>& contacts, const std::vector<double>& magnitude) override;
+  void pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
+              const std::vector<Contact>& contacts, std::vector<Push>& out) const override;
 };
 
 }  // namespace harness

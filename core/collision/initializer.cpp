@@ -17,6 +17,12 @@ std::string pair_name(const World& w, const ContactSpec& s) {
          "')";
 }
 
+// A body's bounding box (body_bounds, in parallel: points_bounds in voxel_data.hpp).
+void bounds_of(const World& w, int body, Vec3& lo, Vec3& hi) {
+  const Body& b = w.bodies[body];
+  points_bounds(w.x, b.begin, b.end, lo, hi);
+}
+
 }  // namespace
 
 double resolve_voxel_size(const World& w, const ContactSpec& spec) {
@@ -58,7 +64,7 @@ void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData&
   rebuilds_ = 0;
 
   Vec3 lo, hi;
-  body_bounds(w, spec.host, lo, hi);
+  bounds_of(w, spec.host, lo, hi);
   const Vec3 c = 0.5 * (lo + hi);
   const Vec3 h = 0.5 * (hi - lo);
   if (!all_finite(c) || !all_finite(h))
@@ -70,7 +76,7 @@ void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData&
 
 Vec3 Initializer::guest_center(const World& w) const {
   Vec3 lo, hi;
-  body_bounds(w, spec_.guest, lo, hi);
+  bounds_of(w, spec_.guest, lo, hi);
   return 0.5 * (lo + hi);
 }
 
@@ -138,7 +144,7 @@ void Initializer::build(const World& w, const Vec3& host_half, const Vec3& host_
 
 GridGeometry Initializer::update(const World& w, VoxelData& grid) {
   Vec3 lo, hi;
-  body_bounds(w, spec_.host, lo, hi);
+  bounds_of(w, spec_.host, lo, hi);
   const Vec3 c = 0.5 * (lo + hi);
   const Vec3 h = 0.5 * (hi - lo);
   center_ = c;
@@ -160,7 +166,7 @@ GridGeometry Initializer::update(const World& w, VoxelData& grid) {
   }
 
   Vec3 glo, ghi;
-  body_bounds(w, spec_.guest, glo, ghi);
+  bounds_of(w, spec_.guest, glo, ghi);
   const double inv_v = 1.0 / voxel_;
   const double m = spec_.margin;
   for (int a = 0; a < 3; ++a) {

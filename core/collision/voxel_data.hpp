@@ -18,6 +18,14 @@
 // in the last fill are listed and cleared again, so a fill costs O(host nodes), not O(voxels),
 // and huge sparse grids (small voxels) stay cheap per step. Within a voxel the nodes appear in
 // increasing index order.
+//
+// Parallel fill (threads() > 1, core/parallel.hpp): the nodes are split into T contiguous
+// chunks and the voxels into T contiguous index ranges ("slabs"). Each chunk computes its
+// nodes' voxels and counts them per slab; the nodes are then bucketed by slab (chunk order
+// kept, so node order is kept), and each slab is counted, prefix-summed and scattered by one
+// thread into its own contiguous part of the index array. Every voxel therefore lists exactly
+// the same nodes, in the same (increasing) order, whatever the thread count; only the order of
+// occupied_voxels() and the offsets of the lists follow the slabs.
 #pragma once
 
 #include "core/types.hpp"
@@ -49,6 +57,50 @@ int voxel_of(const GridGeometry& g, const Vec3& p, Vec3i* ijk = nullptr);
 // Per-axis indices of a linear voxel index.
 Vec3i voxel_ijk(const GridGeometry& g, int cell);
 
+// voxel_of for many points of one grid: the same result, faster. The range test is done on
+// t = (x - c) / v in double (floor(t) >= lo exactly when t >= lo, and floor(t) < lo + dims
+// exactly when t < lo + dims, the bounds being integers), which also rejects NaN; floor is then
+// taken by truncation with a correction, valid because t is known to lie in int range. No libm
+// call (without SSE4.1, std::floor is one) and one branch per point.
+class VoxelIndexer {
+ public:
+  explicit VoxelIndexer(const GridGeometry& g) {
+    inv_ = 1.0 / g.voxel;
+    for (int a = 0; a < 3; ++a) {
+      c_[a] = g.center[a];
+      ilo_[a] = g.lo[a];
+      lo_[a] = g.lo[a];
+      hi_[a] = static_cast<double>(g.lo[a]) + g.dims[a];
+    }
+    dx_ = g.dims.x();
+    dxy_ = g.dims.x() * g.dims.y();
+  }
+  int operator()(const Vec3& p) const {
+    const double t0 = (p[0] - c_[0]) * inv_, t1 = (p[1] - c_[1]) * inv_, t2 = (p[2] - c_[2]) * inv_;
+    // Non-short-circuit: one well-predicted branch instead of six.
+    const bool in = (t0 >= lo_[0]) & (t0 < hi_[0]) & (t1 >= lo_[1]) & (t1 < hi_[1]) &
+                    (t2 >= lo_[2]) & (t2 < hi_[2]);
+    if (!in) return -1;
+    return (ifloor(t0) - ilo_[0]) + dx_ * (ifloor(t1) - ilo_[1]) + dxy_ * (ifloor(t2) - ilo_[2]);
+  }
+  // out[k] = (*this)(p[k]) for k < n; four points at a time with AVX where the processor has it
+  // (chosen at run time; exact operations only, so the same results).
+  void operator()(const Vec3* p, std::size_t n, int* out) const;
+
+ private:
+  void batch_avx(const Vec3* p, std::size_t n, int* out) const;
+  static int ifloor(double t) {
+    const int i = static_cast<int>(t);  // truncation toward zero
+    return i - (t < i);
+  }
+  double c_[3], lo_[3], hi_[3], inv_;
+  int ilo_[3], dx_, dxy_;
+};
+
+// Bounding box of x[begin, end) (as body_bounds: NaN coordinates are ignored), computed in
+// parallel; a zero bound is returned as +0, so the result never depends on the thread count.
+void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi);
+
 class VoxelData {
  public:
   // Node range of one voxel: pointers into the index array, [begin, end).
@@ -61,7 +113,8 @@ class VoxelData {
   };
 
   // Reserves room for grids of up to `max_voxels` voxels and `max_nodes` listed nodes. The only
-  // place that allocates; called at initialisation and when the region is rebuilt.
+  // place that allocates; called at initialisation and when the region is rebuilt (and the
+  // small per-thread tables grow once when the thread count is raised).
   void allocate(long long max_voxels, int max_nodes);
 
   // Lists the nodes [node_begin, node_end) of x in the voxels of g (count, prefix sum over the
@@ -71,12 +124,15 @@ class VoxelData {
 
   const GridGeometry& geometry() const { return geom_; }
   long long capacity() const { return static_cast<long long>(cells_.size()); }
+  // Memory the grid holds (capacity of every array), bytes.
+  long long bytes() const;
   bool occupied(int cell) const { return cells_[cell].count > 0; }
   Span nodes(int cell) const {
     const Cell& c = cells_[cell];
     return {index_.data() + c.first, index_.data() + c.first + c.count};
   }
-  // Linear indices of the non-empty voxels, in order of first appearance in the fill.
+  // Linear indices of the non-empty voxels: slab by slab, in order of first appearance in the
+  // fill within a slab (one slab with one thread).
   const std::vector<int>& occupied_voxels() const { return occupied_; }
   // Nodes listed in the last fill (those inside the region).
   int listed_nodes() const { return listed_; }
@@ -86,12 +142,24 @@ class VoxelData {
     int first = 0;  // offset into index_ (valid when count > 0)
     int count = 0;
   };
+  struct Entry {
+    int node;  // global node index
+    int cell;
+  };
+  void fill_serial(const VoxelIndexer& idx, const Points& x, int node_begin, int node_end);
+  void fill_parallel(int T, const VoxelIndexer& idx, const Points& x, int node_begin, int node_end);
+
   GridGeometry geom_;
   std::vector<Cell> cells_;     // one per voxel of the capacity; all zero except occupied_
   std::vector<int> index_;      // node indices grouped by voxel
   std::vector<int> node_cell_;  // voxel of each node of the range in the last fill, -1 = outside
   std::vector<int> occupied_;   // voxels with count > 0
   int listed_ = 0;
+  // Parallel fill only: nodes bucketed by slab, and per-thread tables (T x T counts and
+  // cursors, slab starts, per-slab occupied counts).
+  std::vector<Entry> bucket_;
+  std::vector<int> occ_scratch_;
+  std::vector<long long> table_;
 };
 
 }  // namespace harness

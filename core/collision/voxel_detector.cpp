@@ -1,5 +1,9 @@
 #include "core/collision/voxel_detector.hpp"
 
+#include "core/parallel.hpp"
+
+#include <algorithm>
+
 namespace harness {
 
 void VoxelDetector::initialize(const World& w, const ContactSpec& spec) {
@@ -10,15 +14,52 @@ void VoxelDetector::initialize(const World& w, const ContactSpec& spec) {
   fill_end_ = spec.host_nodes == HostNodes::surface ? hb.begin + hb.n_surface : hb.end;
 }
 
+// Calls emit(node, voxel) for every node of [begin, end) whose voxel is occupied, in node order;
+// voxels are computed in batches (VoxelIndexer, vectorised) on the stack.
+template <class Emit>
+void VoxelDetector::lookup(const VoxelIndexer& idx, const Points& x, int begin, int end, Emit&& emit) const {
+  constexpr int kBatch = 256;
+  int cells[kBatch];
+  for (int b = begin; b < end; b += kBatch) {
+    const int m = std::min(kBatch, end - b);
+    idx(x.data() + b, static_cast<std::size_t>(m), cells);
+    for (int k = 0; k < m; ++k)
+      if (cells[k] >= 0 && grid_.occupied(cells[k])) emit(b + k, cells[k]);
+  }
+}
+
 void VoxelDetector::detect(const World& w, const ContactSpec&, std::vector<Contact>& out) {
   out.clear();
   const GridGeometry g = init_.update(w, grid_);
   grid_.fill(g, w.x, fill_begin_, fill_end_);
   if (grid_.listed_nodes() == 0) return;
   const Body& gb = w.bodies[spec_.guest];
-  for (int i = gb.begin; i < gb.end; ++i) {
-    const int cell = voxel_of(g, w.x[i]);
-    if (cell >= 0 && grid_.occupied(cell)) out.push_back(Contact{i, cell});
+  const VoxelIndexer idx(g);
+  const std::size_t n = static_cast<std::size_t>(gb.size());
+  const int T = std::min(64, threads_for(n, 16384));
+  if (T == 1) {
+    lookup(idx, w.x, gb.begin, gb.end, [&](int i, int cell) { out.push_back(Contact{i, cell}); });
+    return;
+  }
+  // Each chunk of guest nodes writes its contacts into its own part of the scratch list; the
+  // parts are then appended in chunk order, so contacts stay in guest node order.
+  if (scratch_.size() < n) scratch_.resize(n);  // once, on the first parallel detection
+  int found[64];
+#pragma omp parallel for num_threads(T) schedule(static, 1)
+  for (int t = 0; t < T; ++t) {
+    std::size_t b, e;
+    split_range(n, T, t, b, e);
+    Contact* dst = scratch_.data() + b;
+    int m = 0;
+    lookup(idx, w.x, gb.begin + static_cast<int>(b), gb.begin + static_cast<int>(e),
+           [&](int i, int cell) { dst[m++] = Contact{i, cell}; });
+    found[t] = m;
+  }
+  for (int t = 0; t < T; ++t) {
+    std::size_t b, e;
+    split_range(n, T, t, b, e);
+    out.insert(out.end(), scratch_.begin() + static_cast<std::ptrdiff_t>(b),
+               scratch_.begin() + static_cast<std::ptrdiff_t>(b) + found[t]);
   }
 }
 

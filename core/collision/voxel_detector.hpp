@@ -8,7 +8,10 @@
 // nearest_hosts() must be called after the detect() that produced the contact.
 // detect() uses the spec given to initialize() (the argument is the same pair's spec).
 // No heap allocation per step after initialize(), except when the host outgrows the region
-// (a rebuild); `out` must have capacity for every guest node to avoid growing it.
+// (a rebuild) and once when the thread count is first raised; `out` must have capacity for
+// every guest node to avoid growing it. With several threads (core/parallel.hpp) the guest
+// nodes are looked up in chunks whose contacts are appended in chunk order: the contacts are
+// the same, in the same order, for any thread count.
 #pragma once
 
 #include "core/collision/collision_detector.hpp"
@@ -33,10 +36,14 @@ class VoxelDetector final : public CollisionDetector {
   const Initializer& initializer() const { return init_; }
 
  private:
+  template <class Emit>
+  void lookup(const VoxelIndexer& idx, const Points& x, int begin, int end, Emit&& emit) const;
+
   ContactSpec spec_;
   Initializer init_;
   VoxelData grid_;
   int fill_begin_ = 0, fill_end_ = 0;  // global host node range listed in the voxels
+  std::vector<Contact> scratch_;       // parallel lookup: per-chunk contacts (guest size)
 };
 
 }  // namespace harness

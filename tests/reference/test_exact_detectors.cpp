@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 using namespace harness;
@@ -135,4 +136,28 @@ TEST_CASE("fcl detector: guest vertices of intersecting triangles", "[reference]
   translate_body(s.w, s.pair.guest, Vec3(5, 0, 0));
   det.detect(s.w, s.pair, contacts);
   CHECK(contacts.empty());
+}
+
+TEST_CASE("a diverged state: no contacts, no measurement, no abort", "[reference][detector]") {
+  TwoSpheres s;
+  CgalDetector cg;
+  FclDetector fc;
+  cg.initialize(s.w, s.pair);
+  fc.initialize(s.w, s.pair);
+  ReferenceSpec spec;
+  spec.cgal = spec.fcl = spec.ccd = true;
+  ReferenceMeasurer m(s.w, s.pair, spec);
+  s.w.x[s.w.bodies[s.pair.guest].begin + 3].x() = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Contact> contacts = {{0, 0}};
+  cg.detect(s.w, s.pair, contacts);
+  CHECK(contacts.empty());
+  contacts = {{0, 0}};
+  fc.detect(s.w, s.pair, contacts);
+  CHECK(contacts.empty());
+  Measurement out;
+  out.has_cgal = true;
+  m.measure(s.w, s.pair, {}, out);
+  CHECK_FALSE(out.has_cgal);
+  CHECK_FALSE(out.has_fcl);
+  CHECK_FALSE(out.has_ccd);
 }

@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <map>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -323,8 +325,10 @@ TEST_CASE("degenerate contacts give finite forces", "[collision][eliminator]") {
 TEST_CASE("automatic force makes each contact separate at v_sep within the step", "[collision][eliminator]") {
   std::mt19937 rng(23);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
-  const double dt = 1e-3;
+  const double dt = 1e-3, vsep = 0.01;
   auto vel = [](const World& x, int i) { return x.kinematic[i] ? x.kin_v[i] : x.v[i]; };
+  auto acc = [](const World& x, int i) { return x.kinematic[i] ? Vec3(Vec3::Zero()) : Vec3(x.f[i] / x.m[i]); };
+  auto inv = [](const World& x, int i) { return x.kinematic[i] ? 0.0 : 1.0 / x.m[i]; };
   for (int t = 0; t < 100; ++t) {
     Points host(30), guest(30);
     for (auto& p : host) p = Vec3(U(rng), U(rng), U(rng));
@@ -347,39 +351,45 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
       Collision col(x, s);
       col.detect(x);
       REQUIRE(!col.contacts().empty());
-      // Independent evaluation of the documented formula, per contact.
-      const double vsep = 0.01;
+      std::vector<Push> pushes;
+      col.eliminator().pushes(x, s, col.detector(), col.contacts(), pushes);
+      REQUIRE(pushes.size() == col.contacts().size());
+      // Independent evaluation of the documented formula.
+      std::map<int, int> share;
+      for (const Push& p : pushes)
+        for (int k = 0; k < p.count; ++k) ++share[p.hosts[k]];
       std::vector<double> want;
-      for (const Contact& c : col.contacts()) {
-        int h = -1;
-        col.detector().nearest_hosts(x, c, 1, &h);
-        const Vec3 u = (x.x[c.guest] - x.x[h]).normalized();
-        const bool kg = x.kinematic[c.guest] != 0, kh = x.kinematic[h] != 0;
-        const Vec3 ag = kg ? Vec3::Zero() : Vec3(x.f[c.guest] / x.m[c.guest]);
-        const Vec3 ah = kh ? Vec3::Zero() : Vec3(x.f[h] / x.m[h]);
-        const double wsep = (vel(x, c.guest) - vel(x, h)).dot(u) + dt * (ag - ah).dot(u);
-        const double mu = kg && kh ? 0.0 : kg ? x.m[h] : kh ? x.m[c.guest]
-                                     : x.m[c.guest] * x.m[h] / (x.m[c.guest] + x.m[h]);
-        want.push_back(mu * std::max(0.0, vsep - wsep) / dt);
+      for (const Push& p : pushes) {
+        Vec3 dv = vel(x, p.guest), da = acc(x, p.guest);
+        double c = inv(x, p.guest);
+        for (int k = 0; k < p.count; ++k) {
+          dv -= p.weight[k] * vel(x, p.hosts[k]);
+          da -= p.weight[k] * acc(x, p.hosts[k]);
+          c += p.weight[k] * p.weight[k] * share[p.hosts[k]] * inv(x, p.hosts[k]);
+        }
+        want.push_back(c > 0.0 ? std::max(0.0, vsep - dv.dot(p.n) - dt * da.dot(p.n)) / (dt * c) : 0.0);
       }
       std::vector<double> got;
-      const double largest = auto_contact_forces(x, col.detector(), col.contacts(), dt, vsep, got);
+      std::vector<int> scratch;
+      const double largest = auto_contact_forces(x, pushes, dt, vsep, got, scratch);
+      for (int v : scratch) CHECK(v == 0);
       REQUIRE(got.size() == want.size());
-      for (std::size_t i = 0; i < got.size(); ++i) {
-        CHECK(got[i] == Approx(want[i]).epsilon(1e-12).margin(1e-12));
-        // The force beats the deformation forces that press the pair together: after it is
-        // applied, the pair's relative acceleration along u no longer brings them closer
-        // within the step (for an isolated contact; checked on the contact's own terms).
-        const Contact& c = col.contacts()[i];
-        int h = -1;
-        col.detector().nearest_hosts(x, c, 1, &h);
-        const Vec3 u = (x.x[c.guest] - x.x[h]).normalized();
-        const bool kg = x.kinematic[c.guest] != 0, kh = x.kinematic[h] != 0;
-        const Vec3 vg = vel(x, c.guest) + (kg ? Vec3::Zero() : Vec3((x.f[c.guest] + got[i] * u) / x.m[c.guest] * dt));
-        const Vec3 vh = vel(x, h) + (kh ? Vec3::Zero() : Vec3((x.f[h] - got[i] * u) / x.m[h] * dt));
-        if (!(kg && kh)) CHECK((vg - vh).dot(u) >= vsep - 1e-9 * (1.0 + vel(x, c.guest).norm() + vel(x, h).norm()));
-      }
+      for (std::size_t i = 0; i < got.size(); ++i) CHECK(got[i] == Approx(want[i]).epsilon(1e-12).margin(1e-12));
       CHECK(largest == *std::max_element(got.begin(), got.end()));
+      // For a contact alone on its hosts, the push leaves it separating at exactly v_sep
+      // (or faster, when it already was).
+      for (std::size_t i = 0; i < pushes.size(); ++i) {
+        const Push& p = pushes[i];
+        bool alone = p.count > 0;
+        for (int k = 0; k < p.count; ++k) alone = alone && share[p.hosts[k]] == 1;
+        if (!alone) continue;
+        Vec3 vg = vel(x, p.guest) + dt * (acc(x, p.guest) + got[i] * inv(x, p.guest) * p.n);
+        Vec3 vh = Vec3::Zero();
+        for (int k = 0; k < p.count; ++k)
+          vh += p.weight[k] * (vel(x, p.hosts[k]) + dt * (acc(x, p.hosts[k]) - p.weight[k] * got[i] * inv(x, p.hosts[k]) * p.n));
+        if (inv(x, p.guest) == 0.0 && std::all_of(p.hosts, p.hosts + p.count, [&](int h) { return inv(x, h) == 0.0; })) continue;
+        CHECK((vg - vh).dot(p.n) >= vsep - 1e-9);
+      }
     }
   }
   // A resting overlap with no load is pushed apart at the separation speed; no contacts: 0.
@@ -392,7 +402,7 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
   PairStepStats st = col.step(w, dt);
   CHECK(st.contacts == 1);
   const double mu = w.m[0] * w.m[2] / (w.m[0] + w.m[2]);
-  CHECK(st.force == Approx(mu * col.voxel_size() / (200.0 * dt) / dt));
+  CHECK(st.force == Approx(mu * col.voxel_size() / (Collision::kSeparationSteps * dt) / dt));
   w.x[2] = Vec3(5, 5, 5);
   st = col.step(w, dt);
   CHECK(st.contacts == 0);

@@ -1,0 +1,261 @@
+#include "experiments/bench.hpp"
+
+#include "core/collision/voxel_detector.hpp"
+#include "core/parallel.hpp"
+#include "core/scene.hpp"
+#include "core/simulation.hpp"
+
+#ifdef HARNESS_HAVE_REFERENCE
+#include "reference/reference.hpp"
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace harness {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The generated contact scene of about n nodes per body (bench.hpp).
+Scene make_bench_scene(long long n) {
+  const double s = 1e-3;  // host lattice spacing, m
+  const int a = std::max(4, static_cast<int>(std::lround(std::cbrt(4.0 * static_cast<double>(n)))) - 1);
+  const int c = std::max(2, static_cast<int>(std::lround(a / 4.0)));
+  const int g = std::max(3, static_cast<int>(std::lround(std::cbrt(static_cast<double>(n)))));
+  const double W = a * s, D = c * s;
+  const double L = 0.6 * W;                  // guest cube edge
+  const double x0 = -0.5 * L + 0.3137 * s;   // off the host's lattice planes
+  const double z0 = D - 0.1 * L - 0.0173 * s;
+  const json mat = {{"density", 1000}, {"stiffness", 100}, {"law", "cubic"}, {"nonlinearity", 2.0}};
+  json doc = {
+      {"name", "bench_" + std::to_string(n)},
+      {"time", {{"dt", 1e-6}, {"steps", 0}}},
+      {"effects", {"springs", "pins", "contact"}},
+      {"bodies",
+       {{{"name", "layer"},
+         {"shape", {{"type", "box"}, {"min", {-0.5 * W, -0.5 * W, 0.0}}, {"max", {0.5 * W, 0.5 * W, D}},
+                    {"cells", {a, a, c}}}},
+         {"material", mat},
+         {"pins", {{{"side", "-z"}}}}},
+        {{"name", "block"},
+         {"shape", {{"type", "box"}, {"min", {x0, x0 - 0.1171 * s, z0}}, {"max", {x0 + L, x0 - 0.1171 * s + L, z0 + L}},
+                    {"cells", {g - 1, g - 1, g - 1}}}},
+         {"material", mat}}}},
+      {"contacts",
+       {{{"host", "layer"}, {"guest", "block"}, {"detector", "voxel"}, {"region", "half"},
+         {"margin", 1}, {"eliminator", "line"}, {"force", 1e-4}}}},
+      {"references", {{"solvers", json::array()}}}};
+  return scene_from_json(doc, "bench_" + std::to_string(n), ".");
+}
+
+struct Row {
+  std::string method;
+  long long nodes = 0;
+  int threads = 1;
+  double us = 0.0;
+  long long bytes = 0;
+  int reps = 0;
+  std::string note;
+};
+
+// Median time of fn (one step) in microseconds. The first call is a warm-up unless it took
+// longer than `single` seconds, in which case it is the measurement (reps = 1).
+double time_step(const std::function<void()>& fn, const BenchOptions& o, double single, int& reps) {
+  auto t0 = Clock::now();
+  fn();
+  const double first = seconds_since(t0);
+  if (first > single) {
+    reps = 1;
+    return first * 1e6;
+  }
+  std::vector<double> t;
+  const auto start = Clock::now();
+  while (static_cast<int>(t.size()) < o.min_reps || seconds_since(start) < o.min_seconds) {
+    t0 = Clock::now();
+    fn();
+    t.push_back(seconds_since(t0) * 1e6);
+    if (t.size() >= 200000) break;
+  }
+  reps = static_cast<int>(t.size());
+  return median_of(t);
+}
+
+// Streaming passes (bench.hpp). Bits are summed as integers: exact, vectorizable, and the
+// compiler cannot drop the loads.
+std::uint64_t stream_positions(const World& w) {
+  const std::size_t words = 3 * w.x.size();
+  const double* p = w.x.data()->data();
+  const int T = threads_for(words / 3);
+  std::uint64_t total = 0;
+#pragma omp parallel for num_threads(T) schedule(static, 1) reduction(+ : total)
+  for (int t = 0; t < T; ++t) {
+    std::size_t b, e;
+    split_range(words, T, t, b, e);
+    std::uint64_t sum = 0;
+    for (std::size_t i = b; i < e; ++i) {
+      std::uint64_t u;
+      std::memcpy(&u, p + i, sizeof u);
+      sum += u;
+    }
+    total += sum;
+  }
+  return total;
+}
+
+std::uint64_t stream_step(World& w) {
+  const std::size_t ns = w.springs.size(), n = w.x.size();
+  const Edge* ends = w.springs.ends.data();
+  const double* rest = w.springs.rest.data();
+  const int T = threads_for(n);
+  std::uint64_t total = 0;
+#pragma omp parallel num_threads(T) reduction(+ : total)
+  {
+    int t = 0;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+#endif
+    std::size_t b, e;
+    split_range(ns, T, t, b, e);
+    std::uint64_t sum = 0;
+    for (std::size_t k = b; k < e; ++k) {
+      std::uint64_t u;
+      std::memcpy(&u, rest + k, sizeof u);
+      sum += u + static_cast<std::uint64_t>(ends[k][0]) + static_cast<std::uint64_t>(ends[k][1]);
+    }
+    split_range(n, T, t, b, e);
+    const double h = 0.0;  // leaves the state as it is, but every value is read and written
+    for (std::size_t i = b; i < e; ++i) {
+      if (w.kinematic[i] != 0) continue;
+      w.v[i] += (h * w.inv_m[i]) * w.f[i];
+      w.x[i] += h * w.v[i];
+    }
+    total += sum;
+  }
+  return total;
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& opt) {
+  std::vector<long long> sizes = opt.sizes;
+  if (sizes.empty()) {
+    sizes = {1000, 10000, 100000};
+    if (!opt.quick) sizes.push_back(1000000);
+  }
+  std::FILE* out = std::fopen(opt.out.c_str(), "w");
+  if (!out) throw std::runtime_error("cannot write " + opt.out);
+  std::fprintf(out,
+               "method,nodes,threads,us_per_step,bytes,reps,host_nodes,guest_nodes,springs,contacts,"
+               "voxels,note\n");
+  std::fflush(out);
+  const int threads_before = threads();
+  volatile std::uint64_t sink = 0;
+
+  for (long long n : sizes) {
+    const auto tb = Clock::now();
+    Simulation sim(make_bench_scene(n));
+    World& w = sim.world;
+    if (opt.progress)
+      std::fprintf(stderr, "bench: %lld nodes per body: built in %.1f s (%d + %d nodes, %zu springs)\n", n,
+                   seconds_since(tb), w.bodies[0].size(), w.bodies[1].size(), w.springs.size());
+    Collision& col = *sim.pairs.at(0).collision;
+    const auto& vd = dynamic_cast<const VoxelDetector&>(col.detector());
+    const Body& host = w.bodies[0];
+    const Body& guest = w.bodies[1];
+    const int contacts = col.detect(w);
+    const long long voxels = vd.grid().geometry().num_voxels();
+
+    auto emit = [&](const Row& r) {
+      std::fprintf(out, "%s,%lld,%d,%.3f,%lld,%d,%d,%d,%zu,%d,%lld,%s\n", r.method.c_str(), r.nodes,
+                   r.threads, r.us, r.bytes, r.reps, host.size(), guest.size(), w.springs.size(),
+                   contacts, voxels, r.note.c_str());
+      std::fflush(out);
+      if (opt.progress)
+        std::fprintf(stderr, "bench: %-22s %8lld nodes %d thr %14.1f us/step (%d reps)\n", r.method.c_str(),
+                     r.nodes, r.threads, r.us, r.reps);
+    };
+    auto measure = [&](const std::string& method, int t, const std::function<void()>& fn, long long bytes,
+                       const std::string& note, double single = 1e30) {
+      Row r;
+      r.method = method;
+      r.nodes = n;
+      r.threads = t;
+      r.bytes = bytes;
+      r.note = note;
+      r.us = time_step(fn, opt, single, r.reps);
+      emit(r);
+    };
+
+    const long long node_bytes = 24LL * w.num_nodes();
+    const long long step_bytes = 16LL * static_cast<long long>(w.springs.size()) +
+                                 (24 * 3 + 8 + 1 + 2 * 24) * static_cast<long long>(w.num_nodes());
+    for (int t : opt.threads) {
+      set_threads(t);
+      measure("voxel_detect", t, [&] { col.detect(w); }, vd.grid().bytes(), "grid bytes");
+      measure("voxel_detect_eliminate", t, [&] { col.step(w, sim.scene().dt); }, vd.grid().bytes(),
+              "grid bytes");
+      measure("stream_positions", t, [&] { sink = sink + stream_positions(w); }, node_bytes, "bytes read");
+      measure("step", t, [&] { sim.step(); }, 0, "");
+      measure("stream_step", t, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
+    }
+    set_threads(1);
+#ifdef HARNESS_HAVE_REFERENCE
+    if (opt.references) {
+      {
+        FclSurface a, b;
+        a.set_topology(host.n_surface, host.faces);
+        b.set_topology(guest.n_surface, guest.faces);
+        std::vector<TrianglePair> pairs;
+        measure("fcl", 1, [&] {
+          a.update(&w.x[host.begin]);
+          b.update(&w.x[guest.begin]);
+          intersecting_pairs(a, b, pairs, false);
+          sink = sink + pairs.size();
+        }, 0, "refit + all triangle pairs; single-threaded library", opt.single_rep_seconds);
+      }
+      {
+        CgalSurface s;
+        s.set_topology(host.n_surface, host.faces);
+        measure("cgal", 1, [&] {
+          s.update(&w.x[host.begin]);
+          int inside = 0;
+          for (int i = guest.begin; i < guest.end; ++i) inside += s.strictly_inside(w.x[i]);
+          sink = sink + static_cast<std::uint64_t>(inside);
+        }, 0, "tree rebuild + inside test of every guest node; single-threaded library",
+                opt.single_rep_seconds);
+      }
+    }
+#endif
+  }
+  set_threads(threads_before);
+  const bool ok = std::ferror(out) == 0;
+  if (std::fclose(out) != 0 || !ok) throw std::runtime_error("cannot write " + opt.out);
+  return 0;
+}
+
+}  // namespace harness

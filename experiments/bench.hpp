@@ -1,0 +1,53 @@
+// `harness bench [--quick] --out FILE`: time per step of the voxel model, its references and
+// the memory-bandwidth limits, on generated contact scenes of 10^3 .. 10^6 nodes per body, with
+// one and with two threads; one CSV from one process (DESIGN.md, "Output of harness bench").
+//
+// Scene of size N (make_bench_scene): host = a box lattice layer of about N nodes, a cells wide
+// in x and y and a/4 thick (1 mm spacing, pinned at -z); guest = a cube lattice of about N nodes,
+// 0.6 of the layer's width, its lower tenth pressed into the layer's upper half (offset by
+// fractions of a spacing, so no lattice plane of one body coincides with one of the other).
+// Cubic springs (beta = 2), effects springs, pins, contact; voxel size automatic, region half,
+// line eliminator with a constant force; dt far below the stability limit, so the state (and the
+// contact count) hardly changes between repetitions.
+//
+// Methods (one row each per size and thread count):
+//   voxel_detect            Collision::detect: grid re-attached, filled and every guest node
+//                           looked up (the paper's detection).
+//   voxel_detect_eliminate  Collision::step: detection plus line elimination.
+//   fcl                     FclSurface::update of both surfaces (vertex replacement and refit)
+//                           plus intersecting_pairs (every intersecting triangle pair, counted).
+//   cgal                    CgalSurface::update of the host (AABB tree rebuilt) plus the exact
+//                           inside test of every guest node (the ground truth of detection).
+//   stream_positions        one pass reading every node position of both bodies once: the
+//                           memory-bandwidth limit of detection.
+//   step                    Simulation::step: springs, pins, contact (detect and eliminate),
+//                           integration.
+//   stream_step             one pass reading every spring (ends, rest length) and every node's
+//                           position, velocity, force, inverse mass and kinematic flag, and
+//                           writing every position and velocity: the memory limit of a step.
+// fcl and cgal are single-threaded libraries: they are timed with one thread only.
+// Times are medians over repetitions (at least 3, and at least min_seconds in total); a
+// reference whose first repetition takes longer than single_rep_seconds is measured once.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace harness {
+
+struct BenchOptions {
+  bool quick = false;                // stop at 10^5 nodes per body
+  std::string out;                   // CSV path
+  std::vector<long long> sizes;      // nodes per body; empty = 10^3 .. 10^6 (10^5 with quick)
+  std::vector<int> threads = {1, 2};
+  double min_seconds = 0.2;          // per method and point
+  int min_reps = 3;
+  double single_rep_seconds = 2.0;   // references slower than this are measured once
+  bool references = true;            // fcl and cgal rows (when the build has them)
+  bool progress = true;              // one line per row on stderr
+};
+
+// Runs the benchmark and writes the CSV. Returns 0.
+int run_bench(const BenchOptions& options);
+
+}  // namespace harness
