@@ -7,6 +7,7 @@
 #include "core/collision/contact_spec.hpp"
 #include "core/world.hpp"
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -39,6 +40,10 @@ struct Measurement {
   double t_fcl_us = 0.0;
   // libccd (GJK/EPA on convex hulls): signed distance, negative = penetration depth.
   double ccd_distance = 0.0;
+  // Per node, body-local: 1 when truly penetrating (CGAL); null when not measured. They point
+  // into the measurer and stay valid until its next measure().
+  const std::vector<std::uint8_t>* pen_guest = nullptr;
+  const std::vector<std::uint8_t>* pen_host = nullptr;
   double t_ccd_us = 0.0;
 };
 

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -22,7 +23,8 @@ const char* const kStepsColumns =
     "step,time,pair,detector,contacts,t_step_us,t_physics_us,t_detect_us,t_eliminate_us,"
     "kinetic_energy,true_pen_guest,true_pen_host,tp,fp,fn,max_depth,mean_depth,"
     "surfaces_intersect,fcl_pairs,t_cgal_us,t_fcl_us,"
-    "force,fcl_max_depth,ccd_distance,t_ccd_us,penetration_volume,potential_energy";
+    "force,fcl_max_depth,ccd_distance,t_ccd_us,penetration_volume,potential_energy,"
+    "region_lo_x,region_lo_y,region_lo_z,region_hi_x,region_hi_y,region_hi_z";
 
 std::string compiler_version() {
 #if defined(__clang__)
@@ -39,7 +41,8 @@ std::string eigen_version() {
          std::to_string(EIGEN_MINOR_VERSION);
 }
 
-void write_vtk(const std::string& path, const World& w, int body, const std::string& title) {
+void write_vtk(const std::string& path, const World& w, int body, const std::string& title,
+               const std::vector<std::uint8_t>* penetrating) {
   const Body& b = w.bodies[body];
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error("cannot write " + path);
@@ -51,6 +54,10 @@ void write_vtk(const std::string& path, const World& w, int body, const std::str
   }
   std::fprintf(f, "POLYGONS %zu %zu\n", b.faces.size(), 4 * b.faces.size());
   for (const Tri& t : b.faces) std::fprintf(f, "3 %d %d %d\n", t[0], t[1], t[2]);
+  if (penetrating) {
+    std::fprintf(f, "POINT_DATA %d\nSCALARS penetrating int 1\nLOOKUP_TABLE default\n", b.n_surface);
+    for (int v = 0; v < b.n_surface; ++v) std::fprintf(f, "%d\n", (*penetrating)[v] ? 1 : 0);
+  }
   const bool ok = std::ferror(f) == 0;
   if (std::fclose(f) != 0 || !ok) throw std::runtime_error("cannot write " + path);
 }
@@ -128,7 +135,12 @@ class StepsWriter {
     else std::fputs(",,", f);
     if (m && m->has_volume) std::fprintf(f, "%.9g,", m->penetration_volume);
     else std::fputc(',', f);
-    std::fprintf(f, "%.9g\n", pe);
+    std::fprintf(f, "%.9g", pe);
+    Vec3 lo, hi;
+    if (p && p->collision && p->collision->detector().region(lo, hi))
+      std::fprintf(f, ",%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
+    else
+      std::fputs(",,,,,,\n", f);
   }
   void close() {
     const bool ok = std::ferror(f_) == 0;
@@ -154,6 +166,26 @@ void write_json_atomic(const fs::path& path, const json& j) {
 
 }  // namespace
 
+Vec3 approach_axis(const World& w, const ContactSpec& pair) {
+  Vec3 hl, hh, gl, gh;
+  body_bounds(w, pair.host, hl, hh);
+  body_bounds(w, pair.guest, gl, gh);
+  Vec3 a = 0.5 * (gl + gh) - 0.5 * (hl + hh);
+  const double n = a.norm();
+  return n > 0.0 && std::isfinite(n) ? Vec3(a / n) : Vec3(Vec3::UnitZ());
+}
+
+int tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis) {
+  const Body& H = w.bodies[pair.host];
+  const Body& G = w.bodies[pair.guest];
+  double lo = std::numeric_limits<double>::infinity();
+  for (int i = H.begin; i < H.end; ++i) lo = std::min(lo, w.x[i].dot(axis));
+  int n = 0;
+  for (int i = G.begin; i < G.end; ++i)
+    if (w.x[i].dot(axis) < lo) ++n;
+  return n;
+}
+
 int run_scene(const Scene& scene, const RunOptions& opt) {
   Simulation sim(scene);  // may throw InputError: nothing written yet
   World& w = sim.world;
@@ -177,14 +209,53 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       if (e.path().extension() == ".vtk") fs::remove(e.path());
   if (scene.frames_every > 0) fs::create_directories(frames);
 
+  // Truly penetrating nodes per body (OR over its pairs) at the last measured step, for the
+  // frames; and the penetration episodes of every node, for the persistence statistics.
+  std::vector<std::vector<std::uint8_t>> pen_flags(w.bodies.size());
+  for (std::size_t b = 0; b < w.bodies.size(); ++b) pen_flags[b].assign(w.bodies[b].size(), 0);
+  int pen_step = -1;
+  struct Episode {
+    int pair, body, node, first, last;
+    bool open;
+  };
+  std::vector<Episode> episodes;
+  std::vector<std::vector<int>> open_episode(2 * sim.pairs.size());  // per pair and role: index or -1
+  for (std::size_t pi = 0; pi < sim.pairs.size(); ++pi) {
+    open_episode[2 * pi].assign(w.bodies[sim.pairs[pi].spec.guest].size(), -1);
+    open_episode[2 * pi + 1].assign(w.bodies[sim.pairs[pi].spec.host].size(), -1);
+  }
+  auto track = [&](std::size_t pi, int role, const std::vector<std::uint8_t>& flags, int step) {
+    const int body = role == 0 ? sim.pairs[pi].spec.guest : sim.pairs[pi].spec.host;
+    std::vector<int>& open = open_episode[2 * pi + role];
+    for (std::size_t i = 0; i < flags.size(); ++i) {
+      if (flags[i]) {
+        pen_flags[body][i] = 1;
+        if (open[i] < 0) {
+          open[i] = static_cast<int>(episodes.size());
+          episodes.push_back({static_cast<int>(pi), body, static_cast<int>(i), step, step, true});
+        } else {
+          episodes[open[i]].last = step;
+        }
+      } else if (open[i] >= 0) {
+        episodes[open[i]].open = false;
+        open[i] = -1;
+      }
+    }
+  };
+
   auto write_frames = [&](int step) {
     if (scene.frames_every <= 0) return;
     char num[16];
     std::snprintf(num, sizeof num, "%06d", step);
     for (std::size_t b = 0; b < w.bodies.size(); ++b)
       write_vtk((frames / (w.bodies[b].name + "_" + num + ".vtk")).string(), w, static_cast<int>(b),
-                "harness " + scene.name + " body " + w.bodies[b].name + " step " + num);
+                "harness " + scene.name + " body " + w.bodies[b].name + " step " + num,
+                pen_step == step ? &pen_flags[b] : nullptr);
   };
+
+  // Approach axis of each pair at rest (host centre to guest centre), for the tunnelling count.
+  std::vector<Vec3> axes;
+  for (const PairSlot& p : sim.pairs) axes.push_back(approach_axis(w, p.spec));
 
   StepsWriter steps((dir / "steps.csv").string());
   write_frames(0);
@@ -254,6 +325,13 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
         meas[pi] = Measurement{};
         measurers[pi]->measure(w, p.spec, p.collision ? p.collision->contacts() : none, meas[pi]);
         m = &meas[pi];
+        if (m->has_cgal && m->pen_guest && m->pen_host) {
+          if (pen_step != s)
+            for (auto& f : pen_flags) std::fill(f.begin(), f.end(), 0);
+          pen_step = s;
+          track(pi, 0, *m->pen_guest, s);
+          track(pi, 1, *m->pen_host, s);
+        }
         if (m->has_cgal) {
           t.measured = true;
           t.tp += m->tp;
@@ -281,6 +359,18 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   if (tty) std::fprintf(stderr, "\n");
   write_frames(sim.step_index);
   steps.close();
+  if (want_refs && scene.references.cgal) {
+    // One row per episode of true penetration: a node found penetrating on consecutive
+    // measured steps. `steps` counts simulation steps from the first to the last measured step
+    // it was found penetrating, plus `every` (the resolution of the measurement); `open` = still
+    // penetrating when the run ended (a censored episode).
+    std::ofstream ep(dir / "penetration_episodes.csv");
+    ep << "pair,body,node,first_step,last_step,steps,open\n";
+    for (const Episode& e : episodes)
+      ep << sim.pairs[e.pair].label << "," << w.bodies[e.body].name << "," << e.node << "," << e.first << ","
+         << e.last << "," << (e.last - e.first + scene.references.every) << "," << (e.open ? 1 : 0) << "\n";
+    if (!ep) throw std::runtime_error("cannot write penetration_episodes.csv");
+  }
 
   json sum;
   sum["scene"] = scene.name;
@@ -316,6 +406,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   sum["kinetic_energy_final"] = sim.kinetic_energy();
   json pairs = json::array();
   for (std::size_t pi = 0; pi < sim.pairs.size(); ++pi) {
+    // (axes were recorded from the rest state before the first step)
     const PairSlot& p = sim.pairs[pi];
     const PairTotals& t = totals[pi];
     json pj;
@@ -325,6 +416,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
                                                                             : json(nullptr);
     pj["region_rebuilds"] = p.collision ? json(p.collision->rebuilds()) : json(nullptr);
     pj["contacts_total"] = t.contacts_total;
+    pj["tunnelled"] = tunnelled_nodes(w, p.spec, axes[pi]);
     pj["true_pen_final"] = t.measured ? json(t.true_pen_final) : json(nullptr);
     pj["max_depth_final"] = t.measured ? json(t.max_depth_final) : json(nullptr);
     pj["max_depth_peak"] = t.measured ? json(t.max_depth_peak) : json(nullptr);

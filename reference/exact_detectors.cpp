@@ -165,8 +165,9 @@ bool FclDetector::contact_direction(const World& w, const Contact& c, Vec3& n) c
 }
 
 void register_reference_detectors() {
-  register_detector("cgal", [] { return std::make_unique<CgalDetector>(); });
-  register_detector("fcl", [] { return std::make_unique<FclDetector>(); });
+  // Idempotent: tests and the program may both call it.
+  if (!detector_known("cgal")) register_detector("cgal", [] { return std::make_unique<CgalDetector>(); });
+  if (!detector_known("fcl")) register_detector("fcl", [] { return std::make_unique<FclDetector>(); });
 }
 
 }  // namespace harness

@@ -51,6 +51,7 @@ ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
     cg_host_.set_topology(H.n_surface, H.faces);
     cg_guest_.set_topology(G.n_surface, G.faces);
     pen_guest_.assign(G.size(), 0);
+    pen_host_.assign(H.size(), 0);
     seen_.assign(G.size(), 0);
   }
   if (spec_.fcl) {
@@ -78,7 +79,9 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair,
     if (spec_.cgal) {
       double max_depth = 0.0, sum_depth = 0.0;
       out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data());
-      out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, nullptr);
+      out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data());
+      out.pen_guest = &pen_guest_;
+      out.pen_host = &pen_host_;
       const int n_pen = out.true_pen_guest + out.true_pen_host;
       out.max_depth = max_depth;
       out.mean_depth = n_pen > 0 ? sum_depth / n_pen : 0.0;

@@ -46,6 +46,7 @@ class ReferenceMeasurer final : public Measurer {
   CgalSurface cg_host_, cg_guest_;
   FclSurface fc_host_, fc_guest_;
   std::vector<std::uint8_t> pen_guest_;
+  std::vector<std::uint8_t> pen_host_;
   std::vector<int> seen_;  // per guest node: stamp of the last call that counted it as detected
   int stamp_ = 0;
   std::vector<TrianglePair> pairs_;

@@ -40,6 +40,11 @@ class CollisionDetector {
   }
   // Voxel size in use, m (0 for detectors without a grid).
   virtual double voxel_size() const { return 0.0; }
+  // The box the detector's grid covers this step (world coordinates, m); false without a grid.
+  virtual bool region(Vec3& lo, Vec3& hi) const {
+    (void)lo, (void)hi;
+    return false;
+  }
   // Times the detection region was rebuilt because the host outgrew it.
   virtual int rebuilds() const { return 0; }
 };

@@ -92,6 +92,55 @@ void VoxelIndexer::operator()(const Vec3* p, std::size_t n, int* out) const {
   for (std::size_t k = 0; k < n; ++k) out[k] = (*this)(p[k]);
 }
 
+namespace {
+
+// lo/hi of the coordinates of points [b, e) (6 doubles: lo xyz, hi xyz), as (p < l) ? p : l and
+// (h < p) ? p : h per coordinate.
+void bounds_scalar(const Vec3* x, std::size_t b, std::size_t e, double* r) {
+  const double inf = std::numeric_limits<double>::infinity();
+  double l0 = inf, l1 = inf, l2 = inf, h0 = -inf, h1 = -inf, h2 = -inf;
+  for (std::size_t k = b; k < e; ++k) {
+    const Vec3& p = x[k];
+    l0 = p[0] < l0 ? p[0] : l0;
+    l1 = p[1] < l1 ? p[1] : l1;
+    l2 = p[2] < l2 ? p[2] : l2;
+    h0 = h0 < p[0] ? p[0] : h0;
+    h1 = h1 < p[1] ? p[1] : h1;
+    h2 = h2 < p[2] ? p[2] : h2;
+  }
+  r[0] = l0, r[1] = l1, r[2] = l2, r[3] = h0, r[4] = h1, r[5] = h2;
+}
+
+#if defined(HARNESS_X86_AVX)
+// Four points (twelve doubles, three loads) per iteration with one accumulator per load
+// position; the lanes are folded per coordinate at the end. vminpd(p, l) is (p < l) ? p : l
+// and vmaxpd(p, h) is (p > h) ? p : h: the scalar rule, NaN included.
+__attribute__((target("avx"))) void bounds_avx(const Vec3* x, std::size_t b, std::size_t e, double* r) {
+  const double inf = std::numeric_limits<double>::infinity();
+  __m256d la = _mm256_set1_pd(inf), lb = la, lc = la;
+  __m256d ha = _mm256_set1_pd(-inf), hb = ha, hc = ha;
+  std::size_t k = b;
+  for (; k + 4 <= e; k += 4) {
+    const double* q = x[k].data();
+    const __m256d a = _mm256_loadu_pd(q), bb = _mm256_loadu_pd(q + 4), c = _mm256_loadu_pd(q + 8);
+    la = _mm256_min_pd(a, la), lb = _mm256_min_pd(bb, lb), lc = _mm256_min_pd(c, lc);
+    ha = _mm256_max_pd(a, ha), hb = _mm256_max_pd(bb, hb), hc = _mm256_max_pd(c, hc);
+  }
+  alignas(32) double L[12], H[12];
+  _mm256_store_pd(L, la), _mm256_store_pd(L + 4, lb), _mm256_store_pd(L + 8, lc);
+  _mm256_store_pd(H, ha), _mm256_store_pd(H + 4, hb), _mm256_store_pd(H + 8, hc);
+  bounds_scalar(x, k, e, r);
+  // Lane j of the 12 holds coordinate j % 3 of some point.
+  for (int j = 0; j < 12; ++j) {
+    const int a = j % 3;
+    r[a] = L[j] < r[a] ? L[j] : r[a];
+    r[3 + a] = r[3 + a] < H[j] ? H[j] : r[3 + a];
+  }
+}
+#endif
+
+}  // namespace
+
 void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi) {
   const double inf = std::numeric_limits<double>::infinity();
   const int n = std::max(0, end - begin);
@@ -102,19 +151,14 @@ void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi) {
   for (int t = 0; t < parts; ++t) {
     std::size_t b, e;
     split_range(static_cast<std::size_t>(n), parts, t, b, e);
-    double l0 = inf, l1 = inf, l2 = inf, h0 = -inf, h1 = -inf, h2 = -inf;
-    for (std::size_t k = b; k < e; ++k) {
-      const Vec3& p = x[static_cast<std::size_t>(begin) + k];
-      // (p < l) ? p : l, as std::min(l, p): a NaN coordinate never wins.
-      l0 = p[0] < l0 ? p[0] : l0;
-      l1 = p[1] < l1 ? p[1] : l1;
-      l2 = p[2] < l2 ? p[2] : l2;
-      h0 = h0 < p[0] ? p[0] : h0;
-      h1 = h1 < p[1] ? p[1] : h1;
-      h2 = h2 < p[2] ? p[2] : h2;
+    const Vec3* p = x.data() + begin;
+#if defined(HARNESS_X86_AVX)
+    if (cpu_has_avx()) {
+      bounds_avx(p, b, e, part[t]);
+      continue;
     }
-    double* r = part[t];
-    r[0] = l0, r[1] = l1, r[2] = l2, r[3] = h0, r[4] = h1, r[5] = h2;
+#endif
+    bounds_scalar(p, b, e, part[t]);
   }
   lo = Vec3::Constant(inf);
   hi = Vec3::Constant(-inf);
@@ -129,40 +173,37 @@ void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi) {
 }
 
 long long VoxelData::bytes() const {
-  return static_cast<long long>(cells_.capacity() * sizeof(Cell) +
-                                (index_.capacity() + node_cell_.capacity() + occupied_.capacity() +
-                                 occ_scratch_.capacity()) * sizeof(int) +
-                                bucket_.capacity() * sizeof(Entry) + table_.capacity() * sizeof(long long));
+  return static_cast<long long>((head_.capacity() + next_.capacity() + node_cell_.capacity() +
+                                 occupied_.capacity() + occ_scratch_.capacity() + bucket_.capacity()) *
+                                    sizeof(int) +
+                                table_.capacity() * sizeof(long long));
 }
 
 void VoxelData::allocate(long long max_voxels, int max_nodes) {
-  // Drop the old lists first: the layout is about to change.
-  for (int c : occupied_) cells_[c] = Cell{};
   occupied_.clear();
   listed_ = 0;
-  cells_.assign(static_cast<std::size_t>(max_voxels), Cell{});
-  index_.assign(static_cast<std::size_t>(max_nodes), 0);
+  head_.assign(static_cast<std::size_t>(max_voxels), -1);
+  next_.assign(static_cast<std::size_t>(max_nodes), -1);
   node_cell_.assign(static_cast<std::size_t>(max_nodes), -1);
   // Every listed node can open at most one voxel.
   occupied_.reserve(static_cast<std::size_t>(max_nodes));
-  if (!bucket_.empty() || threads() > 1) {
-    bucket_.assign(static_cast<std::size_t>(max_nodes), Entry{0, 0});
-    occ_scratch_.assign(static_cast<std::size_t>(max_nodes), 0);
-  }
+  occ_scratch_.assign(static_cast<std::size_t>(max_nodes), 0);
+  if (!bucket_.empty() || threads() > 1) bucket_.assign(static_cast<std::size_t>(max_nodes), 0);
 }
 
 void VoxelData::fill(const GridGeometry& g, const Points& x, int node_begin, int node_end) {
-  if (g.num_voxels() > capacity() || node_end - node_begin > static_cast<int>(index_.size()))
+  if (g.num_voxels() > capacity() || node_end - node_begin > static_cast<int>(next_.size()))
     throw std::logic_error("VoxelData::fill: grid exceeds the allocated capacity");
   // Clear by the previous occupancy list: slots are linear indices, valid whatever the layout.
   {
     const std::size_t no = occupied_.size();
     const int T = threads_for(no, 32768);
 #pragma omp parallel for num_threads(T) schedule(static)
-    for (std::size_t i = 0; i < no; ++i) cells_[occupied_[i]] = Cell{};
+    for (std::size_t i = 0; i < no; ++i) head_[occupied_[i]] = -1;
   }
   occupied_.clear();
   geom_ = g;
+  base_ = node_begin;
   const VoxelIndexer idx(g);
   const int n = node_end - node_begin;
   const int T = g.num_voxels() > 0 ? std::min(64, threads_for(static_cast<std::size_t>(n), 16384)) : 1;
@@ -173,45 +214,35 @@ void VoxelData::fill(const GridGeometry& g, const Points& x, int node_begin, int
 }
 
 void VoxelData::fill_serial(const VoxelIndexer& idx, const Points& x, int node_begin, int node_end) {
-  // Count.
   const int n = node_end - node_begin;
   idx(x.data() + node_begin, static_cast<std::size_t>(n), node_cell_.data());
-  for (int k = 0; k < n; ++k) {
+  int* occ = occ_scratch_.data();
+  int no = 0, listed = 0;
+  // Decreasing node order: pushing onto the front leaves each list in increasing order.
+  for (int k = n - 1; k >= 0; --k) {
     const int c = node_cell_[k];
     if (c < 0) continue;
-    if (cells_[c].count++ == 0) occupied_.push_back(c);  // within reserved capacity
+    const int h = head_[c];
+    occ[no] = c;  // kept only when the voxel was empty (branch-free)
+    no += h < 0;
+    next_[k] = h;
+    head_[c] = k;
+    ++listed;
   }
-  // Prefix sum over the occupied voxels only; `first` then serves as the scatter cursor.
-  int offset = 0;
-  for (int c : occupied_) {
-    cells_[c].first = offset;
-    offset += cells_[c].count;
-  }
-  listed_ = offset;
-  // Scatter in node order, so each voxel's list is sorted by node index.
-  for (int k = 0; k < n; ++k) {
-    const int c = node_cell_[k];
-    if (c >= 0) index_[cells_[c].first++] = node_begin + k;
-  }
-  // Restore `first` (the cursor ended one past the voxel's last node).
-  for (int c : occupied_) cells_[c].first -= cells_[c].count;
+  listed_ = listed;
+  occupied_.assign(occ, occ + no);  // within reserved capacity
 }
 
 void VoxelData::fill_parallel(int T, const VoxelIndexer& idx, const Points& x, int node_begin,
                               int node_end) {
   const std::size_t n = static_cast<std::size_t>(node_end - node_begin);
-  if (bucket_.size() < index_.size()) {
-    // First parallel fill since allocate(): the bucket storage (same size as the index).
-    bucket_.assign(index_.size(), Entry{0, 0});
-    occ_scratch_.assign(index_.size(), 0);
-  }
+  if (bucket_.size() < next_.size()) bucket_.assign(next_.size(), 0);  // first parallel fill only
   // Tables: cnt[t][s] (T x T), then slab starts (T + 1), then occupied per slab (T).
   const std::size_t TT = static_cast<std::size_t>(T) * static_cast<std::size_t>(T);
   if (table_.size() < TT + 2 * static_cast<std::size_t>(T) + 1) table_.assign(TT + 2 * T + 1, 0);
   long long* cnt = table_.data();
   long long* slab_start = cnt + TT;
   long long* slab_occ = slab_start + T + 1;
-  // Slab boundaries in voxel index space.
   const long long nv = geom_.num_voxels();
   long long vb[65];
   for (int s = 0; s <= T; ++s) vb[s] = nv * s / T;
@@ -255,32 +286,29 @@ void VoxelData::fill_parallel(int T, const VoxelIndexer& idx, const Points& x, i
     long long* cur = cnt + static_cast<std::size_t>(t) * T;
     for (std::size_t k = b; k < e; ++k) {
       const int c = node_cell_[k];
-      if (c >= 0) bucket_[static_cast<std::size_t>(cur[slab_of(c)]++)] = Entry{node_begin + static_cast<int>(k), c};
+      if (c >= 0) bucket_[static_cast<std::size_t>(cur[slab_of(c)]++)] = static_cast<int>(k);
     }
   }
 
-  // 3. Each slab: count, prefix sum over its occupied voxels, scatter, restore. The slab's nodes
-  // fill exactly index_[slab_start[s], slab_start[s + 1]).
+  // 3. Each slab builds its lists from its bucket, in decreasing node order; its occupied voxels
+  // go to occ_scratch_[slab_start[s], ...) (a slab has at most as many as it has nodes).
 #pragma omp parallel for num_threads(T) schedule(static, 1)
   for (int s = 0; s < T; ++s) {
-    const std::size_t b = static_cast<std::size_t>(slab_start[s]), e = static_cast<std::size_t>(slab_start[s + 1]);
+    const long long b = slab_start[s], e = slab_start[s + 1];
     int* occ = occ_scratch_.data() + b;
     int no = 0;
-    for (std::size_t q = b; q < e; ++q) {
-      const int c = bucket_[q].cell;
-      if (cells_[c].count++ == 0) occ[no++] = c;
+    for (long long q = e - 1; q >= b; --q) {
+      const int k = bucket_[static_cast<std::size_t>(q)];
+      const int c = node_cell_[k];
+      const int h = head_[c];
+      occ[no] = c;
+      no += h < 0;
+      next_[k] = h;
+      head_[c] = k;
     }
-    int offset = static_cast<int>(b);
-    for (int i = 0; i < no; ++i) {
-      Cell& cl = cells_[occ[i]];
-      cl.first = offset;
-      offset += cl.count;
-    }
-    for (std::size_t q = b; q < e; ++q) index_[cells_[bucket_[q].cell].first++] = bucket_[q].node;
-    for (int i = 0; i < no; ++i) cells_[occ[i]].first -= cells_[occ[i]].count;
     slab_occ[s] = no;
   }
-  // The occupied list: slab by slab (capacity reserved, no allocation).
+  // The occupied list, slab by slab (capacity reserved, no allocation).
   long long no_total = 0;
   for (int s = 0; s < T; ++s) no_total += slab_occ[s];
   occupied_.resize(static_cast<std::size_t>(no_total));

@@ -12,25 +12,24 @@
 // coordinates: the range test is done in double before any float->int conversion.
 // Linear voxel index: ix + dims.x * (iy + dims.y * iz).
 //
-// Storage (rebuilt every step, no heap allocation after allocate()): a counting sort of the
-// host nodes by voxel into one index array. Per voxel a {first, count} record (8 bytes, so one
-// cache line answers "is it occupied, where are its nodes"); only the voxels that were occupied
-// in the last fill are listed and cleared again, so a fill costs O(host nodes), not O(voxels),
-// and huge sparse grids (small voxels) stay cheap per step. Within a voxel the nodes appear in
-// increasing index order.
+// Storage (rebuilt every step, no heap allocation after allocate()): per voxel the head of a
+// linked list of the host nodes in it (4 bytes per voxel), threaded through a per-node `next`
+// array. A fill computes every node's voxel (vectorised, VoxelIndexer) and pushes the nodes onto
+// their lists in decreasing index order, so each list comes out in increasing index order. Only
+// the voxels occupied in the last fill are listed and cleared again, so a fill costs O(host
+// nodes), not O(voxels), and huge sparse grids (small voxels) stay cheap per step.
 //
-// Parallel fill (threads() > 1, core/parallel.hpp): the nodes are split into T contiguous
-// chunks and the voxels into T contiguous index ranges ("slabs"). Each chunk computes its
-// nodes' voxels and counts them per slab; the nodes are then bucketed by slab (chunk order
-// kept, so node order is kept), and each slab is counted, prefix-summed and scattered by one
-// thread into its own contiguous part of the index array. Every voxel therefore lists exactly
-// the same nodes, in the same (increasing) order, whatever the thread count; only the order of
-// occupied_voxels() and the offsets of the lists follow the slabs.
+// Parallel fill (threads() > 1, core/parallel.hpp): the voxels are split into T contiguous index
+// ranges ("slabs"). The nodes' voxels are computed in T chunks, the nodes are bucketed by slab
+// (in node order), and each slab's lists are built by one thread, from its bucket in decreasing
+// node order. Every voxel therefore lists exactly the same nodes in the same order whatever the
+// thread count.
 #pragma once
 
 #include "core/types.hpp"
 
 #include <cstddef>
+#include <iterator>
 #include <vector>
 
 namespace harness {
@@ -103,13 +102,49 @@ void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi);
 
 class VoxelData {
  public:
-  // Node range of one voxel: pointers into the index array, [begin, end).
-  struct Span {
-    const int* b = nullptr;
-    const int* e = nullptr;
-    const int* begin() const { return b; }
-    const int* end() const { return e; }
-    int size() const { return static_cast<int>(e - b); }
+  // The nodes of one voxel, in increasing index order: a singly linked list threaded through
+  // the listed nodes (next_), so a fill is one pass that pushes each node onto its voxel's
+  // list (nodes visited in decreasing order), with no counting, prefix sum or scatter.
+  class NodeList {
+   public:
+    class iterator {
+     public:
+      using iterator_category = std::forward_iterator_tag;
+      using value_type = int;
+      using difference_type = std::ptrdiff_t;
+      using pointer = const int*;
+      using reference = int;
+      iterator() = default;
+      iterator(const int* next, int base, int k) : next_(next), base_(base), k_(k) {}
+      int operator*() const { return base_ + k_; }
+      iterator& operator++() {
+        k_ = next_[k_];
+        return *this;
+      }
+      iterator operator++(int) {
+        iterator t = *this;
+        ++*this;
+        return t;
+      }
+      bool operator==(const iterator& o) const { return k_ == o.k_; }
+      bool operator!=(const iterator& o) const { return k_ != o.k_; }
+
+     private:
+      const int* next_ = nullptr;
+      int base_ = 0, k_ = -1;
+    };
+    NodeList(const int* next, int base, int first) : next_(next), base_(base), first_(first) {}
+    iterator begin() const { return iterator(next_, base_, first_); }
+    iterator end() const { return iterator(next_, base_, -1); }
+    int size() const {
+      int n = 0;
+      for (int k = first_; k >= 0; k = next_[k]) ++n;
+      return n;
+    }
+
+   private:
+    const int* next_;
+    int base_, first_;
   };
 
   // Reserves room for grids of up to `max_voxels` voxels and `max_nodes` listed nodes. The only
@@ -117,48 +152,38 @@ class VoxelData {
   // small per-thread tables grow once when the thread count is raised).
   void allocate(long long max_voxels, int max_nodes);
 
-  // Lists the nodes [node_begin, node_end) of x in the voxels of g (count, prefix sum over the
-  // occupied voxels, scatter). Nodes outside g are left out. g.num_voxels() must not exceed the
-  // allocated capacity, nor node_end - node_begin the allocated node count.
+  // Lists the nodes [node_begin, node_end) of x in the voxels of g. Nodes outside g are left
+  // out. g.num_voxels() must not exceed the allocated capacity, nor node_end - node_begin the
+  // allocated node count.
   void fill(const GridGeometry& g, const Points& x, int node_begin, int node_end);
 
   const GridGeometry& geometry() const { return geom_; }
-  long long capacity() const { return static_cast<long long>(cells_.size()); }
+  long long capacity() const { return static_cast<long long>(head_.size()); }
   // Memory the grid holds (capacity of every array), bytes.
   long long bytes() const;
-  bool occupied(int cell) const { return cells_[cell].count > 0; }
-  Span nodes(int cell) const {
-    const Cell& c = cells_[cell];
-    return {index_.data() + c.first, index_.data() + c.first + c.count};
-  }
-  // Linear indices of the non-empty voxels: slab by slab, in order of first appearance in the
-  // fill within a slab (one slab with one thread).
+  bool occupied(int cell) const { return head_[cell] >= 0; }
+  NodeList nodes(int cell) const { return NodeList(next_.data(), base_, head_[cell]); }
+  // Linear indices of the non-empty voxels (each once; the order is unspecified and may depend
+  // on the thread count -- the lists themselves never do).
   const std::vector<int>& occupied_voxels() const { return occupied_; }
   // Nodes listed in the last fill (those inside the region).
   int listed_nodes() const { return listed_; }
 
  private:
-  struct Cell {
-    int first = 0;  // offset into index_ (valid when count > 0)
-    int count = 0;
-  };
-  struct Entry {
-    int node;  // global node index
-    int cell;
-  };
   void fill_serial(const VoxelIndexer& idx, const Points& x, int node_begin, int node_end);
   void fill_parallel(int T, const VoxelIndexer& idx, const Points& x, int node_begin, int node_end);
 
   GridGeometry geom_;
-  std::vector<Cell> cells_;     // one per voxel of the capacity; all zero except occupied_
-  std::vector<int> index_;      // node indices grouped by voxel
+  int base_ = 0;                // node_begin of the last fill: list entries are node - base_
+  std::vector<int> head_;       // per voxel of the capacity: first node (local index), -1 empty
+  std::vector<int> next_;       // per listed node: the next node of its voxel, -1 = last
   std::vector<int> node_cell_;  // voxel of each node of the range in the last fill, -1 = outside
-  std::vector<int> occupied_;   // voxels with count > 0
+  std::vector<int> occupied_;   // voxels with a list
   int listed_ = 0;
-  // Parallel fill only: nodes bucketed by slab, and per-thread tables (T x T counts and
-  // cursors, slab starts, per-slab occupied counts).
-  std::vector<Entry> bucket_;
+  // Scratch of the fill: occupied voxels as found (per slab), nodes bucketed by slab (parallel
+  // fill only), and per-thread tables (T x T counts and cursors, slab starts, occupied counts).
   std::vector<int> occ_scratch_;
+  std::vector<int> bucket_;
   std::vector<long long> table_;
 };
 

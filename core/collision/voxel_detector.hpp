@@ -31,6 +31,13 @@ class VoxelDetector final : public CollisionDetector {
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
   double voxel_size() const override { return init_.voxel_size(); }
   int rebuilds() const override { return init_.rebuilds(); }
+  bool region(Vec3& lo, Vec3& hi) const override {
+    const GridGeometry& g = grid_.geometry();
+    if (g.num_voxels() <= 0) return false;
+    lo = g.center + g.voxel * g.lo.cast<double>();
+    hi = lo + g.voxel * g.dims.cast<double>();
+    return true;
+  }
 
   const VoxelData& grid() const { return grid_; }
   const Initializer& initializer() const { return init_; }
