@@ -151,7 +151,7 @@ TEST_CASE("bad mesh files are bad input naming the scene key and the mesh", "[sc
   fs::remove_all(dir);
 }
 
-TEST_CASE("--set overrides apply before validation", "[scene][set]") {
+TEST_CASE("overrides given with --set apply before validation", "[scene][set]") {
   Scene s = parse_scene(kGood, "scene.json", {{"contacts.0.force", "2.5"}, {"time.dt", "5e-5"},
                                               {"references.solvers", R"(["cgal"])"}});
   CHECK(s.contacts[0].spec.force == 2.5);
