@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -17,68 +18,69 @@ namespace harness {
 
 namespace {
 
-// Node-centric copy of the springs, built once per world. Why a gather: each node's force is
-// written by one thread only, and each node sums its springs in spring order -- the order in
-// which the serial scatter (f[i] += F, f[j] -= F for spring k = 0, 1, ...) reaches it. The
-// force of spring k seen from its second end is computed from d' = x_i - x_j = -d, which gives
-// exactly -F (negation, squares and products are sign-symmetric in IEEE arithmetic), so the
-// result is bit-identical to the scatter for any thread count. The price is evaluating every
-// spring twice, which threads more than repay.
+// Node-centric view of the springs, built once per world: for every node, its half-edges (the
+// other end and the spring's index) in spring order.
+//
+// Why a gather: each node's force is written by one thread only, and each node sums its springs
+// in spring order -- the order in which the serial scatter (f[i] += F, f[j] -= F for spring
+// k = 0, 1, ...) reaches it. Every half-edge adds c * (x_other - x_self), c = tension / length
+// (or, for a dashpot, the damping coefficient times the relative speed over the length): seen
+// from the second end that is exactly -F, since negation, squares and products are sign-
+// symmetric in IEEE arithmetic. So the forces are bit-identical to the serial scatter, for any
+// thread count.
+//
+// Each spring's c is computed once (its square root and divisions are the cost of a spring):
+// the lower end computes it and leaves it in a mailbox (box, one slot per spring) that the
+// higher end reads, when both ends lie in the same thread's node range (otherwise both ends
+// compute it: the same value either way, so the thread count still changes nothing). The
+// higher end reads its slot within a few lattice planes of nodes, while it is still cached.
 struct SpringGather {
   int nodes = -1;
   std::size_t springs = 0;
-  bool with_rest = true;
   std::vector<int> start;        // CSR over half-edges, nodes + 1
   std::vector<int> other;        // the other end of each half-edge
-  std::vector<double> rest;      // its spring's rest length, m (with_rest)
-  std::vector<int> node_body;    // body of every spring at the node; -1 mixed (see he_body)
-  std::vector<int> he_body;      // body of each half-edge's spring, only if some node is mixed
+  std::vector<int> spring;       // its spring's index in World::springs
+  std::vector<int> node_body;    // body of every spring at the node; -1 mixed, -2 no springs
   std::vector<int> node_owner;   // body whose range holds the node, -1 none
+  std::vector<double> box;       // per spring: c from the lower end (scratch of apply)
 
   bool matches(const World& w) const { return nodes == w.num_nodes() && springs == w.springs.size(); }
 
-  void build(const World& w, bool keep_rest) {
+  void build(const World& w) {
     const Springs& s = w.springs;
     const int n = w.num_nodes();
     nodes = n;
     springs = s.size();
-    with_rest = keep_rest;
     start.assign(static_cast<std::size_t>(n) + 1, 0);
     for (const Edge& e : s.ends) ++start[e[0] + 1], ++start[e[1] + 1];
     for (int i = 0; i < n; ++i) start[i + 1] += start[i];
     const std::size_t H = static_cast<std::size_t>(start[n]);
     other.assign(H, 0);
-    rest.assign(keep_rest ? H : 0, 0.0);
-    std::vector<int> body(H, 0);
+    spring.assign(H, 0);
     std::vector<int> cur(start.begin(), start.end() - 1);
     for (std::size_t k = 0; k < s.size(); ++k) {  // spring order: each node's list is sorted by k
       const int i = s.ends[k][0], j = s.ends[k][1];
       const int a = cur[i]++, b = cur[j]++;
       other[a] = j;
       other[b] = i;
-      body[a] = body[b] = s.body[k];
-      if (keep_rest) rest[a] = rest[b] = s.rest[k];
+      spring[a] = spring[b] = static_cast<int>(k);
     }
-    node_body.assign(static_cast<std::size_t>(n), -1);
-    bool mixed = false;
+    node_body.assign(static_cast<std::size_t>(n), -2);
     for (int i = 0; i < n; ++i) {
       if (start[i] == start[i + 1]) continue;
-      int b = body[start[i]];
+      int b = s.body[spring[start[i]]];
       for (int h = start[i] + 1; h < start[i + 1]; ++h)
-        if (body[h] != b) b = -1;
+        if (s.body[spring[h]] != b) b = -1;
       node_body[i] = b;
-      mixed = mixed || b < 0;
     }
-    if (mixed) he_body.swap(body);
-    else he_body.clear();
     node_owner.assign(static_cast<std::size_t>(n), -1);
     for (std::size_t b = 0; b < w.bodies.size(); ++b)
       for (int i = std::max(0, w.bodies[b].begin); i < std::min(n, w.bodies[b].end); ++i)
         node_owner[i] = static_cast<int>(b);
+    box.assign(s.size(), 0.0);
   }
 
-  // Node range of part t of T with about equal numbers of half-edges (never depends on the
-  // results, only on how work is shared).
+  // Node range of part t of T with about equal numbers of half-edges (only shares the work).
   void part(int T, int t, int& i0, int& i1) const {
     auto at = [&](int q) {
       if (q <= 0) return 0;
@@ -105,96 +107,44 @@ inline double tension_of(const SpringLaw& law, double L0, double l) {
   if constexpr (K == SpringLawKind::exponential) return law.k * L0 * eps * expm1_over_x_inline(law.beta * eps);
 }
 
-template <SpringLawKind K>
-inline void spring_node_scalar(const SpringGather& g, const SpringLaw& law, const Points& x, int i, int h,
-                               Vec3& acc) {
-  const Vec3 xi = x[i];
-  for (; h < g.start[i + 1]; ++h) {
-    const Vec3 d = x[g.other[h]] - xi;
-    const double l = d.norm();
-    if (l <= 0.0) continue;  // coincident ends: no defined direction, no force
-    const double t = tension_of<K>(law, g.rest[h], l);
-    acc += (t / l) * d;  // tension pulls i toward the other end
-  }
-}
+constexpr int kChunk = 64;  // half-edges of one node handled at a time (stack buffers)
 
-#if defined(__SSE2__)
-// Two springs of node i at a time: the square roots and divisions (the cost of a spring) run
-// in pairs; the products are added to the node's force one spring after the other, in spring
-// order, so every operation and its order is that of spring_node_scalar (IEEE arithmetic is
-// exact per lane; d.norm() is sqrt((dx^2 + dy^2) + dz^2) in Eigen).
+// Coefficients c = tension / length of the half-edges cid[0..nc) of a chunk (other, spring:
+// the chunk's arrays; cl: the chunk's coefficients), at node position xi.
 template <SpringLawKind K>
-inline void spring_node(const SpringGather& g, const SpringLaw& law, const Points& x, int i, int h, Vec3& acc) {
-  const Vec3& xi = x[i];
-  const __m128d x0 = _mm_set1_pd(xi[0]), x1 = _mm_set1_pd(xi[1]), x2 = _mm_set1_pd(xi[2]);
-  const __m128d kk = _mm_set1_pd(law.k), bb = _mm_set1_pd(law.beta), zero = _mm_setzero_pd();
-  double ax = acc[0], ay = acc[1], az = acc[2];
-  const int he = g.start[i + 1];
-  for (; h + 2 <= he; h += 2) {
-    const Vec3& p = x[g.other[h]];
-    const Vec3& q = x[g.other[h + 1]];
-    const __m128d dx = _mm_sub_pd(_mm_set_pd(q[0], p[0]), x0);
-    const __m128d dy = _mm_sub_pd(_mm_set_pd(q[1], p[1]), x1);
-    const __m128d dz = _mm_sub_pd(_mm_set_pd(q[2], p[2]), x2);
-    const __m128d l2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-    const __m128d l = _mm_sqrt_pd(l2);
-    const __m128d L0 = _mm_loadu_pd(&g.rest[h]);
-    const __m128d eps = _mm_div_pd(_mm_sub_pd(l, L0), L0);
-    const __m128d kL0 = _mm_mul_pd(kk, L0);
-    __m128d t;
-    if constexpr (K == SpringLawKind::linear) {
-      t = _mm_mul_pd(kL0, eps);
-    } else if constexpr (K == SpringLawKind::cubic) {
-      t = _mm_mul_pd(kL0, _mm_add_pd(eps, _mm_mul_pd(_mm_mul_pd(_mm_mul_pd(bb, eps), eps), eps)));
-    } else {
-      alignas(16) double be[2];
-      _mm_store_pd(be, _mm_mul_pd(bb, eps));
-      t = _mm_mul_pd(_mm_mul_pd(kL0, eps), _mm_set_pd(expm1_over_x_inline(be[1]), expm1_over_x_inline(be[0])));
-    }
-    const __m128d c = _mm_div_pd(t, l);
-    alignas(16) double fx[2], fy[2], fz[2];
-    _mm_store_pd(fx, _mm_mul_pd(c, dx));
-    _mm_store_pd(fy, _mm_mul_pd(c, dy));
-    _mm_store_pd(fz, _mm_mul_pd(c, dz));
-    // Lanes with l <= 0 are skipped (as `continue`; a NaN length is not skipped, as there).
-    const int skip = _mm_movemask_pd(_mm_cmple_pd(l, zero));
-    if (!(skip & 1)) ax += fx[0], ay += fy[0], az += fz[0];
-    if (!(skip & 2)) ax += fx[1], ay += fy[1], az += fz[1];
+void spring_coefs(const SpringLaw& law, const double* rest, const Points& x, const Vec3& xi, const int* other,
+                  const int* spring, const int* cid, int nc, double* cl) {
+  for (int r = 0; r < nc; ++r) {
+    const int q = cid[r];
+    const double l = (x[other[q]] - xi).norm();
+    cl[q] = tension_of<K>(law, rest[spring[q]], l) / l;
   }
-  acc = Vec3(ax, ay, az);
-  if (h < he) spring_node_scalar<K>(g, law, x, i, h, acc);
 }
-#else
-template <SpringLawKind K>
-inline void spring_node(const SpringGather& g, const SpringLaw& law, const Points& x, int i, int h, Vec3& acc) {
-  spring_node_scalar<K>(g, law, x, i, h, acc);
-}
-#endif
 
 #if defined(HARNESS_X86_AVX)
-// Four springs at a time with AVX where the processor has it (chosen at run time); the same
-// operations in the same order as above, so the same bits. No FMA: contraction would change them.
+// Four at a time with AVX where the processor has it (chosen at run time): the same operations
+// on each lane (d.norm() is sqrt((dx^2 + dy^2) + dz^2) in Eigen), so the same bits. No FMA:
+// contraction would change them.
 template <SpringLawKind K>
-__attribute__((target("avx"))) void spring_node_avx(const SpringGather& g, const SpringLaw& law, const Points& x,
-                                                    int i, Vec3& acc) {
-  const Vec3& xi = x[i];
+__attribute__((target("avx"))) void spring_coefs_avx(const SpringLaw& law, const double* rest, const Points& x,
+                                                     const Vec3& xi, const int* other, const int* spring,
+                                                     const int* cid, int nc, double* cl) {
   const __m256d x0 = _mm256_set1_pd(xi[0]), x1 = _mm256_set1_pd(xi[1]), x2 = _mm256_set1_pd(xi[2]);
-  const __m256d kk = _mm256_set1_pd(law.k), bb = _mm256_set1_pd(law.beta), zero = _mm256_setzero_pd();
-  double ax = acc[0], ay = acc[1], az = acc[2];
-  int h = g.start[i];
-  const int he = g.start[i + 1];
-  for (; h + 4 <= he; h += 4) {
-    const double* p0 = x[g.other[h]].data();
-    const double* p1 = x[g.other[h + 1]].data();
-    const double* p2 = x[g.other[h + 2]].data();
-    const double* p3 = x[g.other[h + 3]].data();
+  const __m256d kk = _mm256_set1_pd(law.k), bb = _mm256_set1_pd(law.beta);
+  int r = 0;
+  for (; r + 4 <= nc; r += 4) {
+    const int q0 = cid[r], q1 = cid[r + 1], q2 = cid[r + 2], q3 = cid[r + 3];
+    const double* p0 = x[other[q0]].data();
+    const double* p1 = x[other[q1]].data();
+    const double* p2 = x[other[q2]].data();
+    const double* p3 = x[other[q3]].data();
     const __m256d dx = _mm256_sub_pd(_mm256_set_pd(p3[0], p2[0], p1[0], p0[0]), x0);
     const __m256d dy = _mm256_sub_pd(_mm256_set_pd(p3[1], p2[1], p1[1], p0[1]), x1);
     const __m256d dz = _mm256_sub_pd(_mm256_set_pd(p3[2], p2[2], p1[2], p0[2]), x2);
     const __m256d l2 =
         _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
     const __m256d l = _mm256_sqrt_pd(l2);
-    const __m256d L0 = _mm256_loadu_pd(&g.rest[h]);
+    const __m256d L0 = _mm256_set_pd(rest[spring[q3]], rest[spring[q2]], rest[spring[q1]], rest[spring[q0]]);
     const __m256d eps = _mm256_div_pd(_mm256_sub_pd(l, L0), L0);
     const __m256d kL0 = _mm256_mul_pd(kk, L0);
     __m256d t;
@@ -209,17 +159,11 @@ __attribute__((target("avx"))) void spring_node_avx(const SpringGather& g, const
                         _mm256_set_pd(expm1_over_x_inline(be[3]), expm1_over_x_inline(be[2]),
                                       expm1_over_x_inline(be[1]), expm1_over_x_inline(be[0])));
     }
-    const __m256d c = _mm256_div_pd(t, l);
-    alignas(32) double fx[4], fy[4], fz[4];
-    _mm256_store_pd(fx, _mm256_mul_pd(c, dx));
-    _mm256_store_pd(fy, _mm256_mul_pd(c, dy));
-    _mm256_store_pd(fz, _mm256_mul_pd(c, dz));
-    const int skip = _mm256_movemask_pd(_mm256_cmp_pd(l, zero, _CMP_LE_OQ));
-    for (int q = 0; q < 4; ++q)
-      if (!((skip >> q) & 1)) ax += fx[q], ay += fy[q], az += fz[q];
+    alignas(32) double c[4];
+    _mm256_store_pd(c, _mm256_div_pd(t, l));
+    cl[q0] = c[0], cl[q1] = c[1], cl[q2] = c[2], cl[q3] = c[3];
   }
-  acc = Vec3(ax, ay, az);
-  if (h < he) spring_node<K>(g, law, x, i, h, acc);
+  spring_coefs<K>(law, rest, x, xi, other, spring, cid + r, nc - r, cl);
 }
 
 bool cpu_has_avx() {
@@ -228,55 +172,88 @@ bool cpu_has_avx() {
 }
 #endif
 
-template <SpringLawKind K>
-inline void spring_node_best(const SpringGather& g, const SpringLaw& law, const Points& x, int i, bool avx,
-                             Vec3& acc) {
-#if defined(HARNESS_X86_AVX)
-  if (avx) return spring_node_avx<K>(g, law, x, i, acc);
-#endif
-  (void)avx;
-  spring_node<K>(g, law, x, i, g.start[i], acc);
+// Adds c * (x_other - x_i) of node i's half-edges to acc in spring order; a half-edge of zero
+// length adds nothing (the scatter's `l <= 0`: sqrt(l2) <= 0 exactly when l2 <= 0).
+// `coefs(a, cid, nc, cl)` computes the coefficients the mailbox does not hold; `skip(h)` says
+// which other half-edges the scatter would skip (dashpots without damping).
+template <class Coefs, class Skip>
+inline void gather_node(const SpringGather& g, const Points& x, int i, int i0, int i1, Vec3& acc, Coefs&& coefs,
+                        Skip&& skip) {
+  const Vec3 xi = x[i];
+  int cid[kChunk];
+  double cl[kChunk];
+  double* box = const_cast<double*>(g.box.data());  // each slot written by one thread (see above)
+  for (int a = g.start[i]; a < g.start[i + 1]; a += kChunk) {
+    const int m = std::min(kChunk, g.start[i + 1] - a);
+    const int* oth = g.other.data() + a;
+    const int* spr = g.spring.data() + a;
+    int nc = 0;
+    for (int q = 0; q < m; ++q) {
+      const int j = oth[q];
+      if (j < i && j >= i0) cl[q] = box[spr[q]];  // published by the lower end, this thread
+      else cid[nc++] = q;
+    }
+    coefs(a, cid, nc, cl);
+    for (int r = 0; r < nc; ++r) {
+      const int q = cid[r], j = oth[q];
+      if (j > i && j < i1) box[spr[q]] = cl[q];
+    }
+    for (int q = 0; q < m; ++q) {
+      const Vec3 d = x[oth[q]] - xi;
+      if (d.squaredNorm() <= 0.0 || skip(a + q)) continue;
+      acc += cl[q] * d;
+    }
+  }
 }
 
-void gather_spring_forces(const SpringGather& g, const World& w, Points& f) {
+void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
   const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
 #if defined(HARNESS_X86_AVX)
   const bool avx = cpu_has_avx();
-#else
-  const bool avx = false;
 #endif
+  const double* rest = w.springs.rest.data();
 #pragma omp parallel for num_threads(T) schedule(static, 1)
   for (int t = 0; t < T; ++t) {
     int i0, i1;
     g.part(T, t, i0, i1);
     for (int i = i0; i < i1; ++i) {
       const int b = g.node_body[i];
-      if (g.start[i] == g.start[i + 1]) continue;
+      if (b == -2) continue;
       Vec3 acc = f[i];
+      const Vec3& xi = w.x[i];
       if (b >= 0) {
         const SpringLaw& law = w.body_law[b];
+        auto run = [&](auto kind) {
+          constexpr SpringLawKind K = decltype(kind)::value;
+          gather_node(g, w.x, i, i0, i1, acc, [&](int a, const int* cid, int nc, double* cl) {
+#if defined(HARNESS_X86_AVX)
+            if (avx) return spring_coefs_avx<K>(law, rest, w.x, xi, &g.other[a], &g.spring[a], cid, nc, cl);
+#endif
+            spring_coefs<K>(law, rest, w.x, xi, &g.other[a], &g.spring[a], cid, nc, cl);
+          }, [](int) { return false; });
+        };
         switch (law.kind) {
-          case SpringLawKind::linear: spring_node_best<SpringLawKind::linear>(g, law, w.x, i, avx, acc); break;
-          case SpringLawKind::cubic: spring_node_best<SpringLawKind::cubic>(g, law, w.x, i, avx, acc); break;
+          case SpringLawKind::linear: run(std::integral_constant<SpringLawKind, SpringLawKind::linear>{}); break;
+          case SpringLawKind::cubic: run(std::integral_constant<SpringLawKind, SpringLawKind::cubic>{}); break;
           case SpringLawKind::exponential:
-            spring_node_best<SpringLawKind::exponential>(g, law, w.x, i, avx, acc);
+            run(std::integral_constant<SpringLawKind, SpringLawKind::exponential>{});
             break;
         }
       } else {  // springs of several bodies meet here (hand-built worlds): the law per spring
-        for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
-          const Vec3 d = w.x[g.other[h]] - w.x[i];
-          const double l = d.norm();
-          if (l <= 0.0) continue;
-          const double tension = spring_tension(w.body_law[g.he_body[h]], g.rest[h], l);
-          acc += (tension / l) * d;
-        }
+        gather_node(g, w.x, i, i0, i1, acc, [&](int a, const int* cid, int nc, double* cl) {
+          for (int r = 0; r < nc; ++r) {
+            const int q = cid[r], k = g.spring[a + q];
+            const double l = (w.x[g.other[a + q]] - xi).norm();
+            cl[q] = spring_tension(w.body_law[w.springs.body[k]], rest[k], l) / l;
+          }
+        }, [](int) { return false; });
       }
       f[i] = acc;
     }
   }
 }
 
-void gather_damping_forces(const SpringGather& g, const World& w, Points& f) {
+void gather_damping_forces(SpringGather& g, const World& w, Points& f) {
   const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
 #pragma omp parallel for num_threads(T) schedule(static, 1)
   for (int t = 0; t < T; ++t) {
@@ -286,20 +263,26 @@ void gather_damping_forces(const SpringGather& g, const World& w, Points& f) {
       const int owner = g.node_owner[i];
       const double a = owner >= 0 ? w.bodies[owner].material.mass_damping : 0.0;
       const int nb = g.node_body[i];
-      const bool springs = g.start[i] != g.start[i + 1] && (nb < 0 || w.bodies[nb].material.damping != 0.0);
-      if (!springs && a == 0.0) continue;
+      // A node whose springs all have c = 0 neither computes nor reads a dashpot (nor does the
+      // other end of any of them: same spring, same c).
+      const bool dashpots = nb == -1 || (nb >= 0 && w.bodies[nb].material.damping != 0.0);
+      if (!dashpots && a == 0.0) continue;
       Vec3 acc = f[i];
-      if (springs) {
+      if (dashpots) {
         const Vec3 xi = w.x[i], vi = w.v[i];
-        for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
-          const double c = w.bodies[nb >= 0 ? nb : g.he_body[h]].material.damping;
-          if (c == 0.0) continue;
-          const int j = g.other[h];
-          const Vec3 d = w.x[j] - xi;
-          const double l2 = d.squaredNorm();
-          if (l2 <= 0.0) continue;
-          acc += (c * (w.v[j] - vi).dot(d) / l2) * d;  // as the scatter: exactly -F at the other end
-        }
+        auto damping_of = [&](int h) { return w.bodies[w.springs.body[g.spring[h]]].material.damping; };
+        auto coefs = [&](int a0, const int* cid, int nc, double* cl) {
+          for (int r = 0; r < nc; ++r) {
+            const int q = cid[r], j = g.other[a0 + q];
+            const Vec3 d = w.x[j] - xi;
+            // As the scatter: (c (v_j - v_i).d / l2) d, exactly -F from the other end.
+            cl[q] = damping_of(a0 + q) * (w.v[j] - vi).dot(d) / d.squaredNorm();
+          }
+        };
+        if (nb >= 0)
+          gather_node(g, w.x, i, i0, i1, acc, coefs, [](int) { return false; });
+        else  // mixed: springs without damping are skipped, as the scatter does
+          gather_node(g, w.x, i, i0, i1, acc, coefs, [&](int h) { return damping_of(h) == 0.0; });
       }
       // Mass-proportional damping after every dashpot, as in the serial order.
       if (a != 0.0) acc -= (a * w.m[i]) * w.v[i];
@@ -312,7 +295,7 @@ void gather_damping_forces(const SpringGather& g, const World& w, Points& f) {
 
 void add_spring_forces(const World& w, Points& f) {
   SpringGather g;
-  g.build(w, true);
+  g.build(w);
   gather_spring_forces(g, w, f);
 }
 
@@ -339,7 +322,7 @@ double spring_potential(const World& w) {
 
 void add_damping_forces(const World& w, Points& f) {
   SpringGather g;
-  g.build(w, false);
+  g.build(w);
   gather_damping_forces(g, w, f);
 }
 
@@ -370,12 +353,13 @@ double ramp_pressure(const PressureSpec& p, int step) {
 namespace {
 
 // The effects keep their gather between steps (built on the first step; rebuilt only if the
-// number of nodes or springs changes: topology and rest lengths are fixed once a world is built).
+// number of nodes or springs changes: the topology is fixed once a world is built; rest
+// lengths and materials are read from the World every step).
 class SpringsEffect final : public ForceEffect {
  public:
   const char* name() const override { return "springs"; }
   void apply(World& w, const StepInfo&) override {
-    if (!gather_.matches(w)) gather_.build(w, true);
+    if (!gather_.matches(w)) gather_.build(w);
     gather_spring_forces(gather_, w, w.f);
   }
   double energy(const World& w) const override { return spring_potential(w); }
@@ -388,7 +372,7 @@ class DampingEffect final : public ForceEffect {
  public:
   const char* name() const override { return "damping"; }
   void apply(World& w, const StepInfo&) override {
-    if (!gather_.matches(w)) gather_.build(w, false);
+    if (!gather_.matches(w)) gather_.build(w);
     gather_damping_forces(gather_, w, w.f);
   }
 

@@ -125,6 +125,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   w.kinematic.assign(n, 0);
   w.kin_v.assign(n, Vec3::Zero());
   pinned_.assign(n, 0);
+  driven_now_.assign(n, 0);
 
   // Selections are checked whether or not their effect is listed: a bad scene is bad input.
   for (std::size_t bi = 0; bi < sc.bodies.size(); ++bi) {
@@ -194,10 +195,17 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
     substeps = static_cast<int>(std::ceil(ratio));
   }
   max_substeps = substeps;
+  dt_crit_last_ = dt_crit;
 }
 
 void Simulation::guard_check() {
-  const double d = critical_dt(world);
+  const double measured = critical_dt(world);
+  // A stiffening law keeps shrinking dt_crit during the coming step: extrapolate the trend
+  // since the last check (geometrically) so that the substeps are sized for the step's end.
+  double d = measured;
+  if (std::isfinite(dt_crit_last_) && dt_crit_last_ > measured && measured > 0.0)
+    d = measured * (measured / dt_crit_last_);
+  dt_crit_last_ = measured;
   dt_crit_min = std::min(dt_crit_min, d);
   if (scene_.integrator != Integrator::symplectic_euler || !std::isfinite(d)) return;
   const double ratio = scene_.dt / (0.9 * d);
@@ -219,20 +227,27 @@ std::vector<std::string> Simulation::effects_simulated() const {
 void Simulation::update_kinematics(int step) {
   if (!drivers_) return;
   World& w = world;
+  // Active drivers first (a later driver wins where two overlap); then the nodes no active
+  // driver moves any more are released with their last velocity. Releasing inside the loop
+  // would let an inactive driver free nodes that another driver is moving.
+  for (const DriverNodes& d : driver_nodes_)
+    for (int i : d.nodes) driven_now_[i] = 0;
   for (const DriverNodes& d : driver_nodes_) {
-    const bool active = step >= d.from_step && (d.to_step < 0 || step <= d.to_step);
+    if (!(step >= d.from_step && (d.to_step < 0 || step <= d.to_step))) continue;
     for (int i : d.nodes) {
       if (pinned_[i]) continue;  // a pin wins over a driver
-      if (active) {
-        w.kinematic[i] = 2;
-        w.kin_v[i] = d.velocity;
-        w.v[i] = d.velocity;
-      } else if (w.kinematic[i] == 2) {
+      driven_now_[i] = 1;
+      w.kinematic[i] = 2;
+      w.kin_v[i] = d.velocity;
+      w.v[i] = d.velocity;
+    }
+  }
+  for (const DriverNodes& d : driver_nodes_)
+    for (int i : d.nodes)
+      if (!driven_now_[i] && w.kinematic[i] == 2) {
         w.kinematic[i] = 0;  // released: keeps its last velocity
         w.kin_v[i] = Vec3::Zero();
       }
-    }
-  }
 }
 
 void Simulation::integrate(double h) {
@@ -259,7 +274,11 @@ void Simulation::step() {
   const auto t0 = Clock::now();
   ++step_index;
   World& w = world;
-  if (scene_.has(kSprings) && (step_index - 1) % kGuardEvery == 0 && step_index > 1) guard_check();
+  // The guard re-evaluates dt_crit every kGuardEvery steps, and every step once dt per substep
+  // is within a factor 2 of the limit (stiffening laws can halve dt_crit within ten steps).
+  if (scene_.has(kSprings) && step_index > 1 &&
+      ((step_index - 1) % kGuardEvery == 0 || scene_.dt / substeps > 0.45 * dt_crit_last_))
+    guard_check();
   const double h = scene_.dt / substeps;
   update_kinematics(step_index);
   for (PairSlot& p : pairs) p.contacts = 0, p.t_detect_us = p.t_eliminate_us = p.force = 0.0;

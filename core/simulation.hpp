@@ -45,7 +45,8 @@ class Simulation {
   int substeps = 1;    // explicit substeps per step chosen by the stability guard
   double dt_crit = 0.0;  // s, Gershgorin bound at rest (infinity without springs)
   // Stability guard during the run (explicit integrator): dt_crit is re-evaluated at the
-  // current strain every kGuardEvery steps; with guard "substep" the substeps follow it.
+  // current strain every kGuardEvery steps (every step when close to the limit); with guard
+  // "substep" the substeps follow it.
   static constexpr int kGuardEvery = 10;
   double dt_crit_min = 0.0;   // smallest dt_crit seen, s
   int max_substeps = 1;       // largest substep count used
@@ -75,7 +76,9 @@ class Simulation {
   };
   std::vector<DriverNodes> driver_nodes_;
   std::vector<std::uint8_t> pinned_;
+  std::vector<std::uint8_t> driven_now_;  // scratch of update_kinematics
   ImplicitEuler implicit_;
+  double dt_crit_last_ = 0.0;  // dt_crit at the last check
   void guard_check();
 };
 

@@ -131,3 +131,17 @@ TEST_CASE("the stability guard refuses or substeps a dt above 0.9 dt_crit", "[ph
   Simulation sub(parse_scene(text, "g.json"));
   CHECK(sub.substeps == 3);
 }
+
+TEST_CASE("an inactive driver does not release nodes another driver moves", "[physics][drivers]") {
+  Simulation sim(parse_scene(box_scene(R"("springs","drivers")",
+    R"(,"drivers":[{"select":{"side":"+z"},"velocity":[0,0,0.1],"from_step":1,"to_step":5},
+                   {"select":{"side":"+z"},"velocity":[0,0,0],"from_step":6,"to_step":-1}])", 1e-4), "d2.json"));
+  std::vector<int> driven = select_nodes(sim.world, 0, sim.scene().bodies[0].drivers[0].select);
+  const double z0 = sim.world.x[driven[0]].z();
+  for (int s = 0; s < 20; ++s) {
+    sim.step();
+    CHECK(sim.world.kinematic[driven[0]] == 2);
+  }
+  // Moved for five steps, then held.
+  CHECK(sim.world.x[driven[0]].z() == Approx(z0 + 5 * 1e-4 * 0.1).epsilon(1e-12));
+}
