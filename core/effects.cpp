@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -159,9 +158,12 @@ __attribute__((target("avx"))) void spring_coefs_avx(const SpringLaw& law, const
                         _mm256_set_pd(expm1_over_x_inline(be[3]), expm1_over_x_inline(be[2]),
                                       expm1_over_x_inline(be[1]), expm1_over_x_inline(be[0])));
     }
-    alignas(32) double c[4];
-    _mm256_store_pd(c, _mm256_div_pd(t, l));
-    cl[q0] = c[0], cl[q1] = c[1], cl[q2] = c[2], cl[q3] = c[3];
+    const __m256d c = _mm256_div_pd(t, l);
+    const __m128d c01 = _mm256_castpd256_pd128(c), c23 = _mm256_extractf128_pd(c, 1);
+    _mm_storel_pd(cl + q0, c01);
+    _mm_storeh_pd(cl + q1, c01);
+    _mm_storel_pd(cl + q2, c23);
+    _mm_storeh_pd(cl + q3, c23);
   }
   spring_coefs<K>(law, rest, x, xi, other, spring, cid + r, nc - r, cl);
 }
@@ -172,10 +174,8 @@ bool cpu_has_avx() {
 }
 #endif
 
-// Adds c * (x_other - x_i) of node i's half-edges to acc in spring order; a half-edge of zero
-// length adds nothing (the scatter's `l <= 0`: sqrt(l2) <= 0 exactly when l2 <= 0).
-// `coefs(a, cid, nc, cl)` computes the coefficients the mailbox does not hold; `skip(h)` says
-// which other half-edges the scatter would skip (dashpots without damping).
+// Adds c * (x_other - x_i) of node i's half-edges to acc in spring order, kChunk half-edges at
+// a time (nodes with more half-edges than a block; see gather_range).
 template <class Coefs, class Skip>
 inline void gather_node(const SpringGather& g, const Points& x, int i, int i0, int i1, Vec3& acc, Coefs&& coefs,
                         Skip&& skip) {
@@ -193,16 +193,76 @@ inline void gather_node(const SpringGather& g, const Points& x, int i, int i0, i
       if (j < i && j >= i0) cl[q] = box[spr[q]];  // published by the lower end, this thread
       else cid[nc++] = q;
     }
-    coefs(a, cid, nc, cl);
+    coefs(i, a, cid, nc, cl);
     for (int r = 0; r < nc; ++r) {
       const int q = cid[r], j = oth[q];
       if (j > i && j < i1) box[spr[q]] = cl[q];
     }
     for (int q = 0; q < m; ++q) {
       const Vec3 d = x[oth[q]] - xi;
-      if (d.squaredNorm() <= 0.0 || skip(a + q)) continue;
+      if (d.squaredNorm() <= 0.0 || skip(i, a + q)) continue;
       acc += cl[q] * d;
     }
+  }
+}
+
+constexpr int kBlock = 1024;  // half-edges per block: the coefficient buffer is 8 KiB
+
+// One thread's nodes [i0, i1), in blocks of whole nodes with at most kBlock half-edges: first
+// the coefficient of every half-edge of the block (from the mailbox, or coefs(i, a, cid, nc, cl)
+// for half-edges a + cid[r] of node i), then each node's sum in spring order. Keeping the two
+// apart puts many independent square roots and divisions in flight. A zero-length half-edge
+// adds nothing (the scatter's `l <= 0`: sqrt(l2) <= 0 exactly when l2 <= 0), nor does one the
+// scatter skips (`skip(i, h)`); finish(i, acc) stores the node's force.
+template <class Active, class Coefs, class Skip, class Finish>
+void gather_range(const SpringGather& g, const Points& x, int i0, int i1, Active&& active, Coefs&& coefs,
+                  Skip&& skip, Finish&& finish, const Points& f) {
+  double* box = const_cast<double*>(g.box.data());
+  int cid[kBlock];
+  double cl[kBlock];
+  int i = i0;
+  while (i < i1) {
+    const int H0 = g.start[i];
+    if (g.start[i + 1] - H0 > kBlock) {  // a node longer than a block: on its own, in chunks
+      Vec3 acc = f[i];
+      if (active(i)) gather_node(g, x, i, i0, i1, acc, coefs, skip);
+      finish(i, acc);
+      ++i;
+      continue;
+    }
+    int e = i + 1;
+    while (e < i1 && g.start[e + 1] - H0 <= kBlock) ++e;
+    for (int n = i; n < e; ++n) {
+      if (!active(n)) continue;
+      const int a = g.start[n], m = g.start[n + 1] - a;
+      const int* oth = g.other.data() + a;
+      const int* spr = g.spring.data() + a;
+      double* c = cl + (a - H0);
+      int nc = 0;
+      for (int q = 0; q < m; ++q) {
+        const int j = oth[q];
+        if (j < n && j >= i0) c[q] = box[spr[q]];  // published by the lower end, this thread
+        else cid[nc++] = q;
+      }
+      coefs(n, a, cid, nc, c);
+      for (int r = 0; r < nc; ++r) {
+        const int q = cid[r], j = oth[q];
+        if (j > n && j < i1) box[spr[q]] = c[q];
+      }
+    }
+    for (int n = i; n < e; ++n) {
+      Vec3 acc = f[n];
+      if (active(n)) {
+        const Vec3 xn = x[n];
+        for (int h = g.start[n]; h < g.start[n + 1]; ++h) {
+          const Vec3 d = x[g.other[h]] - xn;
+          if (d.squaredNorm() <= 0.0 || skip(n, h)) continue;
+          acc += cl[h - H0] * d;
+        }
+      }
+      finish(n, acc);
+    }
+    i = e;
   }
 }
 
@@ -212,82 +272,81 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
   const bool avx = cpu_has_avx();
 #endif
   const double* rest = w.springs.rest.data();
+  auto coefs = [&](int i, int a, const int* cid, int nc, double* cl) {
+    const int* oth = &g.other[a];
+    const int* spr = &g.spring[a];
+    const Vec3& xi = w.x[i];
+    const int b = g.node_body[i];
+    if (b < 0) {  // springs of several bodies meet here (hand-built worlds): the law per spring
+      for (int r = 0; r < nc; ++r) {
+        const int q = cid[r], k = spr[q];
+        const double l = (w.x[oth[q]] - xi).norm();
+        cl[q] = spring_tension(w.body_law[w.springs.body[k]], rest[k], l) / l;
+      }
+      return;
+    }
+    const SpringLaw& law = w.body_law[b];
+#if defined(HARNESS_X86_AVX)
+    if (avx) {
+      switch (law.kind) {
+        case SpringLawKind::linear:
+          return spring_coefs_avx<SpringLawKind::linear>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
+        case SpringLawKind::cubic:
+          return spring_coefs_avx<SpringLawKind::cubic>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
+        case SpringLawKind::exponential:
+          return spring_coefs_avx<SpringLawKind::exponential>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
+      }
+    }
+#endif
+    switch (law.kind) {
+      case SpringLawKind::linear: return spring_coefs<SpringLawKind::linear>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
+      case SpringLawKind::cubic: return spring_coefs<SpringLawKind::cubic>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
+      case SpringLawKind::exponential:
+        return spring_coefs<SpringLawKind::exponential>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
+    }
+  };
 #pragma omp parallel for num_threads(T) schedule(static, 1)
   for (int t = 0; t < T; ++t) {
     int i0, i1;
     g.part(T, t, i0, i1);
-    for (int i = i0; i < i1; ++i) {
-      const int b = g.node_body[i];
-      if (b == -2) continue;
-      Vec3 acc = f[i];
-      const Vec3& xi = w.x[i];
-      if (b >= 0) {
-        const SpringLaw& law = w.body_law[b];
-        auto run = [&](auto kind) {
-          constexpr SpringLawKind K = decltype(kind)::value;
-          gather_node(g, w.x, i, i0, i1, acc, [&](int a, const int* cid, int nc, double* cl) {
-#if defined(HARNESS_X86_AVX)
-            if (avx) return spring_coefs_avx<K>(law, rest, w.x, xi, &g.other[a], &g.spring[a], cid, nc, cl);
-#endif
-            spring_coefs<K>(law, rest, w.x, xi, &g.other[a], &g.spring[a], cid, nc, cl);
-          }, [](int) { return false; });
-        };
-        switch (law.kind) {
-          case SpringLawKind::linear: run(std::integral_constant<SpringLawKind, SpringLawKind::linear>{}); break;
-          case SpringLawKind::cubic: run(std::integral_constant<SpringLawKind, SpringLawKind::cubic>{}); break;
-          case SpringLawKind::exponential:
-            run(std::integral_constant<SpringLawKind, SpringLawKind::exponential>{});
-            break;
-        }
-      } else {  // springs of several bodies meet here (hand-built worlds): the law per spring
-        gather_node(g, w.x, i, i0, i1, acc, [&](int a, const int* cid, int nc, double* cl) {
-          for (int r = 0; r < nc; ++r) {
-            const int q = cid[r], k = g.spring[a + q];
-            const double l = (w.x[g.other[a + q]] - xi).norm();
-            cl[q] = spring_tension(w.body_law[w.springs.body[k]], rest[k], l) / l;
-          }
-        }, [](int) { return false; });
-      }
-      f[i] = acc;
-    }
+    gather_range(
+        g, w.x, i0, i1, [&](int i) { return g.node_body[i] != -2; }, coefs, [](int, int) { return false; },
+        [&](int i, const Vec3& acc) { f[i] = acc; }, f);
   }
 }
 
 void gather_damping_forces(SpringGather& g, const World& w, Points& f) {
   const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
+  auto damping_of = [&](int h) { return w.bodies[w.springs.body[g.spring[h]]].material.damping; };
+  // A node whose springs all have c = 0 neither computes nor reads a dashpot (nor does the other
+  // end of any of them: same spring, same c).
+  auto active = [&](int i) {
+    const int nb = g.node_body[i];
+    return nb == -1 || (nb >= 0 && w.bodies[nb].material.damping != 0.0);
+  };
+  auto coefs = [&](int i, int a, const int* cid, int nc, double* cl) {
+    const Vec3 xi = w.x[i], vi = w.v[i];
+    for (int r = 0; r < nc; ++r) {
+      const int q = cid[r], j = g.other[a + q];
+      const Vec3 d = w.x[j] - xi;
+      // As the scatter: (c (v_j - v_i).d / l2) d, exactly -F from the other end.
+      cl[q] = damping_of(a + q) * (w.v[j] - vi).dot(d) / d.squaredNorm();
+    }
+  };
+  // Springs without damping at nodes where bodies meet are skipped, as the scatter does.
+  auto skip = [&](int i, int h) { return g.node_body[i] == -1 && damping_of(h) == 0.0; };
+  auto finish = [&](int i, const Vec3& acc) {
+    const int owner = g.node_owner[i];
+    const double a = owner >= 0 ? w.bodies[owner].material.mass_damping : 0.0;
+    if (!active(i) && a == 0.0) return;
+    // Mass-proportional damping after every dashpot, as in the serial order.
+    f[i] = a != 0.0 ? Vec3(acc - (a * w.m[i]) * w.v[i]) : acc;
+  };
 #pragma omp parallel for num_threads(T) schedule(static, 1)
   for (int t = 0; t < T; ++t) {
     int i0, i1;
     g.part(T, t, i0, i1);
-    for (int i = i0; i < i1; ++i) {
-      const int owner = g.node_owner[i];
-      const double a = owner >= 0 ? w.bodies[owner].material.mass_damping : 0.0;
-      const int nb = g.node_body[i];
-      // A node whose springs all have c = 0 neither computes nor reads a dashpot (nor does the
-      // other end of any of them: same spring, same c).
-      const bool dashpots = nb == -1 || (nb >= 0 && w.bodies[nb].material.damping != 0.0);
-      if (!dashpots && a == 0.0) continue;
-      Vec3 acc = f[i];
-      if (dashpots) {
-        const Vec3 xi = w.x[i], vi = w.v[i];
-        auto damping_of = [&](int h) { return w.bodies[w.springs.body[g.spring[h]]].material.damping; };
-        auto coefs = [&](int a0, const int* cid, int nc, double* cl) {
-          for (int r = 0; r < nc; ++r) {
-            const int q = cid[r], j = g.other[a0 + q];
-            const Vec3 d = w.x[j] - xi;
-            // As the scatter: (c (v_j - v_i).d / l2) d, exactly -F from the other end.
-            cl[q] = damping_of(a0 + q) * (w.v[j] - vi).dot(d) / d.squaredNorm();
-          }
-        };
-        if (nb >= 0)
-          gather_node(g, w.x, i, i0, i1, acc, coefs, [](int) { return false; });
-        else  // mixed: springs without damping are skipped, as the scatter does
-          gather_node(g, w.x, i, i0, i1, acc, coefs, [&](int h) { return damping_of(h) == 0.0; });
-      }
-      // Mass-proportional damping after every dashpot, as in the serial order.
-      if (a != 0.0) acc -= (a * w.m[i]) * w.v[i];
-      f[i] = acc;
-    }
+    gather_range(g, w.x, i0, i1, active, coefs, skip, finish, f);
   }
 }
 

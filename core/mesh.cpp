@@ -564,14 +564,18 @@ SurfaceMesh read_surface(const std::string& path) {
   std::string buf(static_cast<std::size_t>(size), '\0');
   if (size > 0 && !in.read(&buf[0], static_cast<std::streamsize>(size)))
     throw InputError(path, "cannot read the file");
-  if (size == 0) throw InputError(path, "empty file");
+  return read_surface_text(buf, path, ext == ".obj");
+}
 
+SurfaceMesh read_surface_text(const std::string& text, const std::string& name, bool obj) {
+  if (text.size() > kMaxFileBytes) throw InputError(name, "file too large (limit 2 GB)");
+  if (text.empty()) throw InputError(name, "empty file");
   RawSurface raw;
-  if (ext == ".off")
-    read_off(path, buf, raw);
+  if (obj)
+    read_obj(name, text, raw);
   else
-    read_obj(path, buf, raw);
-  return finish_surface(path, raw);
+    read_off(name, text, raw);
+  return finish_surface(name, raw);
 }
 
 }  // namespace harness

@@ -35,5 +35,8 @@ double signed_volume(const Points& V, const std::vector<Tri>& F);
 // surface that is not closed, not 2-manifold or not consistently oriented. An inward-oriented
 // surface (negative volume) is flipped. Vertices referenced by no face are dropped.
 SurfaceMesh read_surface(const std::string& path);
+// The same reader on text already in memory (what read_surface does after reading the file):
+// `name` stands for the path in messages, `obj` picks OBJ over OFF. Used by the fuzz targets.
+SurfaceMesh read_surface_text(const std::string& text, const std::string& name, bool obj);
 
 }  // namespace harness

@@ -1,24 +1,70 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing, builds, runs the bundled scenes into results/.
-# Usage: scripts/reproduce.sh [--quick]
+# The main job: installs what is missing, builds, runs the bundled scenes into results/, then
+# makes the figures, tables and the claims check from them (results/README.md lists every file).
+# Usage: scripts/reproduce.sh [--quick] [--paper]
+#   --quick  300 steps per run instead of the scenes' own (a smoke run, about a minute)
+#   --paper  also installs LaTeX (Debian packages) and builds paper/main.pdf
+# Environment: PYTHON (default /usr/bin/python3: Debian's matplotlib and numpy);
+#   HARNESS=path uses that harness binary and skips the install and build steps.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
+paper=0
 for a in "$@"; do
   case "$a" in
     --quick) quick=1 ;;
+    --paper) paper=1 ;;
     *) echo "reproduce.sh: unknown option '$a'" >&2; exit 2 ;;
   esac
 done
-scripts/install-deps.sh
-scripts/build.sh release
-H=build/bin/harness
+PYTHON="${PYTHON:-/usr/bin/python3}"
+export PYTHON
+start=$(date +%s)
+if [[ -n "${HARNESS:-}" ]]; then
+  H="$HARNESS"
+else
+  scripts/install-deps.sh
+  scripts/build.sh release
+  H=build/bin/harness
+fi
 out=results/runs
 mkdir -p "$out"
 extra=()
-[[ $quick -eq 1 ]] && extra=(--steps 200)
-for scene in sphere_collision cylinder_press implant_expansion; do
-  echo "reproduce: $scene"
-  "$H" run "$scene" --out "$out/$scene" --quiet "${extra[@]}"
+[[ $quick -eq 1 ]] && extra=(--steps 300)
+
+# run FOLDER SCENE ELIMINATOR [--set ...]: one harness run into results/runs/FOLDER.
+run() {
+  local folder="$1" scene="$2" elim="$3"
+  shift 3
+  echo "reproduce: $folder"
+  rm -rf "${out:?}/$folder"
+  "$H" run "$scene" --out "$out/$folder" --quiet --set "contacts.0.eliminator=\"$elim\"" "$@" "${extra[@]}"
+}
+# Every scene with both eliminators, references (CGAL, FCL) as the scenes set them. The implant
+# keeps its force setting (auto) for both eliminators, and is also run with a constant force.
+for elim in line plane; do
+  run "sphere_collision_$elim" sphere_collision "$elim"
+  run "cylinder_press_$elim" cylinder_press "$elim"
+  run "implant_expansion_$elim" implant_expansion "$elim"
+  run "implant_expansion_f002_$elim" implant_expansion "$elim" --set contacts.0.force=0.02
 done
-echo "reproduce: done; outputs in $out/"
+rm -rf results/runs/sphere_collision results/runs/cylinder_press results/runs/implant_expansion
+
+# Keep only the frames the figures and tables use (results stay small).
+"$PYTHON" scripts/prune_frames.py results
+"$PYTHON" scripts/figures.py results
+"$PYTHON" scripts/tables.py results
+"$PYTHON" scripts/claims.py results
+echo "reproduce: results written in $(( $(date +%s) - start )) s"
+
+if [[ $paper -eq 1 ]]; then
+  scripts/install-deps.sh --latex || echo "reproduce: LaTeX could not be installed" >&2
+  if command -v latexmk >/dev/null && command -v pdflatex >/dev/null; then
+    (cd paper && latexmk -pdf -interaction=nonstopmode -halt-on-error -quiet main.tex)
+    echo "reproduce: paper/main.pdf built"
+  else
+    echo "reproduce: latexmk/pdflatex missing: paper/main.pdf not built (results/ are complete)" >&2
+    exit 1
+  fi
+fi
+echo "reproduce: done in $(( $(date +%s) - start )) s; outputs in results/"

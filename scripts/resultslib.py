@@ -1,0 +1,204 @@
+"""Shared helpers of the result scripts (figures.py, tables.py, claims.py, prune_frames.py).
+
+Reads the outputs of `harness run` (steps.csv, summary.json, penetration_episodes.csv,
+frames/*.vtk) under results/runs/<run>/. Everything here is deterministic: fixed run order,
+sorted file lists, no dates.
+"""
+
+import csv
+import json
+import math
+import os
+import re
+
+# The runs that scripts/reproduce.sh makes, in the order tables and figures show them:
+# (run folder, scene, eliminator, label of the force setting).
+SCENES = [
+    # (key, bundled scene, title, force label)
+    ("sphere_collision", "sphere_collision", "Sphere collision", "auto"),
+    ("cylinder_press", "cylinder_press", "Cylinder press", "0.3 N"),
+    ("implant_expansion", "implant_expansion", "Implant expansion", "auto"),
+    ("implant_expansion_f002", "implant_expansion", "Implant expansion, F = 0.02 N", "0.02 N"),
+]
+ELIMINATORS = ["line", "plane"]
+ELIM_STYLE = {"line": {"color": "tab:red"}, "plane": {"color": "tab:blue"}}
+
+# Instants of the snapshot figures, as fractions of the run (rounded to the nearest frame).
+SNAPSHOT_FRACTIONS = [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]
+
+
+def run_name(scene_key, elim):
+    return "%s_%s" % (scene_key, elim)
+
+
+def runs_dir(root):
+    return os.path.join(root, "runs")
+
+
+def existing_runs(root):
+    """[(scene_key, scene, title, force_label, elim, path)] for the runs present, in order."""
+    out = []
+    for key, scene, title, force in SCENES:
+        for e in ELIMINATORS:
+            p = os.path.join(runs_dir(root), run_name(key, e))
+            if os.path.isfile(os.path.join(p, "summary.json")):
+                out.append((key, scene, title, force, e, p))
+    return out
+
+
+def load_summary(path):
+    with open(os.path.join(path, "summary.json")) as f:
+        return json.load(f)
+
+
+def _num(s):
+    if s is None or s == "":
+        return None
+    return float(s)
+
+
+def load_steps(path):
+    """steps.csv of a single-pair run as a dict of column -> list (floats, None when empty)."""
+    with open(os.path.join(path, "steps.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    cols = {}
+    for k in rows[0].keys() if rows else []:
+        if k in ("pair", "detector"):
+            cols[k] = [r[k] for r in rows]
+        else:
+            cols[k] = [_num(r[k]) for r in rows]
+    return cols
+
+
+def measured(cols, key):
+    """(steps, values) of the rows where column `key` was measured."""
+    st, va = [], []
+    for s, v in zip(cols["step"], cols[key]):
+        if v is not None:
+            st.append(int(s))
+            va.append(v)
+    return st, va
+
+
+def load_episodes(path):
+    p = os.path.join(path, "penetration_episodes.csv")
+    if not os.path.isfile(p):
+        return []
+    with open(p, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        for k in ("node", "first_step", "last_step", "steps", "open"):
+            r[k] = int(r[k])
+    return rows
+
+
+def frames_available(path):
+    """{body: sorted list of steps} of the frames present."""
+    d = os.path.join(path, "frames")
+    out = {}
+    if not os.path.isdir(d):
+        return out
+    for name in sorted(os.listdir(d)):
+        m = re.match(r"^(.+)_(\d{6})\.vtk$", name)
+        if m:
+            out.setdefault(m.group(1), []).append(int(m.group(2)))
+    return out
+
+
+def frame_path(path, body, step):
+    return os.path.join(path, "frames", "%s_%06d.vtk" % (body, step))
+
+
+def snapshot_steps(summary):
+    """Steps shown in the snapshot figures: SNAPSHOT_FRACTIONS of the run, rounded to the
+    nearest multiple of output.frames_every (the last one is the final step)."""
+    n = int(summary["steps_run"])
+    fe = int(summary["resolved_scene"].get("output", {}).get("frames_every", 0) or 0)
+    steps = []
+    for f in SNAPSHOT_FRACTIONS:
+        if f >= 1.0 or fe <= 0:
+            s = n if f >= 1.0 else 0
+        else:
+            s = int(math.floor(f * n / fe + 0.5)) * fe
+            s = min(s, n)
+        if s not in steps:
+            steps.append(s)
+    return steps
+
+
+def body_names(summary):
+    """(host, guest) names of the first contact pair."""
+    sc = summary["resolved_scene"]
+    c = sc["contacts"][0]
+    return c["host"], c["guest"]
+
+
+def read_vtk(fname):
+    """Legacy ASCII VTK POLYDATA -> (points Nx3 list, triangles Mx3 list, penetrating list or None)."""
+    with open(fname) as f:
+        tok = f.read().split("\n")
+    i = 0
+    pts, tris, pen = [], [], None
+    while i < len(tok):
+        line = tok[i].strip()
+        if line.startswith("POINTS"):
+            n = int(line.split()[1])
+            vals = []
+            i += 1
+            while len(vals) < 3 * n:
+                vals.extend(float(x) for x in tok[i].split())
+                i += 1
+            pts = [vals[3 * k:3 * k + 3] for k in range(n)]
+            continue
+        if line.startswith("POLYGONS"):
+            n = int(line.split()[1])
+            for k in range(n):
+                a = tok[i + 1 + k].split()
+                tris.append([int(a[1]), int(a[2]), int(a[3])])
+            i += n + 1
+            continue
+        if line.startswith("SCALARS penetrating"):
+            i += 1
+            if tok[i].strip().startswith("LOOKUP_TABLE"):
+                i += 1
+            vals = []
+            while len(vals) < len(pts) and i < len(tok):
+                vals.extend(int(x) for x in tok[i].split())
+                i += 1
+            pen = vals[:len(pts)]
+            continue
+        i += 1
+    return pts, tris, pen
+
+
+def steps_row(cols, step):
+    """Index of the row of `step` (the first row for step 0, which has none)."""
+    st = cols["step"]
+    target = max(1, step)
+    for k, s in enumerate(st):
+        if int(s) >= target:
+            return k
+    return len(st) - 1
+
+
+def region_at(cols, step):
+    k = steps_row(cols, step)
+    lo = [cols["region_lo_%s" % a][k] for a in "xyz"]
+    hi = [cols["region_hi_%s" % a][k] for a in "xyz"]
+    if any(v is None for v in lo + hi):
+        return None
+    return lo, hi
+
+
+def nearest_rank(sorted_vals, q):
+    """Nearest-rank percentile q in (0, 100] of an ascending list (an observed value)."""
+    if not sorted_vals:
+        return None
+    k = max(1, int(math.ceil(q / 100.0 * len(sorted_vals))))
+    return sorted_vals[k - 1]
+
+
+def fmt(v, spec):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "n/a"
+    return format(v, spec)
