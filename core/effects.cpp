@@ -152,11 +152,16 @@ __attribute__((target("avx"))) void spring_coefs_avx(const SpringLaw& law, const
     } else if constexpr (K == SpringLawKind::cubic) {
       t = _mm256_mul_pd(kL0, _mm256_add_pd(eps, _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(bb, eps), eps), eps)));
     } else {
-      alignas(32) double be[4];
+      alignas(32) double be[4], ex[4];
       _mm256_store_pd(be, _mm256_mul_pd(bb, eps));
-      t = _mm256_mul_pd(_mm256_mul_pd(kL0, eps),
-                        _mm256_set_pd(expm1_over_x_inline(be[3]), expm1_over_x_inline(be[2]),
-                                      expm1_over_x_inline(be[1]), expm1_over_x_inline(be[0])));
+      if ((std::fabs(be[0]) < 1e-8) & (std::fabs(be[1]) < 1e-8) & (std::fabs(be[2]) < 1e-8) &
+          (std::fabs(be[3]) < 1e-8)) {
+        for (int e = 0; e < 4; ++e) ex[e] = 1.0 + 0.5 * be[e];
+      } else {
+        _mm256_zeroupper();  // expm1 is legacy-SSE code (see below)
+        for (int e = 0; e < 4; ++e) ex[e] = expm1_over_x_inline(be[e]);
+      }
+      t = _mm256_mul_pd(_mm256_mul_pd(kL0, eps), _mm256_load_pd(ex));
     }
     const __m256d c = _mm256_div_pd(t, l);
     const __m128d c01 = _mm256_castpd256_pd128(c), c23 = _mm256_extractf128_pd(c, 1);
@@ -165,7 +170,14 @@ __attribute__((target("avx"))) void spring_coefs_avx(const SpringLaw& law, const
     _mm_storel_pd(cl + q2, c23);
     _mm_storeh_pd(cl + q3, c23);
   }
-  spring_coefs<K>(law, rest, x, xi, other, spring, cid + r, nc - r, cl);
+  // The rest here, in VEX code: returning to (or calling) legacy-SSE code with the upper halves
+  // of the ymm registers dirty costs a false dependency on every SSE instruction.
+  for (; r < nc; ++r) {
+    const int q = cid[r];
+    const double l = (x[other[q]] - xi).norm();
+    cl[q] = tension_of<K>(law, rest[spring[q]], l) / l;
+  }
+  _mm256_zeroupper();
 }
 
 bool cpu_has_avx() {

@@ -271,6 +271,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   t_elim.reserve(scene.steps);
 
   std::string status = "ok", error;
+  double ke_peak = sim.kinetic_energy();
   int exit_code = 0;
   const bool tty = opt.progress && isatty(2);
   auto last_progress = std::chrono::steady_clock::now();
@@ -307,6 +308,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
     }
     const bool measure_now = want_refs && s % scene.references.every == 0;
     const double ke = sim.kinetic_energy();
+    ke_peak = std::max(ke_peak, ke);
     const double pe = sim.potential_energy();
     t_step.push_back(sim.last.step_us);
     t_phys.push_back(sim.last.physics_us);
@@ -404,6 +406,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   sum["nodes"] = w.num_nodes();
   sum["springs"] = w.springs.size();
   sum["kinetic_energy_final"] = sim.kinetic_energy();
+  sum["kinetic_energy_peak"] = ke_peak;
   json pairs = json::array();
   for (std::size_t pi = 0; pi < sim.pairs.size(); ++pi) {
     // (axes were recorded from the rest state before the first step)

@@ -122,6 +122,7 @@ int main(int argc, char** argv) {
   sweep->add_option("-j", sw.jobs, "points run at once")->capture_default_str();
   sweep->add_flag("--list", sw.list, "print one `harness run` command per point and exit");
   sweep->add_option("--index", sw.index, "run only point I (0-based), then merge runs.csv");
+  sweep->add_flag("--merge", sw.merge, "run nothing; rewrite DIR/runs.csv from the points already complete");
 
   BenchOptions bo;
   CLI::App* bench = app.add_subcommand("bench", "time detection, references, steps and bandwidth limits on generated scenes; one CSV");

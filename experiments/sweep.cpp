@@ -169,12 +169,13 @@ void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& point
   static const std::vector<std::string> pair_keys = {"voxel_size_used", "region_rebuilds", "contacts_total",
                                                      "true_pen_final", "max_depth_final", "max_depth_peak",
                                                      "recall", "precision"};
-  const fs::path tmp = fs::path(out_dir) / "runs.csv.tmp";
+  // Unique temporary name: several --index runs (one per scheduler task) may merge at once.
+  const fs::path tmp = fs::path(out_dir) / ("runs.csv.tmp." + std::to_string(::getpid()));
   std::ofstream o(tmp);
   o << "point,name";
   if (!points.empty())
     for (const auto& [k, v] : points[0]) o << "," << csv_field(json(k));
-  o << ",status,steps_run,finite,state_hash,kinetic_energy_final,substeps";
+  o << ",status,steps_run,finite,state_hash,kinetic_energy_final,kinetic_energy_peak,substeps";
   for (const auto& t : timing) o << ",t_" << t << "_us";
   for (const auto& k : pair_keys) o << "," << k;
   o << "\n";
@@ -192,8 +193,9 @@ void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& point
     for (const auto& [k, v] : points[i]) o << "," << csv_field(json(plain(v)));
     o << "," << csv_field(s.value("status", json())) << "," << csv_field(s.value("steps_run", json()))
       << "," << csv_field(s.value("finite", json())) << "," << csv_field(s.value("state_hash", json()))
-      << "," << csv_field(s.value("kinetic_energy_final", json()));
-    o << "," << csv_field(s.contains("stability") ? s["stability"].value("substeps", json()) : json());
+      << "," << csv_field(s.value("kinetic_energy_final", json()))
+      << "," << csv_field(s.value("kinetic_energy_peak", json()));
+    o << "," << csv_field(s.contains("stability") ? s["stability"].value("max_substeps", json()) : json());
     for (const auto& t : timing) o << "," << csv_field(s.contains("timing_us") ? s["timing_us"].value(t, json()) : json());
     const json pair = s.contains("pairs") && !s["pairs"].empty() ? s["pairs"][0] : json::object();
     for (const auto& k : pair_keys) o << "," << csv_field(pair.value(k, json()));
@@ -224,6 +226,10 @@ int run_sweep(const SweepOptions& opt) {
   if (opt.index >= static_cast<int>(points.size()))
     throw InputError("--index", "point " + std::to_string(opt.index) + " does not exist (" +
                                     std::to_string(points.size()) + " points, 0-based)");
+  if (opt.merge) {
+    merge_runs(opt.out_dir, points);
+    return 0;
+  }
   if (opt.list) {
     for (const SweepPoint& p : points) {
       std::string line;

@@ -1,4 +1,4 @@
-// `harness sweep SCENE --grid KEY=V1,V2,... [--grid ...] --out DIR [-j N] [--list] [--index I]`
+// `harness sweep SCENE --grid KEY=V1,V2,... [--grid ...] --out DIR [-j N] [--list] [--index I] [--merge]`
 // The Cartesian product of the grid values; one `harness run` folder per point under DIR, named
 // by its parameters; DIR/runs.csv merges one row per point: its parameters, then its summary
 // figures. Points run as child processes of this program (`harness run ...`), so that -j N
@@ -20,6 +20,7 @@ struct SweepOptions {
   int jobs = 1;
   bool list = false;
   int index = -1;  // run only this point (then merge whatever points are complete)
+  bool merge = false;  // run nothing: rewrite runs.csv from the complete points
   std::string self;  // path of this executable
 };
 

@@ -82,6 +82,7 @@ __attribute__((target("avx"))) void VoxelIndexer::batch_avx(const Vec3* p, std::
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + k), _mm256_cvttpd_epi32(_mm256_blendv_pd(none, lin, in)));
   }
   for (; k < n; ++k) out[k] = (*this)(p[k]);
+  _mm256_zeroupper();
 }
 #endif
 
@@ -129,6 +130,7 @@ __attribute__((target("avx"))) void bounds_avx(const Vec3* x, std::size_t b, std
   alignas(32) double L[12], H[12];
   _mm256_store_pd(L, la), _mm256_store_pd(L + 4, lb), _mm256_store_pd(L + 8, lc);
   _mm256_store_pd(H, ha), _mm256_store_pd(H + 4, hb), _mm256_store_pd(H + 8, hc);
+  _mm256_zeroupper();  // before legacy-SSE code: dirty upper halves cost a false dependency each
   bounds_scalar(x, k, e, r);
   // Lane j of the 12 holds coordinate j % 3 of some point.
   for (int j = 0; j < 12; ++j) {

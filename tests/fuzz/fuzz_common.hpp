@@ -10,6 +10,13 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+
+// With HARNESS_FUZZ_VERBOSE set, says what became of an input (for curating the corpus).
+inline void fuzz_note(const std::string& what) {
+  static const bool verbose = std::getenv("HARNESS_FUZZ_VERBOSE") != nullptr;
+  if (verbose) std::fprintf(stderr, "  -> %s\n", what.c_str());
+}
 
 #define FUZZ_CHECK(cond)                                                              \
   do {                                                                                \

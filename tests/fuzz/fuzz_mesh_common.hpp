@@ -31,7 +31,8 @@ inline int fuzz_mesh(const std::uint8_t* data, std::size_t size, bool obj) {
   harness::SurfaceMesh mesh;
   try {
     mesh = harness::read_surface_text(text, obj ? "fuzz.obj" : "fuzz.off", obj);
-  } catch (const harness::InputError&) {
+  } catch (const harness::InputError& e) {
+    fuzz_note(e.what());
     return 0;
   }
   const harness::SurfaceReport rep = harness::check_surface(mesh);
@@ -39,6 +40,8 @@ inline int fuzz_mesh(const std::uint8_t* data, std::size_t size, bool obj) {
   // The reader accepted it, so the generator must too (the reader's checks are the stricter).
   for (const harness::Fill fill : {harness::Fill::shell, harness::Fill::volume})
     check_model(harness::make_from_surface(mesh, 1.0, harness::Vec3::Zero(), fill));
+  fuzz_note("accepted: " + std::to_string(mesh.V.size()) + " vertices, " +
+            std::to_string(mesh.F.size()) + " triangles");
   return 0;
 }
 

@@ -123,12 +123,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Scene scene;
   try {
     scene = parse_scene(text, kSceneFile, overrides);
-  } catch (const InputError&) {
+  } catch (const InputError& e) {
+    fuzz_note(e.what());
     return 0;
   }
   // summary.json records the resolved scene.
   (void)scene.resolved.dump(2);
-  if (!within_budget(scene)) return 0;
+  if (!within_budget(scene)) {
+    fuzz_note("parsed; over the fuzz node budget, not built");
+    return 0;
+  }
   try {
     if (scene.has(kContact) && !scene.contacts.empty()) {
       // Bodies first (no contact, no guard) to size the grids before building them.
@@ -136,11 +140,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       bodies_only.effects &= ~static_cast<unsigned>(kContact);
       bodies_only.integrator = Integrator::implicit_euler;
       const Simulation probe(bodies_only);
-      if (!grids_within_budget(probe)) return 0;
+      if (!grids_within_budget(probe)) {
+        fuzz_note("bodies built; a contact grid is over the fuzz budget");
+        return 0;
+      }
     }
     const Simulation sim(scene);
     check_simulation(sim);
-  } catch (const InputError&) {
+    fuzz_note("built: " + std::to_string(sim.world.num_nodes()) + " nodes, " +
+              std::to_string(sim.world.springs.ends.size()) + " springs");
+  } catch (const InputError& e) {
+    fuzz_note(e.what());
     return 0;
   }
   return 0;
