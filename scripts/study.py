@@ -1,0 +1,315 @@
+#!/usr/bin/env python3
+"""What accuracy costs in time, ablations of force and voxel size, convergence (issue 6).
+
+Every run goes through `harness sweep` (one run folder per point, runs.csv merged), so any
+point can be re-run by hand with the command `harness sweep ... --list` prints.
+
+  study.py accuracy     results/accuracy_time.csv, figures/pareto_<scene>.png, tables/accuracy_time.md
+  study.py ablation     results/ablation.csv, figures/ablation_<scene>.png, tables/ablation.md
+  study.py convergence  results/convergence.csv, figures/convergence.png, tables/convergence.md
+  study.py all          the three
+Options: --harness PATH (default build/bin/harness), --results DIR (default results),
+         --quick (shorter runs, fewer points), -j N (points at once, default 2).
+"""
+import argparse, csv, json, math, os, subprocess, sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+SCENES = ["sphere_collision", "cylinder_press", "implant_expansion"]
+VOXELS = [0.002, 0.004, 0.008, 0.016]
+FORCES = ["0.01", "0.03", "0.1", "0.3", "1", "3", "auto"]
+ABLATION_VOXELS = [0.004, 0.008, 0.016, 0.032]
+CONVERGENCE_VOXELS = [0.032, 0.016, 0.008, 0.004, 0.002]
+# A run "stayed stable" when it finished finite and its kinetic energy peak stayed below
+# KE_FACTOR times the peak of the same scene without contact (the energy its loads put in).
+KE_FACTOR = 10.0
+
+
+def sweep(a, scene, grids, sets, out):
+    cmd = [a.harness, "sweep", scene, "--out", out, "-j", str(a.jobs)]
+    for g in grids:
+        cmd += ["--grid", g]
+    for s in sets + a.extra_sets:
+        cmd += ["--set", s]
+    subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
+    with open(os.path.join(out, "runs.csv")) as f:
+        return list(csv.DictReader(f))
+
+
+def num(v, default=float("nan")):
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return default
+
+
+def write_csv(path, rows, cols):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(cols)
+        for r in rows:
+            w.writerow([fmt(r.get(c, "")) for c in cols])
+
+
+def fmt(v):
+    if isinstance(v, float):
+        return "" if math.isnan(v) else "%.6g" % v
+    return v
+
+
+def md_table(rows, cols, heads):
+    out = ["| " + " | ".join(heads) + " |", "|" + "---|" * len(heads)]
+    for r in rows:
+        out.append("| " + " | ".join(str(fmt(r.get(c, ""))) for c in cols) + " |")
+    return "\n".join(out) + "\n"
+
+
+def baseline_ke(a, scene, out):
+    """Peak kinetic energy of the scene without contact."""
+    rows = sweep(a, scene, ["contacts.0.detector=voxel"],
+                 ['effects=' + json.dumps(effects_without_contact(scene)), 'references.solvers=[]',
+                  "output.frames_every=0"], out)
+    return num(rows[0]["kinetic_energy_peak"])
+
+
+def effects_without_contact(scene):
+    path = os.path.join(os.path.dirname(__file__), "..", "experiments", "scenes", scene + ".json")
+    with open(path) as f:
+        return [e for e in json.load(f)["effects"] if e != "contact"]
+
+
+# ---------------------------------------------------------------------------------------------
+def accuracy(a):
+    rows = []
+    for scene in SCENES:
+        base = os.path.join(a.results, "sweeps", "accuracy", scene)
+        common = ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=10"]
+        vox = sweep(a, scene, ["contacts.0.voxel_size=" + ",".join(str(v) for v in VOXELS),
+                               "contacts.0.eliminator=line,plane"], common + ['contacts.0.detector="voxel"'],
+                    os.path.join(base, "voxel"))
+        ex = sweep(a, scene, ["contacts.0.detector=cgal,fcl", "contacts.0.eliminator=line,plane"], common,
+                   os.path.join(base, "exact"))
+        for r in vox + ex:
+            det = r.get("contacts.0.detector", "voxel")
+            rows.append({
+                "scene": scene, "detector": det,
+                "voxel_size": num(r.get("contacts.0.voxel_size")) if det == "voxel" else float("nan"),
+                "eliminator": r["contacts.0.eliminator"], "status": r["status"],
+                "recall": num(r["recall"]), "precision": num(r["precision"]),
+                "true_pen_final": num(r["true_pen_final"]),
+                "max_depth_peak_mm": 1e3 * num(r["max_depth_peak"], 0.0),
+                "t_detect_us": num(r["t_detect_us"]), "t_eliminate_us": num(r["t_eliminate_us"]),
+                "t_contact_us": num(r["t_detect_us"]) + num(r["t_eliminate_us"]),
+                "t_step_us": num(r["t_step_us"]),
+            })
+    cols = ["scene", "detector", "voxel_size", "eliminator", "status", "recall", "precision", "true_pen_final",
+            "max_depth_peak_mm", "t_detect_us", "t_eliminate_us", "t_contact_us", "t_step_us"]
+    write_csv(os.path.join(a.results, "accuracy_time.csv"), rows, cols)
+    md = ["# What accuracy costs in time\n",
+          "Detection driving elimination, per scenario: the voxel model at four voxel sizes, FCL and "
+          "CGAL, each with the line and the plane eliminator. Error = peak residual depth (CGAL ground "
+          "truth, measured every 10 steps); time = median microseconds per step of detection plus "
+          "elimination. `front` marks the Pareto front (no other configuration is both faster and "
+          "more accurate). Made by `scripts/study.py accuracy`.\n"]
+    for scene in SCENES:
+        sr = [r for r in rows if r["scene"] == scene]
+        front = pareto(sr)
+        for r in sr:
+            r["front"] = "yes" if id(r) in front else ""
+            r["config"] = r["detector"] + ("" if r["detector"] != "voxel" else " %g mm" % (1e3 * r["voxel_size"]))
+        md.append("\n## %s\n\n" % scene)
+        md.append(md_table(sorted(sr, key=lambda r: r["t_contact_us"]),
+                           ["config", "eliminator", "status", "recall", "precision", "true_pen_final",
+                            "max_depth_peak_mm", "t_contact_us", "front"],
+                           ["configuration", "eliminator", "status", "recall", "precision", "true pen. final",
+                            "peak depth (mm)", "detect+elim (µs/step)", "front"]))
+        plot_pareto(a, scene, sr, front)
+    with open(os.path.join(a.results, "tables", "accuracy_time.md"), "w") as f:
+        f.write("".join(md))
+
+
+def pareto(rows):
+    ok = [r for r in rows if r["status"] == "ok" and not math.isnan(r["t_contact_us"])]
+    front = set()
+    for r in ok:
+        dominated = any(o is not r and o["t_contact_us"] <= r["t_contact_us"] and
+                        o["max_depth_peak_mm"] <= r["max_depth_peak_mm"] and
+                        (o["t_contact_us"] < r["t_contact_us"] or o["max_depth_peak_mm"] < r["max_depth_peak_mm"])
+                        for o in ok)
+        if not dominated:
+            front.add(id(r))
+    return front
+
+
+def plot_pareto(a, scene, rows, front):
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    floor = 1e-3  # mm: zero depth drawn at the floor of the log axis
+    marks = {"line": "o", "plane": "s"}
+    colors = {"voxel": "tab:blue", "fcl": "tab:orange", "cgal": "tab:green"}
+    for r in rows:
+        if r["status"] != "ok":
+            continue
+        x, y = r["t_contact_us"], max(r["max_depth_peak_mm"], floor)
+        ax.scatter(x, y, marker=marks[r["eliminator"]], color=colors[r["detector"]],
+                   edgecolor="k" if id(r) in front else "none", s=60 if id(r) in front else 30, zorder=3)
+        ax.annotate(r["config"].replace("voxel ", ""), (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    fr = sorted((r for r in rows if id(r) in front), key=lambda r: r["t_contact_us"])
+    if fr:
+        ax.step([r["t_contact_us"] for r in fr], [max(r["max_depth_peak_mm"], floor) for r in fr], where="post",
+                color="k", lw=0.8, zorder=2, label="Pareto front")
+    for d, c in colors.items():
+        ax.scatter([], [], color=c, label=d)
+    for e, m in marks.items():
+        ax.scatter([], [], marker=m, color="gray", label=e)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("detection + elimination (µs per step, median)")
+    ax.set_ylabel("peak residual depth (mm; 0 drawn at %g)" % floor)
+    ax.set_title("%s: error against time" % scene)
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.results, "figures", "pareto_%s.png" % scene), dpi=110)
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------------------------------------
+def ablation(a):
+    rows = []
+    md = ["# Ablation: force magnitude by voxel size\n",
+          "Constant force F (N, log-spaced) and `auto`, by voxel size, with the scene's eliminator. "
+          "Stable = finished finite and kinetic energy peak below %g times the peak of the same scene "
+          "without contact. Made by `scripts/study.py ablation`.\n" % KE_FACTOR]
+    for scene in ["cylinder_press", "implant_expansion"]:
+        base = os.path.join(a.results, "sweeps", "ablation", scene)
+        ke0 = baseline_ke(a, scene, os.path.join(base, "no_contact"))
+        runs = sweep(a, scene, ["contacts.0.force=" + ",".join(FORCES),
+                                "contacts.0.voxel_size=" + ",".join(str(v) for v in ABLATION_VOXELS)],
+                     ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=10"],
+                     os.path.join(base, "grid"))
+        for r in runs:
+            stable = r["status"] == "ok" and num(r["kinetic_energy_peak"], float("inf")) <= KE_FACTOR * ke0
+            rows.append({"scene": scene, "force": r["contacts.0.force"], "voxel_size": num(r["contacts.0.voxel_size"]),
+                         "status": r["status"], "stable": "yes" if stable else "no",
+                         "kinetic_energy_peak": num(r["kinetic_energy_peak"]), "ke_peak_no_contact": ke0,
+                         "true_pen_final": num(r["true_pen_final"]),
+                         "max_depth_peak_mm": 1e3 * num(r["max_depth_peak"], 0.0),
+                         "recall": num(r["recall"]), "precision": num(r["precision"]),
+                         "t_contact_us": num(r["t_detect_us"]) + num(r["t_eliminate_us"])})
+        sr = [r for r in rows if r["scene"] == scene]
+        plot_ablation(a, scene, sr)
+        best = choose_default(sr)
+        md.append("\n## %s\n\nNo-contact kinetic energy peak: %.4g J.\n\n" % (scene, ke0))
+        md.append(md_table(sr, ["force", "voxel_size", "stable", "true_pen_final", "max_depth_peak_mm",
+                                "kinetic_energy_peak", "recall", "precision", "t_contact_us"],
+                           ["F (N)", "voxel (m)", "stable", "true pen. final", "peak depth (mm)", "KE peak (J)",
+                            "recall", "precision", "detect+elim (µs)"]))
+        if best:
+            md.append("\nBest stable setting by (final true penetrations, peak depth, time): F = %s, voxel %g m "
+                      "(final %d, peak depth %.3g mm).\n" % (best["force"], best["voxel_size"],
+                                                             best["true_pen_final"], best["max_depth_peak_mm"]))
+    write_csv(os.path.join(a.results, "ablation.csv"), rows,
+              ["scene", "force", "voxel_size", "status", "stable", "kinetic_energy_peak", "ke_peak_no_contact",
+               "true_pen_final", "max_depth_peak_mm", "recall", "precision", "t_contact_us"])
+    with open(os.path.join(a.results, "tables", "ablation.md"), "w") as f:
+        f.write("".join(md))
+
+
+def choose_default(rows):
+    ok = [r for r in rows if r["stable"] == "yes" and not math.isnan(r["true_pen_final"])]
+    return min(ok, key=lambda r: (r["true_pen_final"], r["max_depth_peak_mm"], r["t_contact_us"]), default=None)
+
+
+def plot_ablation(a, scene, rows):
+    forces = FORCES
+    voxels = ABLATION_VOXELS
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    panels = [("true_pen_final", "final true penetrations (nodes)"), ("max_depth_peak_mm", "peak residual depth (mm)"),
+              ("stable", "stable (1) / unstable (0)")]
+    for ax, (key, title) in zip(axes, panels):
+        m = np.full((len(voxels), len(forces)), np.nan)
+        for r in rows:
+            i, j = voxels.index(r["voxel_size"]), forces.index(r["force"])
+            m[i, j] = (1.0 if r["stable"] == "yes" else 0.0) if key == "stable" else r[key]
+        im = ax.imshow(m, origin="lower", aspect="auto", cmap="viridis_r" if key != "stable" else "RdYlGn")
+        for i in range(len(voxels)):
+            for j in range(len(forces)):
+                if not np.isnan(m[i, j]):
+                    ax.text(j, i, "%.3g" % m[i, j], ha="center", va="center", fontsize=7, color="w" if key != "stable" else "k")
+        ax.set_xticks(range(len(forces)))
+        ax.set_xticklabels(forces)
+        ax.set_yticks(range(len(voxels)))
+        ax.set_yticklabels(["%g" % (1e3 * v) for v in voxels])
+        ax.set_xlabel("force F (N)")
+        ax.set_ylabel("voxel size (mm)")
+        ax.set_title(title, fontsize=9)
+        fig.colorbar(im, ax=ax, fraction=0.046)
+    fig.suptitle("%s: force by voxel size" % scene)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.results, "figures", "ablation_%s.png" % scene), dpi=100)
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------------------------------------
+def convergence(a):
+    rows = []
+    for scene in SCENES:
+        runs = sweep(a, scene, ["contacts.0.voxel_size=" + ",".join(str(v) for v in CONVERGENCE_VOXELS)],
+                     ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=10"],
+                     os.path.join(a.results, "sweeps", "convergence", scene))
+        for r in runs:
+            rows.append({"scene": scene, "voxel_size": num(r["contacts.0.voxel_size"]),
+                         "voxel_size_used": num(r["voxel_size_used"]), "status": r["status"],
+                         "true_pen_final": num(r["true_pen_final"]), "max_depth_peak_mm": 1e3 * num(r["max_depth_peak"], 0.0),
+                         "kinetic_energy_final": num(r["kinetic_energy_final"]),
+                         "kinetic_energy_peak": num(r["kinetic_energy_peak"]),
+                         "recall": num(r["recall"]), "precision": num(r["precision"])})
+    cols = ["scene", "voxel_size", "voxel_size_used", "status", "true_pen_final", "max_depth_peak_mm",
+            "kinetic_energy_final", "kinetic_energy_peak", "recall", "precision"]
+    write_csv(os.path.join(a.results, "convergence.csv"), rows, cols)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
+    for scene in SCENES:
+        sr = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["voxel_size_used"])
+        x = [1e3 * r["voxel_size_used"] for r in sr]
+        axes[0].plot(x, [r["true_pen_final"] for r in sr], "o-", label=scene)
+        axes[1].plot(x, [r["max_depth_peak_mm"] for r in sr], "o-", label=scene)
+        axes[2].plot(x, [r["kinetic_energy_final"] for r in sr], "o-", label=scene)
+    for ax, t in zip(axes, ["final true penetrations (nodes)", "peak residual depth (mm)", "final kinetic energy (J)"]):
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("voxel size used (mm), halving")
+        ax.set_title(t, fontsize=9)
+        ax.grid(True, alpha=0.3)
+    axes[2].set_yscale("log")
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.results, "figures", "convergence.png"), dpi=100)
+    plt.close(fig)
+    md = ["# Convergence as the grid refines\n",
+          "Voxel size halved from 32 mm to 2 mm (rounded down to powers of two), every other setting "
+          "as in the scene. Made by `scripts/study.py convergence`.\n\n"]
+    md.append(md_table(rows, cols, cols))
+    with open(os.path.join(a.results, "tables", "convergence.md"), "w") as f:
+        f.write("".join(md))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("what", choices=["accuracy", "ablation", "convergence", "all"])
+    ap.add_argument("--harness", default="build/bin/harness")
+    ap.add_argument("--results", default="results")
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("-j", dest="jobs", type=int, default=2)
+    a = ap.parse_args()
+    a.extra_sets = ["time.steps=300"] if a.quick else []
+    for d in ["figures", "tables"]:
+        os.makedirs(os.path.join(a.results, d), exist_ok=True)
+    for w in (["accuracy", "ablation", "convergence"] if a.what == "all" else [a.what]):
+        print("study:", w, file=sys.stderr)
+        globals()[w](a)
+
+
+if __name__ == "__main__":
+    main()
