@@ -45,6 +45,8 @@ GUEST_COLOR = "#e8b27a"
 PEN_GUEST = "#d62728"
 PEN_HOST = "#6a0dad"
 REGION_COLOR = "#2ca02c"
+# Surface opacity (host, guest): the implant lies under the tissue, so the tissue is fainter.
+ALPHA = {"implant_expansion": (0.55, 0.15)}
 VIEW = {"sphere_collision": (22, -62), "cylinder_press": (24, -58), "implant_expansion": (28, -60)}
 
 
@@ -117,10 +119,11 @@ def snapshot_figure(root, key, info):
             ax.computed_zorder = False  # markers drawn over the translucent surfaces
             (ph, th, penh), (pg, tg, peng), reg, tpg, tph = data[(e, s)]
             mm = 1000.0
+            ah, ag = ALPHA.get(info["scene"], (0.35, 0.35))
             ax.add_collection3d(Poly3DCollection(ph[th] * mm, facecolor=HOST_COLOR, edgecolor="#4a6f96",
-                                                 linewidths=0.08, alpha=0.35))
+                                                 linewidths=0.08, alpha=ah))
             ax.add_collection3d(Poly3DCollection(pg[tg] * mm, facecolor=GUEST_COLOR, edgecolor="#9a6a35",
-                                                 linewidths=0.08, alpha=0.35))
+                                                 linewidths=0.08, alpha=ag))
             if reg is not None:
                 ax.add_collection3d(Line3DCollection(np.array(box_edges(reg[0], reg[1])) * mm,
                                                      colors=REGION_COLOR, linewidths=0.9, linestyles="--"))
@@ -327,7 +330,7 @@ def timeseries_figure(root, key, info):
     axes[3].set_xlabel("time (ms)")
     for ax in axes:
         ax.grid(True, lw=0.3, alpha=0.6)
-        ax.legend(loc="upper left", ncol=2, frameon=False)
+        ax.legend(loc="best", ncol=2, frameon=True, framealpha=0.8)
     fig.suptitle("%s: line against plane eliminator" % info["title"], fontsize=10)
     fig.tight_layout()
     save(fig, root, "timeseries_%s.png" % key)

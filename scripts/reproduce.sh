@@ -2,7 +2,7 @@
 # The main job: installs what is missing, builds, runs the bundled scenes into results/, then
 # makes the figures, tables and the claims check from them (results/README.md lists every file).
 # Usage: scripts/reproduce.sh [--quick] [--paper]
-#   --quick  300 steps per run instead of the scenes' own (a smoke run, about a minute)
+#   --quick  300 steps per run instead of the scenes' own (a smoke run, about three minutes)
 #   --paper  also installs LaTeX (Debian packages) and builds paper/main.pdf
 # Environment: PYTHON (default /usr/bin/python3: Debian's matplotlib and numpy);
 #   HARNESS=path uses that harness binary and skips the install and build steps.
@@ -55,6 +55,12 @@ rm -rf results/runs/sphere_collision results/runs/cylinder_press results/runs/im
 "$PYTHON" scripts/figures.py results
 "$PYTHON" scripts/tables.py results
 "$PYTHON" scripts/claims.py results
+# What accuracy costs in time, ablations of force and voxel size, convergence (issue 6). The
+# per-point run folders stay in results/sweeps/ (not committed); the merged CSV, figures and
+# tables are in results/.
+study=(--harness "$H" --results results)
+[[ $quick -eq 1 ]] && study+=(--quick)
+"$PYTHON" scripts/study.py all "${study[@]}"
 echo "reproduce: results written in $(( $(date +%s) - start )) s"
 
 if [[ $paper -eq 1 ]]; then

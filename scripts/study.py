@@ -67,6 +67,25 @@ def md_table(rows, cols, heads):
     return "\n".join(out) + "\n"
 
 
+def tex_escape(v):
+    return str(v).replace("_", "\\_").replace("%", "\\%").replace("&", "\\&")
+
+
+def tex_num(v):
+    if isinstance(v, float):
+        return "--" if math.isnan(v) else "%.3g" % v
+    return v
+
+
+def tex_table(rows, cols, heads, caption):
+    out = ["\\begin{tabular}{" + "l" * 2 + "r" * (len(cols) - 2) + "}", "\\toprule",
+           " & ".join(heads) + " \\\\", "\\midrule"]
+    for r in rows:
+        out.append(" & ".join(tex_escape(tex_num(r.get(c, ""))) for c in cols) + " \\\\")
+    out += ["\\bottomrule", "\\end{tabular}"]
+    return "% " + caption + " (made by scripts/study.py)\n" + "\n".join(out) + "\n"
+
+
 def baseline_ke(a, scene, out):
     """Peak kinetic energy of the scene without contact."""
     rows = sweep(a, scene, ["contacts.0.detector=voxel"],
@@ -129,6 +148,11 @@ def accuracy(a):
         plot_pareto(a, scene, sr, front)
     with open(os.path.join(a.results, "tables", "accuracy_time.md"), "w") as f:
         f.write("".join(md))
+    front_rows = [dict(r, scene=r["scene"].replace("_", " ")) for r in rows if r.get("front") == "yes"]
+    with open(os.path.join(a.results, "tables", "accuracy_time_front.tex"), "w") as f:
+        f.write(tex_table(front_rows, ["scene", "config", "eliminator", "recall", "max_depth_peak_mm", "t_contact_us"],
+                          ["scenario", "detector", "elim.", "recall", "peak depth (mm)", "detect+elim ($\\mu$s)"],
+                          "Pareto front of error against time"))
 
 
 def pareto(rows):
@@ -211,6 +235,20 @@ def ablation(a):
             md.append("\nBest stable setting by (final true penetrations, peak depth, time): F = %s, voxel %g m "
                       "(final %d, peak depth %.3g mm).\n" % (best["force"], best["voxel_size"],
                                                              best["true_pen_final"], best["max_depth_peak_mm"]))
+    best_rows = []
+    for scene in ["cylinder_press", "implant_expansion"]:
+        b = choose_default([r for r in rows if r["scene"] == scene])
+        if b:
+            auto = [r for r in rows if r["scene"] == scene and r["force"] == "auto"]
+            best_rows.append(dict(b, scene=scene.replace("_", " "),
+                                  auto_stable="%d/%d" % (sum(r["stable"] == "yes" for r in auto), len(auto)),
+                                  stable_all="%d/%d" % (sum(r["stable"] == "yes" for r in rows if r["scene"] == scene),
+                                                        sum(1 for r in rows if r["scene"] == scene))))
+    with open(os.path.join(a.results, "tables", "ablation_best.tex"), "w") as f:
+        f.write(tex_table(best_rows, ["scene", "force", "voxel_size", "true_pen_final", "max_depth_peak_mm",
+                                      "stable_all", "auto_stable"],
+                          ["scenario", "F (N)", "voxel (m)", "final pen.", "peak depth (mm)", "stable runs",
+                           "auto stable"], "Best stable force and voxel size"))
     write_csv(os.path.join(a.results, "ablation.csv"), rows,
               ["scene", "force", "voxel_size", "status", "stable", "kinetic_energy_peak", "ke_peak_no_contact",
                "true_pen_final", "max_depth_peak_mm", "recall", "precision", "t_contact_us"])
