@@ -4,10 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define HARNESS_X86_AVX 1
@@ -17,31 +15,36 @@ namespace harness {
 
 namespace {
 
-// Node-centric view of the springs, built once per world: for every node, its half-edges (the
-// other end and the spring's index) in spring order.
+// Node-centric copy of the springs, built once per world: for every node its half-edges (the
+// other end, the spring's index and rest length) in spring order.
 //
 // Why a gather: each node's force is written by one thread only, and each node sums its springs
 // in spring order -- the order in which the serial scatter (f[i] += F, f[j] -= F for spring
 // k = 0, 1, ...) reaches it. Every half-edge adds c * (x_other - x_self), c = tension / length
-// (or, for a dashpot, the damping coefficient times the relative speed over the length): seen
-// from the second end that is exactly -F, since negation, squares and products are sign-
-// symmetric in IEEE arithmetic. So the forces are bit-identical to the serial scatter, for any
-// thread count.
+// (for a dashpot: damping times relative speed over squared length): seen from the second end
+// that is exactly -F, since negation, squares and products are sign-symmetric in IEEE
+// arithmetic. So the forces are bit-identical to the serial scatter, for any thread count. The
+// price, evaluating each spring from both ends, is paid back by vectorising the evaluation
+// (four half-edges per AVX instruction) and by threads.
 //
-// Each spring's c is computed once (its square root and divisions are the cost of a spring):
-// the lower end computes it and leaves it in a mailbox (box, one slot per spring) that the
-// higher end reads, when both ends lie in the same thread's node range (otherwise both ends
-// compute it: the same value either way, so the thread count still changes nothing). The
-// higher end reads its slot within a few lattice planes of nodes, while it is still cached.
+// Which form runs (all give the same bits): with several threads, the gather; with one thread,
+// the gather for linear and cubic springs (vectorised, it beats the scatter by about 20%) and
+// the scatter itself for exponential springs and dashpots (one expm1 or division per spring:
+// a gather cannot beat that on one thread), as measured on the bundled scenes and in
+// `harness bench`.
 struct SpringGather {
   int nodes = -1;
   std::size_t springs = 0;
   std::vector<int> start;        // CSR over half-edges, nodes + 1
   std::vector<int> other;        // the other end of each half-edge
   std::vector<int> spring;       // its spring's index in World::springs
+  std::vector<double> rest;      // its spring's rest length, m (copied: sequential reads)
   std::vector<int> node_body;    // body of every spring at the node; -1 mixed, -2 no springs
   std::vector<int> node_owner;   // body whose range holds the node, -1 none
-  std::vector<double> box;       // per spring: c from the lower end (scratch of apply)
+  // Exponential law only (see spring_node_once): per spring, c from its lower end.
+  std::vector<double> box;
+  std::vector<std::uint8_t> is_exponential;  // per body
+  bool exponential_bodies = false, mixed_nodes = false;
 
   bool matches(const World& w) const { return nodes == w.num_nodes() && springs == w.springs.size(); }
 
@@ -56,6 +59,7 @@ struct SpringGather {
     const std::size_t H = static_cast<std::size_t>(start[n]);
     other.assign(H, 0);
     spring.assign(H, 0);
+    rest.assign(H, 0.0);
     std::vector<int> cur(start.begin(), start.end() - 1);
     for (std::size_t k = 0; k < s.size(); ++k) {  // spring order: each node's list is sorted by k
       const int i = s.ends[k][0], j = s.ends[k][1];
@@ -63,6 +67,7 @@ struct SpringGather {
       other[a] = j;
       other[b] = i;
       spring[a] = spring[b] = static_cast<int>(k);
+      rest[a] = rest[b] = s.rest[k];
     }
     node_body.assign(static_cast<std::size_t>(n), -2);
     for (int i = 0; i < n; ++i) {
@@ -76,6 +81,11 @@ struct SpringGather {
     for (std::size_t b = 0; b < w.bodies.size(); ++b)
       for (int i = std::max(0, w.bodies[b].begin); i < std::min(n, w.bodies[b].end); ++i)
         node_owner[i] = static_cast<int>(b);
+    is_exponential.assign(w.body_law.size(), 0);
+    for (std::size_t b = 0; b < w.body_law.size(); ++b)
+      is_exponential[b] = w.body_law[b].kind == SpringLawKind::exponential;
+    exponential_bodies = std::find(is_exponential.begin(), is_exponential.end(), 1) != is_exponential.end();
+    mixed_nodes = std::find(node_body.begin(), node_body.end(), -1) != node_body.end();
     box.assign(s.size(), 0.0);
   }
 
@@ -106,175 +116,156 @@ inline double tension_of(const SpringLaw& law, double L0, double l) {
   if constexpr (K == SpringLawKind::exponential) return law.k * L0 * eps * expm1_over_x_inline(law.beta * eps);
 }
 
-constexpr int kChunk = 64;  // half-edges of one node handled at a time (stack buffers)
+constexpr int kChunk = 64;  // half-edges of one node evaluated at a time (stack buffers)
 
-// Coefficients c = tension / length of the half-edges cid[0..nc) of a chunk (other, spring:
-// the chunk's arrays; cl: the chunk's coefficients), at node position xi.
+// Node i's spring force added to acc, one half-edge after the other in spring order; a
+// half-edge of zero length adds nothing (the scatter's `if (l <= 0) continue`).
 template <SpringLawKind K>
-void spring_coefs(const SpringLaw& law, const double* rest, const Points& x, const Vec3& xi, const int* other,
-                  const int* spring, const int* cid, int nc, double* cl) {
-  for (int r = 0; r < nc; ++r) {
-    const int q = cid[r];
-    const double l = (x[other[q]] - xi).norm();
-    cl[q] = tension_of<K>(law, rest[spring[q]], l) / l;
+void spring_node(const SpringGather& g, const SpringLaw& law, const Points& x, int i, Vec3& acc) {
+  const Vec3 xi = x[i];
+  for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
+    const Vec3 d = x[g.other[h]] - xi;
+    const double l = d.norm();
+    if (l <= 0.0) continue;
+    acc += (tension_of<K>(law, g.rest[h], l) / l) * d;
+  }
+}
+
+// The same, evaluating each spring once, for laws whose evaluation dwarfs the rest (the
+// exponential: one expm1 per spring). The lower end of a spring whose ends both lie in this
+// thread's node range [i0, i1) leaves c in the spring's mailbox slot, and the higher end, which
+// comes later in the same thread, reads it; other springs are evaluated at both ends. c is the
+// same number either way, so the thread count still changes nothing.
+template <SpringLawKind K>
+void spring_node_once(const SpringGather& g, const SpringLaw& law, const Points& x, int i, int i0, int i1,
+                      double* box, Vec3& acc) {
+  const Vec3 xi = x[i];
+  for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
+    const int j = g.other[h];
+    const Vec3 d = x[j] - xi;
+    double c;
+    if (j < i && j >= i0) {
+      if (d.squaredNorm() <= 0.0) continue;  // sqrt(l2) <= 0 exactly when l2 <= 0
+      c = box[g.spring[h]];
+    } else {
+      const double l = d.norm();
+      if (l <= 0.0) continue;
+      c = tension_of<K>(law, g.rest[h], l) / l;
+      if (j > i && j < i1) box[g.spring[h]] = c;
+    }
+    acc += c * d;
   }
 }
 
 #if defined(HARNESS_X86_AVX)
-// Four at a time with AVX where the processor has it (chosen at run time): the same operations
-// on each lane (d.norm() is sqrt((dx^2 + dy^2) + dz^2) in Eigen), so the same bits. No FMA:
-// contraction would change them.
-template <SpringLawKind K>
-__attribute__((target("avx"))) void spring_coefs_avx(const SpringLaw& law, const double* rest, const Points& x,
-                                                     const Vec3& xi, const int* other, const int* spring,
-                                                     const int* cid, int nc, double* cl) {
-  const __m256d x0 = _mm256_set1_pd(xi[0]), x1 = _mm256_set1_pd(xi[1]), x2 = _mm256_set1_pd(xi[2]);
-  const __m256d kk = _mm256_set1_pd(law.k), bb = _mm256_set1_pd(law.beta);
-  int r = 0;
-  for (; r + 4 <= nc; r += 4) {
-    const int q0 = cid[r], q1 = cid[r + 1], q2 = cid[r + 2], q3 = cid[r + 3];
-    const double* p0 = x[other[q0]].data();
-    const double* p1 = x[other[q1]].data();
-    const double* p2 = x[other[q2]].data();
-    const double* p3 = x[other[q3]].data();
-    const __m256d dx = _mm256_sub_pd(_mm256_set_pd(p3[0], p2[0], p1[0], p0[0]), x0);
-    const __m256d dy = _mm256_sub_pd(_mm256_set_pd(p3[1], p2[1], p1[1], p0[1]), x1);
-    const __m256d dz = _mm256_sub_pd(_mm256_set_pd(p3[2], p2[2], p1[2], p0[2]), x2);
-    const __m256d l2 =
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-    const __m256d l = _mm256_sqrt_pd(l2);
-    const __m256d L0 = _mm256_set_pd(rest[spring[q3]], rest[spring[q2]], rest[spring[q1]], rest[spring[q0]]);
-    const __m256d eps = _mm256_div_pd(_mm256_sub_pd(l, L0), L0);
-    const __m256d kL0 = _mm256_mul_pd(kk, L0);
-    __m256d t;
-    if constexpr (K == SpringLawKind::linear) {
-      t = _mm256_mul_pd(kL0, eps);
-    } else if constexpr (K == SpringLawKind::cubic) {
-      t = _mm256_mul_pd(kL0, _mm256_add_pd(eps, _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(bb, eps), eps), eps)));
-    } else {
-      alignas(32) double be[4], ex[4];
-      _mm256_store_pd(be, _mm256_mul_pd(bb, eps));
-      if ((std::fabs(be[0]) < 1e-8) & (std::fabs(be[1]) < 1e-8) & (std::fabs(be[2]) < 1e-8) &
-          (std::fabs(be[3]) < 1e-8)) {
-        for (int e = 0; e < 4; ++e) ex[e] = 1.0 + 0.5 * be[e];
-      } else {
-        _mm256_zeroupper();  // expm1 is legacy-SSE code (see below)
-        for (int e = 0; e < 4; ++e) ex[e] = expm1_over_x_inline(be[e]);
-      }
-      t = _mm256_mul_pd(_mm256_mul_pd(kL0, eps), _mm256_load_pd(ex));
-    }
-    const __m256d c = _mm256_div_pd(t, l);
-    const __m128d c01 = _mm256_castpd256_pd128(c), c23 = _mm256_extractf128_pd(c, 1);
-    _mm_storel_pd(cl + q0, c01);
-    _mm_storeh_pd(cl + q1, c01);
-    _mm_storel_pd(cl + q2, c23);
-    _mm_storeh_pd(cl + q3, c23);
-  }
-  // The rest here, in VEX code: returning to (or calling) legacy-SSE code with the upper halves
-  // of the ymm registers dirty costs a false dependency on every SSE instruction.
-  for (; r < nc; ++r) {
-    const int q = cid[r];
-    const double l = (x[other[q]] - xi).norm();
-    cl[q] = tension_of<K>(law, rest[spring[q]], l) / l;
-  }
-  _mm256_zeroupper();
-}
-
 bool cpu_has_avx() {
   static const bool has = __builtin_cpu_supports("avx");
   return has;
 }
-#endif
 
-// Adds c * (x_other - x_i) of node i's half-edges to acc in spring order, kChunk half-edges at
-// a time (nodes with more half-edges than a block; see gather_range).
-template <class Coefs, class Skip>
-inline void gather_node(const SpringGather& g, const Points& x, int i, int i0, int i1, Vec3& acc, Coefs&& coefs,
-                        Skip&& skip) {
+// The same with AVX where the processor has it (chosen at run time; linear and cubic laws):
+// first the force
+// c * (x_other - x_i) of every half-edge of a chunk, four per instruction, into buffers; then
+// their sum in spring order. Every lane does the scalar operations (d.norm() is
+// sqrt((dx^2 + dy^2) + dz^2) in Eigen; no FMA), so the result is the same to the bit.
+template <SpringLawKind K>
+__attribute__((target("avx"))) void spring_node_avx(const SpringGather& g, const SpringLaw& law, const Points& x,
+                                                    int i, Vec3& acc) {
   const Vec3 xi = x[i];
-  int cid[kChunk];
-  double cl[kChunk];
-  double* box = const_cast<double*>(g.box.data());  // each slot written by one thread (see above)
+  const __m256d x0 = _mm256_set1_pd(xi[0]), x1 = _mm256_set1_pd(xi[1]), x2 = _mm256_set1_pd(xi[2]);
+  const __m256d kk = _mm256_set1_pd(law.k), bb = _mm256_set1_pd(law.beta), zero = _mm256_setzero_pd();
+  alignas(32) double FX[kChunk], FY[kChunk], FZ[kChunk];
+  double ax = acc[0], ay = acc[1], az = acc[2];
   for (int a = g.start[i]; a < g.start[i + 1]; a += kChunk) {
     const int m = std::min(kChunk, g.start[i + 1] - a);
     const int* oth = g.other.data() + a;
-    const int* spr = g.spring.data() + a;
-    int nc = 0;
-    for (int q = 0; q < m; ++q) {
-      const int j = oth[q];
-      if (j < i && j >= i0) cl[q] = box[spr[q]];  // published by the lower end, this thread
-      else cid[nc++] = q;
+    const double* L = g.rest.data() + a;
+    std::uint64_t skip = 0;  // bit q: half-edge q has zero length
+    int q = 0;
+    for (; q + 4 <= m; q += 4) {
+      const double* p0 = x[oth[q]].data();
+      const double* p1 = x[oth[q + 1]].data();
+      const double* p2 = x[oth[q + 2]].data();
+      const double* p3 = x[oth[q + 3]].data();
+      const __m256d dx = _mm256_sub_pd(_mm256_set_pd(p3[0], p2[0], p1[0], p0[0]), x0);
+      const __m256d dy = _mm256_sub_pd(_mm256_set_pd(p3[1], p2[1], p1[1], p0[1]), x1);
+      const __m256d dz = _mm256_sub_pd(_mm256_set_pd(p3[2], p2[2], p1[2], p0[2]), x2);
+      const __m256d l2 =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+      const __m256d l = _mm256_sqrt_pd(l2);
+      const __m256d L0 = _mm256_loadu_pd(L + q);
+      const __m256d eps = _mm256_div_pd(_mm256_sub_pd(l, L0), L0);
+      const __m256d kL0 = _mm256_mul_pd(kk, L0);
+      __m256d t;
+      if constexpr (K == SpringLawKind::linear) {
+        t = _mm256_mul_pd(kL0, eps);
+      } else if constexpr (K == SpringLawKind::cubic) {
+        t = _mm256_mul_pd(kL0, _mm256_add_pd(eps, _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(bb, eps), eps), eps)));
+      } else {
+        static_assert(K != SpringLawKind::exponential, "evaluated once per spring instead");
+      }
+      const __m256d c = _mm256_div_pd(t, l);
+      _mm256_store_pd(FX + q, _mm256_mul_pd(c, dx));
+      _mm256_store_pd(FY + q, _mm256_mul_pd(c, dy));
+      _mm256_store_pd(FZ + q, _mm256_mul_pd(c, dz));
+      skip |= static_cast<std::uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(l, zero, _CMP_LE_OQ))) << q;
     }
-    coefs(i, a, cid, nc, cl);
-    for (int r = 0; r < nc; ++r) {
-      const int q = cid[r], j = oth[q];
-      if (j > i && j < i1) box[spr[q]] = cl[q];
-    }
-    for (int q = 0; q < m; ++q) {
+    for (; q < m; ++q) {  // the remainder, in this (VEX-encoded) function
       const Vec3 d = x[oth[q]] - xi;
-      if (d.squaredNorm() <= 0.0 || skip(i, a + q)) continue;
-      acc += cl[q] * d;
+      const double l = d.norm();
+      if (l <= 0.0) {
+        skip |= std::uint64_t{1} << q;
+        continue;
+      }
+      const double c = tension_of<K>(law, L[q], l) / l;
+      FX[q] = c * d[0], FY[q] = c * d[1], FZ[q] = c * d[2];
     }
+    for (q = 0; q < m; ++q) {
+      if ((skip >> q) & 1) continue;
+      ax += FX[q], ay += FY[q], az += FZ[q];
+    }
+  }
+  acc = Vec3(ax, ay, az);
+  _mm256_zeroupper();
+}
+#endif
+
+// The serial scatter itself (f[i] += F, f[j] -= F in spring order), for the springs of the
+// bodies `only` selects (all when null): with one thread it is the fastest form for the
+// exponential law, whose expm1 costs more than anything a gather saves.
+void scatter_spring_forces(const World& w, Points& f, const std::vector<std::uint8_t>* only) {
+  const Springs& s = w.springs;
+  const std::size_t n = s.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    if (only && !(*only)[s.body[k]]) continue;
+    const int i = s.ends[k][0], j = s.ends[k][1];
+    const Vec3 d = w.x[j] - w.x[i];
+    const double l = d.norm();
+    if (l <= 0.0) continue;  // coincident ends: no defined direction, no force
+    const double t = spring_tension(w.body_law[s.body[k]], s.rest[k], l);
+    const Vec3 fi = (t / l) * d;  // tension pulls i toward j
+    f[i] += fi;
+    f[j] -= fi;
   }
 }
 
-constexpr int kBlock = 1024;  // half-edges per block: the coefficient buffer is 8 KiB
-
-// One thread's nodes [i0, i1), in blocks of whole nodes with at most kBlock half-edges: first
-// the coefficient of every half-edge of the block (from the mailbox, or coefs(i, a, cid, nc, cl)
-// for half-edges a + cid[r] of node i), then each node's sum in spring order. Keeping the two
-// apart puts many independent square roots and divisions in flight. A zero-length half-edge
-// adds nothing (the scatter's `l <= 0`: sqrt(l2) <= 0 exactly when l2 <= 0), nor does one the
-// scatter skips (`skip(i, h)`); finish(i, acc) stores the node's force.
-template <class Active, class Coefs, class Skip, class Finish>
-void gather_range(const SpringGather& g, const Points& x, int i0, int i1, Active&& active, Coefs&& coefs,
-                  Skip&& skip, Finish&& finish, const Points& f) {
-  double* box = const_cast<double*>(g.box.data());
-  int cid[kBlock];
-  double cl[kBlock];
-  int i = i0;
-  while (i < i1) {
-    const int H0 = g.start[i];
-    if (g.start[i + 1] - H0 > kBlock) {  // a node longer than a block: on its own, in chunks
-      Vec3 acc = f[i];
-      if (active(i)) gather_node(g, x, i, i0, i1, acc, coefs, skip);
-      finish(i, acc);
-      ++i;
-      continue;
-    }
-    int e = i + 1;
-    while (e < i1 && g.start[e + 1] - H0 <= kBlock) ++e;
-    for (int n = i; n < e; ++n) {
-      if (!active(n)) continue;
-      const int a = g.start[n], m = g.start[n + 1] - a;
-      const int* oth = g.other.data() + a;
-      const int* spr = g.spring.data() + a;
-      double* c = cl + (a - H0);
-      int nc = 0;
-      for (int q = 0; q < m; ++q) {
-        const int j = oth[q];
-        if (j < n && j >= i0) c[q] = box[spr[q]];  // published by the lower end, this thread
-        else cid[nc++] = q;
-      }
-      coefs(n, a, cid, nc, c);
-      for (int r = 0; r < nc; ++r) {
-        const int q = cid[r], j = oth[q];
-        if (j > n && j < i1) box[spr[q]] = c[q];
-      }
-    }
-    for (int n = i; n < e; ++n) {
-      Vec3 acc = f[n];
-      if (active(n)) {
-        const Vec3 xn = x[n];
-        for (int h = g.start[n]; h < g.start[n + 1]; ++h) {
-          const Vec3 d = x[g.other[h]] - xn;
-          if (d.squaredNorm() <= 0.0 || skip(n, h)) continue;
-          acc += cl[h - H0] * d;
-        }
-      }
-      finish(n, acc);
-    }
-    i = e;
+void scatter_damping_forces(const World& w, Points& f) {
+  const Springs& s = w.springs;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double c = w.bodies[s.body[k]].material.damping;
+    if (c == 0.0) continue;
+    const int i = s.ends[k][0], j = s.ends[k][1];
+    const Vec3 d = w.x[j] - w.x[i];
+    const double l2 = d.squaredNorm();
+    if (l2 <= 0.0) continue;
+    const Vec3 fi = (c * (w.v[j] - w.v[i]).dot(d) / l2) * d;
+    f[i] += fi;
+    f[j] -= fi;
+  }
+  for (const Body& b : w.bodies) {
+    const double a = b.material.mass_damping;
+    if (a == 0.0) continue;
+    for (int i = b.begin; i < b.end; ++i) f[i] -= (a * w.m[i]) * w.v[i];
   }
 }
 
@@ -282,83 +273,171 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
   const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
 #if defined(HARNESS_X86_AVX)
   const bool avx = cpu_has_avx();
+#else
+  const bool avx = false;
 #endif
-  const double* rest = w.springs.rest.data();
-  auto coefs = [&](int i, int a, const int* cid, int nc, double* cl) {
-    const int* oth = &g.other[a];
-    const int* spr = &g.spring[a];
-    const Vec3& xi = w.x[i];
-    const int b = g.node_body[i];
-    if (b < 0) {  // springs of several bodies meet here (hand-built worlds): the law per spring
-      for (int r = 0; r < nc; ++r) {
-        const int q = cid[r], k = spr[q];
-        const double l = (w.x[oth[q]] - xi).norm();
-        cl[q] = spring_tension(w.body_law[w.springs.body[k]], rest[k], l) / l;
-      }
-      return;
+  double* box = g.box.data();
+  // One thread: exponential bodies by the scatter, the others by the (vectorised) gather. Both
+  // give the scatter's bits, and no node has springs of both kinds unless some node is mixed.
+  // (Without AVX the gather has nothing to repay its double evaluation on one thread.)
+  bool scatter_exp = false;
+  if (T == 1) {
+    if (!avx || g.mixed_nodes) return scatter_spring_forces(w, f, nullptr);
+    if (g.exponential_bodies) {
+      scatter_spring_forces(w, f, &g.is_exponential);
+      scatter_exp = true;
     }
-    const SpringLaw& law = w.body_law[b];
-#if defined(HARNESS_X86_AVX)
-    if (avx) {
-      switch (law.kind) {
-        case SpringLawKind::linear:
-          return spring_coefs_avx<SpringLawKind::linear>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
-        case SpringLawKind::cubic:
-          return spring_coefs_avx<SpringLawKind::cubic>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
-        case SpringLawKind::exponential:
-          return spring_coefs_avx<SpringLawKind::exponential>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
-      }
-    }
-#endif
-    switch (law.kind) {
-      case SpringLawKind::linear: return spring_coefs<SpringLawKind::linear>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
-      case SpringLawKind::cubic: return spring_coefs<SpringLawKind::cubic>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
-      case SpringLawKind::exponential:
-        return spring_coefs<SpringLawKind::exponential>(law, rest, w.x, xi, oth, spr, cid, nc, cl);
-    }
-  };
-#pragma omp parallel for num_threads(T) schedule(static, 1)
-  for (int t = 0; t < T; ++t) {
-    int i0, i1;
-    g.part(T, t, i0, i1);
-    gather_range(
-        g, w.x, i0, i1, [&](int i) { return g.node_body[i] != -2; }, coefs, [](int, int) { return false; },
-        [&](int i, const Vec3& acc) { f[i] = acc; }, f);
   }
+  // Parts handed out dynamically, several per thread: a thread that the system deschedules
+  // (the machine is shared) delays one small part, not half the work. The parts only share the
+  // work: the forces are the same for any partition.
+  const int P = T == 1 ? 1 : 4 * T;
+#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+  for (int t = 0; t < P; ++t) {
+    int i0, i1;
+    g.part(P, t, i0, i1);
+    for (int i = i0; i < i1; ++i) {
+      const int b = g.node_body[i];
+      if (b == -2) continue;
+      if (scatter_exp && b >= 0 && g.is_exponential[b]) continue;
+      Vec3 acc = f[i];
+      if (b >= 0) {
+        const SpringLaw& law = w.body_law[b];
+        switch (law.kind) {
+#if defined(HARNESS_X86_AVX)
+#define HARNESS_SPRING_NODE(K) \
+  avx ? spring_node_avx<K>(g, law, w.x, i, acc) : spring_node<K>(g, law, w.x, i, acc)
+#else
+#define HARNESS_SPRING_NODE(K) spring_node<K>(g, law, w.x, i, acc)
+#endif
+          case SpringLawKind::linear: HARNESS_SPRING_NODE(SpringLawKind::linear); break;
+          case SpringLawKind::cubic: HARNESS_SPRING_NODE(SpringLawKind::cubic); break;
+          case SpringLawKind::exponential:
+            spring_node_once<SpringLawKind::exponential>(g, law, w.x, i, i0, i1, box, acc);
+            break;
+#undef HARNESS_SPRING_NODE
+        }
+      } else {  // springs of several bodies meet here (hand-built worlds): the law per spring
+        const Vec3 xi = w.x[i];
+        for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
+          const int j = g.other[h];
+          const Vec3 d = w.x[j] - xi;
+          const double l = d.norm();
+          if (l <= 0.0) continue;
+          const double c = spring_tension(w.body_law[w.springs.body[g.spring[h]]], g.rest[h], l) / l;
+          if (j > i && j < i1) box[g.spring[h]] = c;  // for a higher end using spring_node_once
+          acc += c * d;
+        }
+      }
+      f[i] = acc;
+    }
+  }
+  (void)avx;
 }
 
-void gather_damping_forces(SpringGather& g, const World& w, Points& f) {
-  const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
-  auto damping_of = [&](int h) { return w.bodies[w.springs.body[g.spring[h]]].material.damping; };
-  // A node whose springs all have c = 0 neither computes nor reads a dashpot (nor does the other
-  // end of any of them: same spring, same c).
-  auto active = [&](int i) {
-    const int nb = g.node_body[i];
-    return nb == -1 || (nb >= 0 && w.bodies[nb].material.damping != 0.0);
-  };
-  auto coefs = [&](int i, int a, const int* cid, int nc, double* cl) {
-    const Vec3 xi = w.x[i], vi = w.v[i];
-    for (int r = 0; r < nc; ++r) {
-      const int q = cid[r], j = g.other[a + q];
-      const Vec3 d = w.x[j] - xi;
-      // As the scatter: (c (v_j - v_i).d / l2) d, exactly -F from the other end.
-      cl[q] = damping_of(a + q) * (w.v[j] - vi).dot(d) / d.squaredNorm();
+// Dashpot forces (c (v_j - v_i).d / l2) d of node i, all springs of damping c (a node of one
+// body), four half-edges per AVX instruction and summed in spring order as in spring_node_avx.
+// (v_j - v_i).d is ((dvx dx + dvy dy) + dvz dz) in Eigen, as written here.
+#if defined(HARNESS_X86_AVX)
+__attribute__((target("avx"))) void damping_node_avx(const SpringGather& g, double c, const World& w, int i,
+                                                     Vec3& acc) {
+  const Vec3 xi = w.x[i], vi = w.v[i];
+  const __m256d x0 = _mm256_set1_pd(xi[0]), x1 = _mm256_set1_pd(xi[1]), x2 = _mm256_set1_pd(xi[2]);
+  const __m256d v0 = _mm256_set1_pd(vi[0]), v1 = _mm256_set1_pd(vi[1]), v2 = _mm256_set1_pd(vi[2]);
+  const __m256d cc = _mm256_set1_pd(c), zero = _mm256_setzero_pd();
+  alignas(32) double FX[kChunk], FY[kChunk], FZ[kChunk];
+  double ax = acc[0], ay = acc[1], az = acc[2];
+  for (int a = g.start[i]; a < g.start[i + 1]; a += kChunk) {
+    const int m = std::min(kChunk, g.start[i + 1] - a);
+    const int* oth = g.other.data() + a;
+    std::uint64_t skip = 0;
+    int q = 0;
+    for (; q + 4 <= m; q += 4) {
+      const double* p0 = w.x[oth[q]].data();
+      const double* p1 = w.x[oth[q + 1]].data();
+      const double* p2 = w.x[oth[q + 2]].data();
+      const double* p3 = w.x[oth[q + 3]].data();
+      const double* u0 = w.v[oth[q]].data();
+      const double* u1 = w.v[oth[q + 1]].data();
+      const double* u2 = w.v[oth[q + 2]].data();
+      const double* u3 = w.v[oth[q + 3]].data();
+      const __m256d dx = _mm256_sub_pd(_mm256_set_pd(p3[0], p2[0], p1[0], p0[0]), x0);
+      const __m256d dy = _mm256_sub_pd(_mm256_set_pd(p3[1], p2[1], p1[1], p0[1]), x1);
+      const __m256d dz = _mm256_sub_pd(_mm256_set_pd(p3[2], p2[2], p1[2], p0[2]), x2);
+      const __m256d ux = _mm256_sub_pd(_mm256_set_pd(u3[0], u2[0], u1[0], u0[0]), v0);
+      const __m256d uy = _mm256_sub_pd(_mm256_set_pd(u3[1], u2[1], u1[1], u0[1]), v1);
+      const __m256d uz = _mm256_sub_pd(_mm256_set_pd(u3[2], u2[2], u1[2], u0[2]), v2);
+      const __m256d l2 =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+      const __m256d dot =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ux, dx), _mm256_mul_pd(uy, dy)), _mm256_mul_pd(uz, dz));
+      const __m256d s = _mm256_div_pd(_mm256_mul_pd(cc, dot), l2);
+      _mm256_store_pd(FX + q, _mm256_mul_pd(s, dx));
+      _mm256_store_pd(FY + q, _mm256_mul_pd(s, dy));
+      _mm256_store_pd(FZ + q, _mm256_mul_pd(s, dz));
+      skip |= static_cast<std::uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(l2, zero, _CMP_LE_OQ))) << q;
     }
-  };
-  // Springs without damping at nodes where bodies meet are skipped, as the scatter does.
-  auto skip = [&](int i, int h) { return g.node_body[i] == -1 && damping_of(h) == 0.0; };
-  auto finish = [&](int i, const Vec3& acc) {
-    const int owner = g.node_owner[i];
-    const double a = owner >= 0 ? w.bodies[owner].material.mass_damping : 0.0;
-    if (!active(i) && a == 0.0) return;
-    // Mass-proportional damping after every dashpot, as in the serial order.
-    f[i] = a != 0.0 ? Vec3(acc - (a * w.m[i]) * w.v[i]) : acc;
-  };
-#pragma omp parallel for num_threads(T) schedule(static, 1)
-  for (int t = 0; t < T; ++t) {
+    for (; q < m; ++q) {
+      const int j = oth[q];
+      const Vec3 d = w.x[j] - xi;
+      const double l2 = d.squaredNorm();
+      if (l2 <= 0.0) {
+        skip |= std::uint64_t{1} << q;
+        continue;
+      }
+      const double sc = c * (w.v[j] - vi).dot(d) / l2;
+      FX[q] = sc * d[0], FY[q] = sc * d[1], FZ[q] = sc * d[2];
+    }
+    for (q = 0; q < m; ++q) {
+      if ((skip >> q) & 1) continue;
+      ax += FX[q], ay += FY[q], az += FZ[q];
+    }
+  }
+  acc = Vec3(ax, ay, az);
+  _mm256_zeroupper();
+}
+#endif
+
+void gather_damping_forces(const SpringGather& g, const World& w, Points& f) {
+  const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
+  if (T == 1) return scatter_damping_forces(w, f);  // the same bits; faster on one thread
+#if defined(HARNESS_X86_AVX)
+  const bool avx = cpu_has_avx();
+#endif
+  const int P = T == 1 ? 1 : 4 * T;  // dynamic parts, as for the springs
+#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+  for (int t = 0; t < P; ++t) {
     int i0, i1;
-    g.part(T, t, i0, i1);
-    gather_range(g, w.x, i0, i1, active, coefs, skip, finish, f);
+    g.part(P, t, i0, i1);
+    for (int i = i0; i < i1; ++i) {
+      const int owner = g.node_owner[i];
+      const double a = owner >= 0 ? w.bodies[owner].material.mass_damping : 0.0;
+      const int nb = g.node_body[i];
+      const bool dashpots = nb == -1 || (nb >= 0 && w.bodies[nb].material.damping != 0.0);
+      if (!dashpots && a == 0.0) continue;
+      Vec3 acc = f[i];
+#if defined(HARNESS_X86_AVX)
+      if (dashpots && nb >= 0 && avx) {
+        damping_node_avx(g, w.bodies[nb].material.damping, w, i, acc);
+      } else
+#endif
+      if (dashpots) {
+        const Vec3 xi = w.x[i], vi = w.v[i];
+        for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
+          const double c = nb >= 0 ? w.bodies[nb].material.damping
+                                   : w.bodies[w.springs.body[g.spring[h]]].material.damping;
+          if (c == 0.0) continue;
+          const int j = g.other[h];
+          const Vec3 d = w.x[j] - xi;
+          const double l2 = d.squaredNorm();
+          if (l2 <= 0.0) continue;
+          acc += (c * (w.v[j] - vi).dot(d) / l2) * d;  // as the scatter: exactly -F at the other end
+        }
+      }
+      // Mass-proportional damping after every dashpot, as in the serial order.
+      if (a != 0.0) acc -= (a * w.m[i]) * w.v[i];
+      f[i] = acc;
+    }
   }
 }
 
@@ -424,8 +503,8 @@ double ramp_pressure(const PressureSpec& p, int step) {
 namespace {
 
 // The effects keep their gather between steps (built on the first step; rebuilt only if the
-// number of nodes or springs changes: the topology is fixed once a world is built; rest
-// lengths and materials are read from the World every step).
+// number of nodes or springs changes): spring topology and rest lengths are fixed once a world
+// is built (materials are read from the World every step).
 class SpringsEffect final : public ForceEffect {
  public:
   const char* name() const override { return "springs"; }

@@ -53,6 +53,12 @@ double as_number(const Ctx& c, const std::string& path, const json& j) {
 
 long long as_integer(const Ctx& c, const std::string& path, const json& j) {
   const double v = as_number(c, path, j);
+  // Above the range of long long (an unsigned JSON integer): get<long long>() would wrap
+  // 18446744073709551615 to -1.
+  constexpr auto kMax = static_cast<unsigned long long>(std::numeric_limits<long long>::max());
+  if (j.is_number_unsigned() && j.get<unsigned long long>() > kMax)
+    c.fail(path, "integer " + std::to_string(j.get<unsigned long long>()) +
+                     " out of range (above 9223372036854775807)");
   if (j.is_number_integer()) return j.get<long long>();
   if (v != std::floor(v) || std::fabs(v) > 9.0e15) c.fail(path, "expected an integer");
   return static_cast<long long>(v);
@@ -542,6 +548,9 @@ void apply_override(json& doc, const std::string& key, const std::string& value_
     value = json::parse(value_json);
   } catch (const json::parse_error& e) {
     throw InputError(where, "value is not valid JSON (" + value_json + ")");
+  } catch (const json::out_of_range&) {
+    // Number overflow ("1e999"): escaped as a json exception (exit 1 instead of 2).
+    throw InputError(where, "malformed JSON: number overflow in the value (" + value_json + ")");
   }
   if (key.empty()) throw InputError(where, "empty key");
   json* node = &doc;
@@ -568,7 +577,9 @@ void apply_override(json& doc, const std::string& key, const std::string& value_
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
-  *node = value;
+  // Moved, not copied: the copy recurses once per nesting level, and a deeply nested value
+  // ("[[[[...]]]]", 200000 levels) exhausted the stack.
+  *node = std::move(value);
 }
 
 Scene parse_scene(const std::string& text, const std::string& file,

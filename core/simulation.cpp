@@ -254,7 +254,7 @@ void Simulation::integrate(double h) {
   World& w = world;
   const int n = w.num_nodes();
   // Per node, independent: parallel (core/parallel.hpp) with the same result for any thread count.
-#pragma omp parallel for num_threads(threads_for(static_cast<std::size_t>(n))) schedule(static)
+#pragma omp parallel for num_threads(threads_for(static_cast<std::size_t>(n))) schedule(dynamic, 8192)
   for (int i = 0; i < n; ++i) {
     switch (w.kinematic[i]) {
       case 0:

@@ -5,7 +5,8 @@
 #   TARGET   scene, off, obj (default all three)
 # Installs clang if missing, configures build-fuzz/ (CMake option HARNESS_FUZZ=ON, clang),
 # builds fuzz_scene, fuzz_off, fuzz_obj (JOBS build jobs, default 2) and runs each on a copy of
-# its seed corpus tests/fuzz/corpus/<target>/: the committed corpus is never changed. After the
+# its seed corpus tests/fuzz/corpus/<target>/ with the dictionary tests/fuzz/<target>.dict: the
+# committed corpus is never changed. After the
 # run the inputs that add coverage beyond the seeds are merged into
 # build-fuzz/fuzz-out/<target>/new/ (copy the ones worth keeping into the corpus by hand);
 # crashes, leaks and timeouts are written to build-fuzz/fuzz-out/<target>/ as crash-*, leak-*,
@@ -68,7 +69,8 @@ for t in "${targets[@]}"; do
   echo "== fuzz_$t: $seconds s, max_len ${max_len[$t]}, $(ls "$seeds" | wc -l) seeds"
   status=0
   "$bin" -max_total_time="$seconds" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 \
-    -print_final_stats=1 -artifact_prefix="$tdir/" "$tdir/corpus" 2>"$tdir/log.txt" || status=$?
+    -dict="tests/fuzz/$t.dict" -print_final_stats=1 -artifact_prefix="$tdir/" "$tdir/corpus" \
+    2>"$tdir/log.txt" || status=$?
   tail -n 25 "$tdir/log.txt"
   # Coverage and speed: the last status line and the final statistics.
   last=$(grep -E '^#[0-9]+' "$tdir/log.txt" | tail -n 1 || true)

@@ -86,8 +86,56 @@ __attribute__((target("avx"))) void VoxelIndexer::batch_avx(const Vec3* p, std::
 }
 #endif
 
+#if defined(HARNESS_X86_AVX)
+namespace {
+bool cpu_has_avx512() {
+  static const bool has = __builtin_cpu_supports("avx512f");
+  return has;
+}
+}  // namespace
+
+// Eight points per iteration with AVX-512 (three loads, two two-source permutes per coordinate);
+// otherwise as batch_avx.
+__attribute__((target("avx512f"))) void VoxelIndexer::batch_avx512(const Vec3* p, std::size_t n, int* out) const {
+  const double* q = p->data();
+  const __m512d c0 = _mm512_set1_pd(c_[0]), c1 = _mm512_set1_pd(c_[1]), c2 = _mm512_set1_pd(c_[2]);
+  const __m512d inv = _mm512_set1_pd(inv_);
+  const __m512d lo0 = _mm512_set1_pd(lo_[0]), lo1 = _mm512_set1_pd(lo_[1]), lo2 = _mm512_set1_pd(lo_[2]);
+  const __m512d hi0 = _mm512_set1_pd(hi_[0]), hi1 = _mm512_set1_pd(hi_[1]), hi2 = _mm512_set1_pd(hi_[2]);
+  const __m512d dx = _mm512_set1_pd(dx_), dxy = _mm512_set1_pd(dxy_), none = _mm512_set1_pd(-1.0);
+  // Coordinate a of point k is q[3k + a]: from (A, B) = q[0..16) first, then from C = q[16..24).
+  const __m512i ax1 = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0), ax2 = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13);
+  const __m512i ay1 = _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0), ay2 = _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14);
+  const __m512i az1 = _mm512_setr_epi64(2, 5, 8, 11, 14, 0, 0, 0), az2 = _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15);
+  std::size_t k = 0;
+  for (; k + 8 <= n; k += 8, q += 24) {
+    const __m512d A = _mm512_loadu_pd(q), B = _mm512_loadu_pd(q + 8), C = _mm512_loadu_pd(q + 16);
+    const __m512d px = _mm512_permutex2var_pd(_mm512_permutex2var_pd(A, ax1, B), ax2, C);
+    const __m512d py = _mm512_permutex2var_pd(_mm512_permutex2var_pd(A, ay1, B), ay2, C);
+    const __m512d pz = _mm512_permutex2var_pd(_mm512_permutex2var_pd(A, az1, B), az2, C);
+    const __m512d t0 = _mm512_mul_pd(_mm512_sub_pd(px, c0), inv);
+    const __m512d t1 = _mm512_mul_pd(_mm512_sub_pd(py, c1), inv);
+    const __m512d t2 = _mm512_mul_pd(_mm512_sub_pd(pz, c2), inv);
+    const __mmask8 in = _mm512_cmp_pd_mask(t0, lo0, _CMP_GE_OQ) & _mm512_cmp_pd_mask(t0, hi0, _CMP_LT_OQ) &
+                        _mm512_cmp_pd_mask(t1, lo1, _CMP_GE_OQ) & _mm512_cmp_pd_mask(t1, hi1, _CMP_LT_OQ) &
+                        _mm512_cmp_pd_mask(t2, lo2, _CMP_GE_OQ) & _mm512_cmp_pd_mask(t2, hi2, _CMP_LT_OQ);
+    // floor; masked forms of the intrinsics here: GCC 12 warns on the plain ones' pass-through
+    const int down = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+    const __m512d i0 = _mm512_sub_pd(_mm512_mask_roundscale_pd(t0, 0xFF, t0, down), lo0);
+    const __m512d i1 = _mm512_sub_pd(_mm512_mask_roundscale_pd(t1, 0xFF, t1, down), lo1);
+    const __m512d i2 = _mm512_sub_pd(_mm512_mask_roundscale_pd(t2, 0xFF, t2, down), lo2);
+    const __m512d lin = _mm512_add_pd(_mm512_add_pd(i0, _mm512_mul_pd(dx, i1)), _mm512_mul_pd(dxy, i2));
+    const __m256i cell = _mm512_mask_cvttpd_epi32(_mm256_setzero_si256(), 0xFF, _mm512_mask_blend_pd(in, none, lin));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + k), cell);
+  }
+  for (; k < n; ++k) out[k] = (*this)(p[k]);
+  _mm256_zeroupper();
+}
+#endif
+
 void VoxelIndexer::operator()(const Vec3* p, std::size_t n, int* out) const {
 #if defined(HARNESS_X86_AVX)
+  if (cpu_has_avx512()) return batch_avx512(p, n, out);
   if (cpu_has_avx()) return batch_avx(p, n, out);
 #endif
   for (std::size_t k = 0; k < n; ++k) out[k] = (*this)(p[k]);
@@ -175,53 +223,76 @@ void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi) {
 }
 
 long long VoxelData::bytes() const {
-  return static_cast<long long>((head_.capacity() + next_.capacity() + node_cell_.capacity() +
-                                 occupied_.capacity() + occ_scratch_.capacity() + bucket_.capacity()) *
-                                    sizeof(int) +
-                                table_.capacity() * sizeof(long long));
+  return static_cast<long long>(
+      (head_.capacity() + next_.capacity() + node_cell_.capacity() + occupied_.capacity() +
+       occ_scratch_.capacity()) * sizeof(int) +
+      mark_.capacity());
 }
 
 void VoxelData::allocate(long long max_voxels, int max_nodes) {
   occupied_.clear();
   listed_ = 0;
+  count_ = 0;
+  marked_ = false;
   head_.assign(static_cast<std::size_t>(max_voxels), -1);
+  mark_.assign(static_cast<std::size_t>(max_voxels), 0);
   next_.assign(static_cast<std::size_t>(max_nodes), -1);
   node_cell_.assign(static_cast<std::size_t>(max_nodes), -1);
   // Every listed node can open at most one voxel.
   occupied_.reserve(static_cast<std::size_t>(max_nodes));
   occ_scratch_.assign(static_cast<std::size_t>(max_nodes), 0);
-  if (!bucket_.empty() || threads() > 1) bucket_.assign(static_cast<std::size_t>(max_nodes), 0);
 }
 
 void VoxelData::fill(const GridGeometry& g, const Points& x, int node_begin, int node_end) {
+  prepare(g, x, node_begin, node_end, false);
+  link();
+}
+
+void VoxelData::prepare(const GridGeometry& g, const Points& x, int node_begin, int node_end, bool marks) {
   if (g.num_voxels() > capacity() || node_end - node_begin > static_cast<int>(next_.size()))
     throw std::logic_error("VoxelData::fill: grid exceeds the allocated capacity");
   // Clear by the previous occupancy list: slots are linear indices, valid whatever the layout.
   {
     const std::size_t no = occupied_.size();
     const int T = threads_for(no, 32768);
+    const bool marked = marked_;
 #pragma omp parallel for num_threads(T) schedule(static)
-    for (std::size_t i = 0; i < no; ++i) head_[occupied_[i]] = -1;
+    for (std::size_t i = 0; i < no; ++i) {
+      head_[occupied_[i]] = -1;
+      if (marked) mark_[occupied_[i]] = 0;
+    }
   }
+  marked_ = marks;
   occupied_.clear();
+  listed_ = 0;
   geom_ = g;
   base_ = node_begin;
+  count_ = node_end - node_begin;
   const VoxelIndexer idx(g);
-  const int n = node_end - node_begin;
-  const int T = g.num_voxels() > 0 ? std::min(64, threads_for(static_cast<std::size_t>(n), 16384)) : 1;
-  if (T == 1)
-    fill_serial(idx, x, node_begin, node_end);
-  else
-    fill_parallel(T, idx, x, node_begin, node_end);
+  const std::size_t n = static_cast<std::size_t>(count_);
+  const int T = g.num_voxels() > 0 ? threads_for(n, 16384) : 1;
+  std::uint8_t* mark = mark_.data();
+  const int P = T == 1 ? 1 : 4 * T;  // dynamic parts: a descheduled thread delays one small part
+#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+  for (int t = 0; t < P; ++t) {
+    std::size_t b, e;
+    split_range(n, P, t, b, e);
+    int* cell = node_cell_.data();
+    idx(x.data() + node_begin + b, e - b, cell + b);
+    // Several threads may mark one voxel, always with 1: relaxed atomic stores (plain moves).
+    if (marks)
+      for (std::size_t k = b; k < e; ++k)
+        if (cell[k] >= 0) __atomic_store_n(mark + cell[k], std::uint8_t{1}, __ATOMIC_RELAXED);
+  }
 }
 
-void VoxelData::fill_serial(const VoxelIndexer& idx, const Points& x, int node_begin, int node_end) {
-  const int n = node_end - node_begin;
-  idx(x.data() + node_begin, static_cast<std::size_t>(n), node_cell_.data());
+void VoxelData::link() {
+  // Decreasing node order: pushing onto the front leaves each list in increasing order. (A
+  // single backward pass computing the voxels too was twice as slow at 10^6 nodes: backward
+  // streams over x defeat the prefetcher; node_cell_ is 4 bytes a node.)
   int* occ = occ_scratch_.data();
   int no = 0, listed = 0;
-  // Decreasing node order: pushing onto the front leaves each list in increasing order.
-  for (int k = n - 1; k >= 0; --k) {
+  for (int k = count_ - 1; k >= 0; --k) {
     const int c = node_cell_[k];
     if (c < 0) continue;
     const int h = head_[c];
@@ -232,93 +303,7 @@ void VoxelData::fill_serial(const VoxelIndexer& idx, const Points& x, int node_b
     ++listed;
   }
   listed_ = listed;
-  occupied_.assign(occ, occ + no);  // within reserved capacity
-}
-
-void VoxelData::fill_parallel(int T, const VoxelIndexer& idx, const Points& x, int node_begin,
-                              int node_end) {
-  const std::size_t n = static_cast<std::size_t>(node_end - node_begin);
-  if (bucket_.size() < next_.size()) bucket_.assign(next_.size(), 0);  // first parallel fill only
-  // Tables: cnt[t][s] (T x T), then slab starts (T + 1), then occupied per slab (T).
-  const std::size_t TT = static_cast<std::size_t>(T) * static_cast<std::size_t>(T);
-  if (table_.size() < TT + 2 * static_cast<std::size_t>(T) + 1) table_.assign(TT + 2 * T + 1, 0);
-  long long* cnt = table_.data();
-  long long* slab_start = cnt + TT;
-  long long* slab_occ = slab_start + T + 1;
-  const long long nv = geom_.num_voxels();
-  long long vb[65];
-  for (int s = 0; s <= T; ++s) vb[s] = nv * s / T;
-  auto slab_of = [&](int c) {
-    int s = 0;
-    while (s + 1 < T && c >= vb[s + 1]) ++s;
-    return s;
-  };
-
-  // 1. Voxel of every node, counted per (chunk, slab).
-#pragma omp parallel for num_threads(T) schedule(static, 1)
-  for (int t = 0; t < T; ++t) {
-    std::size_t b, e;
-    split_range(n, T, t, b, e);
-    long long* my = cnt + static_cast<std::size_t>(t) * T;
-    for (int s = 0; s < T; ++s) my[s] = 0;
-    idx(x.data() + node_begin + b, e - b, node_cell_.data() + b);
-    for (std::size_t k = b; k < e; ++k) {
-      const int c = node_cell_[k];
-      if (c >= 0) ++my[slab_of(c)];
-    }
-  }
-  // Bucket offsets, slab-major, chunk order within a slab: cnt becomes the write cursor.
-  long long total = 0;
-  for (int s = 0; s < T; ++s) {
-    slab_start[s] = total;
-    for (int t = 0; t < T; ++t) {
-      const long long c = cnt[static_cast<std::size_t>(t) * T + s];
-      cnt[static_cast<std::size_t>(t) * T + s] = total;
-      total += c;
-    }
-  }
-  slab_start[T] = total;
-  listed_ = static_cast<int>(total);
-
-  // 2. Bucket the nodes by slab (each chunk writes its own ranges, in node order).
-#pragma omp parallel for num_threads(T) schedule(static, 1)
-  for (int t = 0; t < T; ++t) {
-    std::size_t b, e;
-    split_range(n, T, t, b, e);
-    long long* cur = cnt + static_cast<std::size_t>(t) * T;
-    for (std::size_t k = b; k < e; ++k) {
-      const int c = node_cell_[k];
-      if (c >= 0) bucket_[static_cast<std::size_t>(cur[slab_of(c)]++)] = static_cast<int>(k);
-    }
-  }
-
-  // 3. Each slab builds its lists from its bucket, in decreasing node order; its occupied voxels
-  // go to occ_scratch_[slab_start[s], ...) (a slab has at most as many as it has nodes).
-#pragma omp parallel for num_threads(T) schedule(static, 1)
-  for (int s = 0; s < T; ++s) {
-    const long long b = slab_start[s], e = slab_start[s + 1];
-    int* occ = occ_scratch_.data() + b;
-    int no = 0;
-    for (long long q = e - 1; q >= b; --q) {
-      const int k = bucket_[static_cast<std::size_t>(q)];
-      const int c = node_cell_[k];
-      const int h = head_[c];
-      occ[no] = c;
-      no += h < 0;
-      next_[k] = h;
-      head_[c] = k;
-    }
-    slab_occ[s] = no;
-  }
-  // The occupied list, slab by slab (capacity reserved, no allocation).
-  long long no_total = 0;
-  for (int s = 0; s < T; ++s) no_total += slab_occ[s];
-  occupied_.resize(static_cast<std::size_t>(no_total));
-  long long at = 0;
-  for (int s = 0; s < T; ++s) {
-    std::copy_n(occ_scratch_.data() + slab_start[s], slab_occ[s], occupied_.data() + at);
-    at += slab_occ[s];
-  }
+  occupied_.assign(occ, occ + no);  // within reserved capacity: no allocation
 }
 
 }  // namespace harness

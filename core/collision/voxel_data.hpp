@@ -19,16 +19,15 @@
 // the voxels occupied in the last fill are listed and cleared again, so a fill costs O(host
 // nodes), not O(voxels), and huge sparse grids (small voxels) stay cheap per step.
 //
-// Parallel fill (threads() > 1, core/parallel.hpp): the voxels are split into T contiguous index
-// ranges ("slabs"). The nodes' voxels are computed in T chunks, the nodes are bucketed by slab
-// (in node order), and each slab's lists are built by one thread, from its bucket in decreasing
-// node order. Every voxel therefore lists exactly the same nodes in the same order whatever the
-// thread count.
+// With threads (core/parallel.hpp) the voxels are computed and marked in parallel chunks; the
+// lists are always built by one thread (linking is a pointer chase no partition speeds up),
+// which VoxelDetector overlaps with the guest lookup. The lists never depend on the thread count.
 #pragma once
 
 #include "core/types.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <iterator>
 #include <vector>
 
@@ -82,12 +81,13 @@ class VoxelIndexer {
     if (!in) return -1;
     return (ifloor(t0) - ilo_[0]) + dx_ * (ifloor(t1) - ilo_[1]) + dxy_ * (ifloor(t2) - ilo_[2]);
   }
-  // out[k] = (*this)(p[k]) for k < n; four points at a time with AVX where the processor has it
-  // (chosen at run time; exact operations only, so the same results).
+  // out[k] = (*this)(p[k]) for k < n; eight or four points at a time with AVX-512 or AVX where
+  // the processor has them (chosen at run time; exact operations only, so the same results).
   void operator()(const Vec3* p, std::size_t n, int* out) const;
 
  private:
   void batch_avx(const Vec3* p, std::size_t n, int* out) const;
+  void batch_avx512(const Vec3* p, std::size_t n, int* out) const;
   static int ifloor(double t) {
     const int i = static_cast<int>(t);  // truncation toward zero
     return i - (t < i);
@@ -148,14 +148,20 @@ class VoxelData {
   };
 
   // Reserves room for grids of up to `max_voxels` voxels and `max_nodes` listed nodes. The only
-  // place that allocates; called at initialisation and when the region is rebuilt (and the
-  // small per-thread tables grow once when the thread count is raised).
+  // place that allocates; called at initialisation and when the region is rebuilt.
   void allocate(long long max_voxels, int max_nodes);
 
   // Lists the nodes [node_begin, node_end) of x in the voxels of g. Nodes outside g are left
   // out. g.num_voxels() must not exceed the allocated capacity, nor node_end - node_begin the
-  // allocated node count.
+  // allocated node count. The same as prepare() then link().
   void fill(const GridGeometry& g, const Points& x, int node_begin, int node_end);
+  // The two halves of fill(). prepare() computes every node's voxel (in parallel) and, with
+  // `marks`, marks the occupied voxels; link() then builds the lists, on the calling thread.
+  // Between the two, marked() already answers "is this voxel occupied", so a lookup can run
+  // beside link() (VoxelDetector).
+  void prepare(const GridGeometry& g, const Points& x, int node_begin, int node_end, bool marks);
+  void link();
+  bool marked(int cell) const { return mark_[cell] != 0; }
 
   const GridGeometry& geometry() const { return geom_; }
   long long capacity() const { return static_cast<long long>(head_.size()); }
@@ -163,28 +169,23 @@ class VoxelData {
   long long bytes() const;
   bool occupied(int cell) const { return head_[cell] >= 0; }
   NodeList nodes(int cell) const { return NodeList(next_.data(), base_, head_[cell]); }
-  // Linear indices of the non-empty voxels (each once; the order is unspecified and may depend
-  // on the thread count -- the lists themselves never do).
+  // Linear indices of the non-empty voxels, each once, in decreasing order of their highest node.
   const std::vector<int>& occupied_voxels() const { return occupied_; }
   // Nodes listed in the last fill (those inside the region).
   int listed_nodes() const { return listed_; }
 
  private:
-  void fill_serial(const VoxelIndexer& idx, const Points& x, int node_begin, int node_end);
-  void fill_parallel(int T, const VoxelIndexer& idx, const Points& x, int node_begin, int node_end);
-
   GridGeometry geom_;
   int base_ = 0;                // node_begin of the last fill: list entries are node - base_
+  int count_ = 0;               // node_end - node_begin of the last prepare()
   std::vector<int> head_;       // per voxel of the capacity: first node (local index), -1 empty
+  std::vector<std::uint8_t> mark_;  // per voxel of the capacity: 1 = occupied (from prepare)
+  bool marked_ = false;         // the last prepare() set marks (cleared with the lists)
   std::vector<int> next_;       // per listed node: the next node of its voxel, -1 = last
   std::vector<int> node_cell_;  // voxel of each node of the range in the last fill, -1 = outside
-  std::vector<int> occupied_;   // voxels with a list
+  std::vector<int> occupied_;   // voxels with a list (capacity: every node may open one)
+  std::vector<int> occ_scratch_;  // link(): voxels as opened (branch-free stores), then copied
   int listed_ = 0;
-  // Scratch of the fill: occupied voxels as found (per slab), nodes bucketed by slab (parallel
-  // fill only), and per-thread tables (T x T counts and cursors, slab starts, occupied counts).
-  std::vector<int> occ_scratch_;
-  std::vector<int> bucket_;
-  std::vector<long long> table_;
 };
 
 }  // namespace harness

@@ -14,52 +14,64 @@ void VoxelDetector::initialize(const World& w, const ContactSpec& spec) {
   fill_end_ = spec.host_nodes == HostNodes::surface ? hb.begin + hb.n_surface : hb.end;
 }
 
-// Calls emit(node, voxel) for every node of [begin, end) whose voxel is occupied, in node order;
-// voxels are computed in batches (VoxelIndexer, vectorised) on the stack.
-template <class Emit>
-void VoxelDetector::lookup(const VoxelIndexer& idx, const Points& x, int begin, int end, Emit&& emit) const {
+// Calls emit(node, voxel) for every node of [begin, end) whose voxel is occupied (`occupied`),
+// in node order; voxels are computed in batches (VoxelIndexer, vectorised) on the stack.
+template <class Emit, class Occupied>
+void VoxelDetector::lookup(const VoxelIndexer& idx, const Points& x, int begin, int end, Emit&& emit,
+                           Occupied&& occupied) const {
   constexpr int kBatch = 256;
   int cells[kBatch];
   for (int b = begin; b < end; b += kBatch) {
     const int m = std::min(kBatch, end - b);
     idx(x.data() + b, static_cast<std::size_t>(m), cells);
     for (int k = 0; k < m; ++k)
-      if (cells[k] >= 0 && grid_.occupied(cells[k])) emit(b + k, cells[k]);
+      if (cells[k] >= 0 && occupied(cells[k])) emit(b + k, cells[k]);
   }
 }
 
 void VoxelDetector::detect(const World& w, const ContactSpec&, std::vector<Contact>& out) {
   out.clear();
   const GridGeometry g = init_.update(w, grid_);
-  grid_.fill(g, w.x, fill_begin_, fill_end_);
-  if (grid_.listed_nodes() == 0) return;
   const Body& gb = w.bodies[spec_.guest];
   const VoxelIndexer idx(g);
   const std::size_t n = static_cast<std::size_t>(gb.size());
-  const int T = std::min(64, threads_for(n, 16384));
+  const int T = threads_for(n + static_cast<std::size_t>(fill_end_ - fill_begin_), 16384);
   if (T == 1) {
-    lookup(idx, w.x, gb.begin, gb.end, [&](int i, int cell) { out.push_back(Contact{i, cell}); });
+    grid_.fill(g, w.x, fill_begin_, fill_end_);
+    if (grid_.listed_nodes() == 0) return;
+    lookup(idx, w.x, gb.begin, gb.end, [&](int i, int cell) { out.push_back(Contact{i, cell}); },
+           [&](int cell) { return grid_.occupied(cell); });
     return;
   }
-  // Each chunk of guest nodes writes its contacts into its own part of the scratch list; the
-  // parts are then appended in chunk order, so contacts stay in guest node order.
+  // Fused fill and lookup: once the host nodes' voxels are marked (in parallel), one thread
+  // links the lists while the others look the guest nodes up against the marks. Each lookup
+  // chunk writes its contacts into its own part of the scratch list; the parts are then appended
+  // in chunk order, so the contacts are those of one thread, in guest node order.
+  grid_.prepare(g, w.x, fill_begin_, fill_end_, true);
   if (scratch_.size() < n) scratch_.resize(n);  // once, on the first parallel detection
-  int found[64];
-#pragma omp parallel for num_threads(T) schedule(static, 1)
-  for (int t = 0; t < T; ++t) {
+  // Task 0 links (handed out first), tasks 1..L look up chunks; dynamic, several chunks per
+  // thread, so that a thread the system deschedules delays one small chunk.
+  const int L = std::min(63, 4 * (T - 1));
+  int found[64] = {};
+#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+  for (int t = 0; t <= L; ++t) {
+    if (t == 0) {
+      grid_.link();
+      continue;
+    }
     std::size_t b, e;
-    split_range(n, T, t, b, e);
+    split_range(n, L, t - 1, b, e);
     Contact* dst = scratch_.data() + b;
     int m = 0;
     lookup(idx, w.x, gb.begin + static_cast<int>(b), gb.begin + static_cast<int>(e),
-           [&](int i, int cell) { dst[m++] = Contact{i, cell}; });
-    found[t] = m;
+           [&](int i, int cell) { dst[m++] = Contact{i, cell}; }, [&](int cell) { return grid_.marked(cell); });
+    found[t - 1] = m;
   }
-  for (int t = 0; t < T; ++t) {
+  for (int c = 0; c < L; ++c) {
     std::size_t b, e;
-    split_range(n, T, t, b, e);
+    split_range(n, L, c, b, e);
     out.insert(out.end(), scratch_.begin() + static_cast<std::ptrdiff_t>(b),
-               scratch_.begin() + static_cast<std::ptrdiff_t>(b) + found[t]);
+               scratch_.begin() + static_cast<std::ptrdiff_t>(b) + found[c]);
   }
 }
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `harness bench` on a tiny size: the CSV has the DESIGN.md columns and one row per method and
 # thread count (fcl and cgal when the build has the references). Times are not checked.
+# Also `harness run --threads`: results do not depend on the thread count.
 # Usage: test_bench.sh HARNESS SOURCE_DIR
 set -u
 H="$1"
@@ -24,6 +25,17 @@ awk -F, '$1=="voxel_detect" && $5 <= 0 {exit 1}' "$T/bench.csv" && ok || bad "vo
 # bad input: exit 2, one line
 "$H" bench --out "$T/x.csv" --sizes 0 2>"$T/err"; rc=$?
 [[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && ok || bad "bad --sizes: exit $rc"
+
+# `harness run --threads N`: the same state hash with 1 and 2 threads; a bad count is bad input.
+for t in 1 2; do
+  "$H" run cylinder_press --steps 30 --threads $t --set 'references.solvers=[]' --out "$T/run$t" --quiet 2>"$T/err" \
+    && ok || { bad "run --threads $t"; cat "$T/err"; }
+done
+h1=$(grep -o '"state_hash": *"[0-9a-f]*"' "$T/run1/summary.json")
+h2=$(grep -o '"state_hash": *"[0-9a-f]*"' "$T/run2/summary.json")
+[[ -n "$h1" && "$h1" == "$h2" ]] && ok || bad "state hash differs between 1 and 2 threads: $h1 / $h2"
+"$H" run cylinder_press --steps 1 --threads 0 --out "$T/run0" --quiet 2>"$T/err"; rc=$?
+[[ $rc -eq 2 ]] && ok || bad "--threads 0: exit $rc"
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

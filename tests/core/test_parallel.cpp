@@ -137,6 +137,10 @@ TEST_CASE("spring and damping gathers equal the serial scatter bit for bit", "[p
   w.springs.ends.push_back({w.bodies[0].begin + 1, w.bodies[1].begin + 2});
   w.springs.rest.push_back(0.015);
   w.springs.body.push_back(0);
+  // And an exponential spring from the sphere into the cubic box (mailbox of spring_node_once).
+  w.springs.ends.push_back({w.bodies[2].begin, w.bodies[1].end - 1});  // adjacent: same thread
+  w.springs.rest.push_back(0.04);
+  w.springs.body.push_back(2);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.003, 0.003);
   for (int i = 0; i < w.num_nodes(); ++i) {
@@ -221,27 +225,29 @@ TEST_CASE("points_bounds equals body_bounds; parallel fill lists the same nodes"
     CHECK(hi == bhi);
   }
 
-  GridGeometry g;
-  g.voxel = 0.25;
-  g.center = Vec3(0.1, -0.05, 0.02);
-  g.lo = Vec3i(-7, -8, -2);
-  g.dims = Vec3i(14, 15, 10);
-  VoxelData one, many;
-  set_threads(1);
-  set_parallel_grain(0);
-  one.allocate(g.num_voxels(), 3000);
-  one.fill(g, x, 1, 3001);
-  for (int t : {2, 3, 5}) {
-    set_threads(t);
-    set_parallel_grain(1);
-    many.allocate(g.num_voxels(), 3000);
-    for (int rep = 0; rep < 2; ++rep) {  // the second fill reuses the storage
-      many.fill(g, x, 1, 3001);
-      CHECK(many.listed_nodes() == one.listed_nodes());
-      CHECK(many.occupied_voxels().size() == one.occupied_voxels().size());
-      for (int c = 0; c < g.num_voxels(); ++c) {
-        const auto a = one.nodes(c), b = many.nodes(c);
-        REQUIRE(std::vector<int>(a.begin(), a.end()) == std::vector<int>(b.begin(), b.end()));
+  for (const Vec3i& dims : {Vec3i(14, 15, 10), Vec3i(2, 2, 3)}) {  // sparse, and every voxel full
+    GridGeometry g;
+    g.voxel = dims.x() == 2 ? 2.0 : 0.25;
+    g.center = Vec3(0.1, -0.05, 0.02);
+    g.lo = -dims / 2;
+    g.dims = dims;
+    VoxelData one, many;
+    set_threads(1);
+    set_parallel_grain(0);
+    one.allocate(g.num_voxels(), 3000);
+    one.fill(g, x, 1, 3001);
+    for (int t : {2, 3, 5}) {
+      set_threads(t);
+      set_parallel_grain(1);
+      many.allocate(g.num_voxels(), 3000);
+      for (int rep = 0; rep < 2; ++rep) {  // the second fill reuses the storage
+        many.fill(g, x, 1, 3001);
+        CHECK(many.listed_nodes() == one.listed_nodes());
+        CHECK(many.occupied_voxels().size() == one.occupied_voxels().size());
+        for (int c = 0; c < g.num_voxels(); ++c) {
+          const auto a = one.nodes(c), b = many.nodes(c);
+          REQUIRE(std::vector<int>(a.begin(), a.end()) == std::vector<int>(b.begin(), b.end()));
+        }
       }
     }
   }

@@ -127,8 +127,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz_note(e.what());
     return 0;
   }
-  // summary.json records the resolved scene.
+  // summary.json records the resolved scene: it must serialise, and read back as itself.
   (void)scene.resolved.dump(2);
+  try {
+    const Scene again = scene_from_json(scene.resolved, kSceneFile, scene.dir);
+    FUZZ_CHECK(again.resolved == scene.resolved);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "fuzz invariant failed: the resolved scene is rejected: %s\n", e.what());
+    std::abort();
+  }
   if (!within_budget(scene)) {
     fuzz_note("parsed; over the fuzz node budget, not built");
     return 0;

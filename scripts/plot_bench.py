@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""Scaling figure and ratio table of `harness bench` (DESIGN.md, "Output of harness bench").
+
+Usage: plot_bench.py [BENCH_CSV] [RESULTS_DIR]
+       (defaults: results/bench.csv, results; run with /usr/bin/python3 or $PYTHON)
+
+  RESULTS_DIR/figures/bench_scaling.png  time per step against nodes per body, log-log: every
+                                         method with one thread (solid) and two (dashed); the two
+                                         memory-bandwidth limits (stream_*) in grey
+  RESULTS_DIR/tables/bench.md            the ratios the performance targets are stated in, each
+                                         with its target and whether it holds, then every time
+A ratio whose rows are missing (e.g. a --quick bench has no 10^6 point) is reported as n/a.
+Deterministic: fixed method order, no dates.
+"""
+
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "axes.labelsize": 9, "legend.fontsize": 7.5,
+                     "figure.dpi": 100, "savefig.dpi": 110})
+
+METHODS = ["voxel_detect", "voxel_detect_eliminate", "fcl", "cgal", "step", "stream_positions", "stream_step"]
+STYLE = {
+    "voxel_detect": ("#1f77b4", "o"),
+    "voxel_detect_eliminate": ("#17becf", "s"),
+    "fcl": ("#d62728", "^"),
+    "cgal": ("#9467bd", "v"),
+    "step": ("#2ca02c", "D"),
+    "stream_positions": ("#7f7f7f", "."),
+    "stream_step": ("#404040", "x"),
+}
+LABEL = {
+    "voxel_detect": "voxel detection",
+    "voxel_detect_eliminate": "voxel detection + elimination",
+    "fcl": "FCL refit + all triangle pairs",
+    "cgal": "CGAL tree + inside test of every guest node",
+    "step": "full step (springs, contact, integration)",
+    "stream_positions": "limit: stream over positions",
+    "stream_step": "limit: stream over what a step reads",
+}
+
+
+def load(path):
+    rows = []
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            r["nodes"] = int(r["nodes"])
+            r["threads"] = int(r["threads"])
+            r["us_per_step"] = float(r["us_per_step"])
+            r["bytes"] = int(float(r["bytes"] or 0))
+            for k in ("host_nodes", "guest_nodes", "voxels", "reps"):
+                if k in r and r[k] not in (None, ""):
+                    r[k] = int(float(r[k]))
+            rows.append(r)
+    return rows
+
+
+def get(rows, method, nodes, threads):
+    for r in rows:
+        if r["method"] == method and r["nodes"] == nodes and r["threads"] == threads:
+            return r
+    return None
+
+
+def us(rows, method, nodes, threads):
+    r = get(rows, method, nodes, threads)
+    return r["us_per_step"] if r else None
+
+
+def per_node(rows, method, nodes, threads):
+    r = get(rows, method, nodes, threads)
+    if not r or not r.get("host_nodes"):
+        return None
+    return r["us_per_step"] / (r["host_nodes"] + r["guest_nodes"])
+
+
+def ratio(a, b):
+    return a / b if a is not None and b is not None and b > 0 else None
+
+
+def fmt(x, digits=1):
+    if x is None:
+        return "n/a"
+    return ("%." + str(digits) + "f") % x
+
+
+def figure(rows, out_dir):
+    fig, ax = plt.subplots(figsize=(10.0, 4.8))
+    for m in METHODS:
+        color, marker = STYLE[m]
+        for t, ls in ((1, "-"), (2, "--")):
+            pts = sorted((r["nodes"], r["us_per_step"]) for r in rows if r["method"] == m and r["threads"] == t)
+            if not pts:
+                continue
+            lim = m.startswith("stream")
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], ls, color=color, marker=marker,
+                    markersize=4, linewidth=1.0 if lim else 1.4, alpha=0.8 if lim else 1.0,
+                    label="%s, %d thread%s" % (LABEL[m], t, "" if t == 1 else "s"))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("nodes per body")
+    ax.set_ylabel("time per step (µs)")
+    ax.set_title("Time per step against size: host layer and guest block in contact (harness bench)")
+    ax.grid(True, which="major", linewidth=0.4, alpha=0.5)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), ncol=1, frameon=False)
+    fig.tight_layout()
+    os.makedirs(os.path.join(out_dir, "figures"), exist_ok=True)
+    path = os.path.join(out_dir, "figures", "bench_scaling.png")
+    fig.savefig(path, metadata={"Software": None})
+    plt.close(fig)
+    print("plot_bench: wrote %s" % path)
+
+
+def table(rows, out_dir, csv_path):
+    sizes = sorted({r["nodes"] for r in rows})
+    big = 1000000 if 1000000 in sizes else (sizes[-1] if sizes else None)
+    lines = ["# harness bench: ratios", "",
+             "From `%s` (`harness bench`; medians over repetitions). Ratios of times per step; "
+             "`1T`/`2T` = one/two threads. FCL and CGAL are single-threaded libraries: they are "
+             "always timed with one thread." % os.path.relpath(csv_path, os.path.dirname(out_dir) or "."), "",
+             "| quantity | at | value | target | holds |", "|---|---|---|---|---|"]
+
+    def row(name, at, value, target, ok):
+        holds = "n/a" if value is None else ("yes" if ok(value) else "no")
+        lines.append("| %s | %s | %s | %s | %s |" % (name, at, fmt(value, 2), target, holds))
+
+    n5 = 100000
+    for t in (1, 2):
+        row("FCL refit + collide / voxel detection (%dT)" % t, "10^5", ratio(us(rows, "fcl", n5, 1), us(rows, "voxel_detect", n5, t)),
+            ">= 50", lambda v: v >= 50)
+    for t in (1, 2):
+        row("CGAL ground truth / voxel detection (%dT)" % t, "10^5", ratio(us(rows, "cgal", n5, 1), us(rows, "voxel_detect", n5, t)),
+            ">= 2000", lambda v: v >= 2000)
+    for t in (1, 2):
+        row("voxel detection / stream over positions (%dT)" % t, "10^6",
+            ratio(us(rows, "voxel_detect", 1000000, t), us(rows, "stream_positions", 1000000, t)), "<= 3", lambda v: v <= 3)
+    for t in (1, 2):
+        row("full step / stream over what it reads (%dT)" % t, "10^6",
+            ratio(us(rows, "step", 1000000, t), us(rows, "stream_step", 1000000, t)), "<= 6", lambda v: v <= 6)
+    for m in ("voxel_detect", "voxel_detect_eliminate", "step"):
+        for t in (1, 2):
+            row("time per node, 10^6 / 10^4: %s (%dT)" % (m, t), "10^4 -> 10^6",
+                ratio(per_node(rows, m, 1000000, t), per_node(rows, m, 10000, t)), "<= 1.5", lambda v: v <= 1.5)
+    for m in ("voxel_detect", "voxel_detect_eliminate", "step", "stream_positions", "stream_step"):
+        target = ">= 1.6" if not m.startswith("stream") else "(limit)"
+        row("speed-up, 2 threads over 1: %s" % m, "10^6", ratio(us(rows, m, 1000000, 1), us(rows, m, 1000000, 2)),
+            target, (lambda v: v >= 1.6) if not m.startswith("stream") else (lambda v: True))
+    lines += ["", "Grid memory (VoxelData capacity) against the region it covers:", "",
+              "| nodes per body | voxels in region | grid bytes | bytes per voxel | bytes per host node |",
+              "|---|---|---|---|---|"]
+    for n in sizes:
+        r = get(rows, "voxel_detect", n, 1)
+        if r and r.get("voxels"):
+            lines.append("| %d | %d | %d | %.1f | %.1f |" % (n, r["voxels"], r["bytes"], r["bytes"] / r["voxels"],
+                                                            r["bytes"] / max(1, r["host_nodes"])))
+    lines += ["", "Every time per step (µs):", "",
+              "| method | threads | " + " | ".join("%d" % n for n in sizes) + " |",
+              "|---|---|" + "---|" * len(sizes)]
+    for m in METHODS:
+        for t in (1, 2):
+            vals = [us(rows, m, n, t) for n in sizes]
+            if all(v is None for v in vals):
+                continue
+            lines.append("| %s | %d | %s |" % (m, t, " | ".join(fmt(v) for v in vals)))
+    os.makedirs(os.path.join(out_dir, "tables"), exist_ok=True)
+    path = os.path.join(out_dir, "tables", "bench.md")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("plot_bench: wrote %s" % path)
+
+
+def main(argv):
+    csv_path = argv[1] if len(argv) > 1 else os.path.join("results", "bench.csv")
+    out_dir = argv[2] if len(argv) > 2 else os.path.dirname(csv_path) or "results"
+    rows = load(csv_path)
+    if not rows:
+        sys.exit("plot_bench: %s has no rows" % csv_path)
+    figure(rows, out_dir)
+    table(rows, out_dir, csv_path)
+
+
+if __name__ == "__main__":
+    main(sys.argv)
