@@ -273,7 +273,8 @@ def main():
         f.write("\\newcommand{\\ClaimBPninetyMax}{%d}\n" % P90_MAX_STEPS)
         f.write("\\newcommand{\\ClaimBOpenMax}{%g}\n" % (100 * OPEN_MAX_FRACTION))
         for key, title, force, l, p, res in a_rows:
-            tag = {"sphere_collision": "Sphere", "cylinder_press": "Cylinder", "implant_expansion": "ImplantAuto",
+            tag = {"sphere_collision": "Sphere", "cylinder_press": "Cylinder", "cylinder_press_f003": "CylinderConst",
+                   "implant_expansion": "ImplantAuto",
                    "implant_expansion_f002": "ImplantConst"}.get(key)
             if tag:
                 for name, v in (("LineFinal", l["final"]), ("PlaneFinal", p["final"]), ("LinePeak", l["peak"]),

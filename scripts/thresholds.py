@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Measure the bundled scenarios and write results/thresholds.json: the CI accuracy thresholds.
 
-Each threshold is a measured value times a stated margin (at most 1.5):
+Each threshold is a measured value times a stated margin (at most 1.5; per scene in
+SCENE_MARGIN where a smaller one is needed for force 0 to fail it):
   min_recall          = recall / 1.1          (recall := 1 when nothing ever truly penetrates)
   max_true_pen_final  = true_pen_final * 1.5
   max_depth_voxels    = max_depth_peak / voxel_size_used * 1.5
@@ -14,6 +15,10 @@ import argparse, json, os, subprocess, sys, tempfile
 SCENES = {"sphere_collision": 800, "cylinder_press": 1200, "implant_expansion": 1500}
 EVERY = 10
 MARGIN = {"recall": 1.1, "true_pen_final": 1.5, "depth_voxels": 1.5}
+# Tighter margins where the default removes only part of the penetration, so that the
+# threshold still fails with broken elimination (force 0): cylinder_press's stable default
+# leaves about two thirds of the no-contact penetration (results/tables/ablation.md).
+SCENE_MARGIN = {"cylinder_press": {"true_pen_final": 1.2, "depth_voxels": 1.2}}
 
 def run(harness, scene, steps, out):
     subprocess.run([harness, "run", scene, "--out", out, "--steps", str(steps), "--quiet",
@@ -37,14 +42,16 @@ def main():
             p = s["pairs"][0]
             recall = 1.0 if p["recall"] is None else p["recall"]
             depth_vox = p["max_depth_peak"] / p["voxel_size_used"]
+            m = dict(MARGIN, **SCENE_MARGIN.get(scene, {}))
             doc["scenes"][scene] = {
                 "steps": steps,
                 "measured": {"recall": recall, "true_pen_final": p["true_pen_final"],
                              "max_depth_peak_m": p["max_depth_peak"], "voxel_size_used": p["voxel_size_used"],
                              "depth_voxels": depth_vox, "git_commit": s["git_commit"]},
-                "min_recall": recall / MARGIN["recall"],
-                "max_true_pen_final": int(p["true_pen_final"] * MARGIN["true_pen_final"]),
-                "max_depth_voxels": depth_vox * MARGIN["depth_voxels"],
+                "margins": m,
+                "min_recall": recall / m["recall"],
+                "max_true_pen_final": int(p["true_pen_final"] * m["true_pen_final"]),
+                "max_depth_voxels": depth_vox * m["depth_voxels"],
             }
     with open(a.out, "w") as f:
         json.dump(doc, f, indent=2, sort_keys=True)
