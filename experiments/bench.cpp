@@ -46,11 +46,12 @@ Scene make_bench_scene(long long n) {
   const double s = 1e-3;  // host lattice spacing, m
   const int a = std::max(4, static_cast<int>(std::lround(std::cbrt(4.0 * static_cast<double>(n)))) - 1);
   const int c = std::max(2, static_cast<int>(std::lround(a / 4.0)));
-  const int g = std::max(3, static_cast<int>(std::lround(std::cbrt(static_cast<double>(n)))));
+  const int seg = std::max(8, static_cast<int>(std::lround(std::sqrt(static_cast<double>(n)))));
+  const int rings = std::max(1, static_cast<int>(std::lround(static_cast<double>(n - 2) / seg)) - 1);
   const double W = a * s, D = c * s;
-  const double L = 0.6 * W;                  // guest cube edge
-  const double x0 = -0.5 * L + 0.3137 * s;   // off the host's lattice planes
-  const double z0 = D - 0.1 * L - 0.0173 * s;
+  const double pi = std::acos(-1.0);
+  const double R = 0.15 * W, len = 2.0 * pi * R;  // guest cylinder: square cells
+  const double zc = D + 0.8 * R - 0.0173 * s;     // lowest 0.2 R inside the layer
   const json mat = {{"density", 1000}, {"stiffness", 100}, {"law", "cubic"}, {"nonlinearity", 2.0}};
   json doc = {
       {"name", "bench_" + std::to_string(n)},
@@ -62,12 +63,12 @@ Scene make_bench_scene(long long n) {
                     {"cells", {a, a, c}}}},
          {"material", mat},
          {"pins", {{{"side", "-z"}}}}},
-        {{"name", "block"},
-         {"shape", {{"type", "box"}, {"min", {x0, x0 - 0.1171 * s, z0}}, {"max", {x0 + L, x0 - 0.1171 * s + L, z0 + L}},
-                    {"cells", {g - 1, g - 1, g - 1}}}},
+        {{"name", "shell"},
+         {"shape", {{"type", "cylinder"}, {"center", {0.3137 * s, -0.1171 * s, zc}}, {"axis", {1, 0, 0}},
+                    {"radius", R}, {"length", len}, {"segments", seg}, {"rings", rings}, {"fill", "shell"}}},
          {"material", mat}}}},
       {"contacts",
-       {{{"host", "layer"}, {"guest", "block"}, {"detector", "voxel"}, {"region", "half"},
+       {{{"host", "layer"}, {"guest", "shell"}, {"detector", "voxel"}, {"region", "half"},
          {"margin", 1}, {"eliminator", "line"}, {"force", 1e-4}}}},
       {"references", {{"solvers", json::array()}}}};
   return scene_from_json(doc, "bench_" + std::to_string(n), ".");

@@ -3,9 +3,12 @@
 // one and with two threads; one CSV from one process (DESIGN.md, "Output of harness bench").
 //
 // Scene of size N (make_bench_scene): host = a box lattice layer of about N nodes, a cells wide
-// in x and y and a/4 thick (1 mm spacing, pinned at -z); guest = a cube lattice of about N nodes,
-// 0.6 of the layer's width, its lower tenth pressed into the layer's upper half (offset by
-// fractions of a spacing, so no lattice plane of one body coincides with one of the other).
+// in x and y and a/4 thick (1 mm spacing, pinned at -z); guest = a surface of about N nodes (the
+// issue's "guest surface pressed into a host layer"): a closed cylinder shell lying along x,
+// radius 0.15 of the layer's width, length 2 pi radius (square cells, about sqrt(N) segments and
+// rings, fan caps), its lowest fifth of a radius pressed into the layer (offset by fractions of
+// a spacing, so no node lies on a lattice plane of the host). Every guest node is a surface
+// vertex, so FCL, CGAL and the voxel model see the same guest nodes.
 // Cubic springs (beta = 2), effects springs, pins, contact; voxel size automatic, region half,
 // line eliminator with a constant force; dt far below the stability limit, so the state (and the
 // contact count) hardly changes between repetitions.

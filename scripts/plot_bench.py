@@ -15,6 +15,7 @@ Deterministic: fixed method order, no dates.
 
 import csv
 import os
+import re
 import sys
 
 import matplotlib
@@ -106,7 +107,7 @@ def figure(rows, out_dir):
     ax.set_yscale("log")
     ax.set_xlabel("nodes per body")
     ax.set_ylabel("time per step (µs)")
-    ax.set_title("Time per step against size: host layer and guest block in contact (harness bench)")
+    ax.set_title("Time per step against size: host layer and guest surface in contact (harness bench)")
     ax.grid(True, which="major", linewidth=0.4, alpha=0.5)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), ncol=1, frameon=False)
     fig.tight_layout()
@@ -115,6 +116,7 @@ def figure(rows, out_dir):
     fig.savefig(path, metadata={"Software": None})
     plt.close(fig)
     print("plot_bench: wrote %s" % path)
+
 
 
 def table(rows, out_dir, csv_path):
@@ -126,9 +128,15 @@ def table(rows, out_dir, csv_path):
              "always timed with one thread." % os.path.relpath(csv_path, os.path.dirname(out_dir) or "."), "",
              "| quantity | at | value | target | holds |", "|---|---|---|---|---|"]
 
+    tex = []
+
     def row(name, at, value, target, ok):
         holds = "n/a" if value is None else ("-" if ok is None else ("yes" if ok(value) else "no"))
         lines.append("| %s | %s | %s | %s | %s |" % (name, at, fmt(value, 2), target, holds))
+        tex.append(" & ".join([re.sub(r"10\^(\d)", r"$10^\1$", name.replace("_", "\\_")), at.replace("10^", "$10^").replace(" -> ", "$ to ") +
+                               ("$" if not at.endswith("$") and "10^" in at and " -> " not in at else
+                                ("$" if " -> " in at else "")),
+                               fmt(value, 2), target.replace(">=", "$\\ge$").replace("<=", "$\\le$"), holds]) + " \\\\")
 
     n5 = 100000
     for t in (1, 2):
@@ -137,6 +145,10 @@ def table(rows, out_dir, csv_path):
     for t in (1, 2):
         row("CGAL ground truth / voxel detection (%dT)" % t, "10^5", ratio(us(rows, "cgal", n5, 1), us(rows, "voxel_detect", n5, t)),
             ">= 2000", lambda v: v >= 2000)
+    row("bound: FCL / stream over positions (1T)", "10^5", ratio(us(rows, "fcl", n5, 1), us(rows, "stream_positions", n5, 1)),
+        "(ceiling)", None)
+    row("bound: CGAL / stream over positions (1T)", "10^5", ratio(us(rows, "cgal", n5, 1), us(rows, "stream_positions", n5, 1)),
+        "(ceiling)", None)
     for t in (1, 2):
         row("voxel detection / stream over positions (%dT)" % t, "10^6",
             ratio(us(rows, "voxel_detect", 1000000, t), us(rows, "stream_positions", 1000000, t)), "<= 3", lambda v: v <= 3)
@@ -174,6 +186,12 @@ def table(rows, out_dir, csv_path):
     path = os.path.join(out_dir, "tables", "bench.md")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
+    print("plot_bench: wrote %s" % path)
+    path = os.path.join(out_dir, "tables", "bench_ratios.tex")
+    with open(path, "w") as f:
+        f.write("% The ratios of the performance targets (made by scripts/plot_bench.py)\n"
+                "\\begin{tabular}{llrll}\n\\toprule\nquantity & at & value & target & holds \\\\\n\\midrule\n" +
+                "\n".join(tex) + "\n\\bottomrule\n\\end{tabular}\n")
     print("plot_bench: wrote %s" % path)
 
 

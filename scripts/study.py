@@ -7,6 +7,7 @@ point can be re-run by hand with the command `harness sweep ... --list` prints.
   study.py accuracy     results/accuracy_time.csv, figures/pareto_<scene>.png, tables/accuracy_time.md
   study.py ablation     results/ablation.csv, figures/ablation_<scene>.png, tables/ablation.md
   study.py convergence  results/convergence.csv, figures/convergence.png, tables/convergence.md
+  study.py realtime     results/realtime.csv, tables/realtime.{md,tex}: steps per second, one core
   study.py all          the three
 Options: --harness PATH (default build/bin/harness), --results DIR (default results),
          --quick (shorter runs, fewer points), -j N (points at once, default 2).
@@ -399,9 +400,40 @@ def convergence(a):
         f.write("".join(md))
 
 
+# ---------------------------------------------------------------------------------------------
+def realtime(a):
+    """Steps per second of the bundled scenes at their default resolution on one core (one thread,
+    no references, no frames): the haptic goal is 1000 for implant_expansion."""
+    rows = []
+    for scene in SCENES:
+        out = os.path.join(a.results, "sweeps", "realtime", scene)
+        env = dict(os.environ, HARNESS_THREADS="1")
+        cmd = [a.harness, "run", scene, "--out", out, "--quiet", "--set", "references.solvers=[]",
+               "--set", "output.frames_every=0"] + sum((["--set", s] for s in a.extra_sets), [])
+        subprocess.run(cmd, check=True, env=env, stderr=subprocess.DEVNULL)
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+        t = s["timing_us"]
+        rows.append({"scene": scene, "nodes": s["nodes"], "springs": s["springs"], "steps": s["steps_run"],
+                     "step_us": num(t["step"]), "physics_us": num(t["physics"]),
+                     "contact_us": num(t["detect"], 0.0) + num(t["eliminate"], 0.0),
+                     "steps_per_s": 1e6 / num(t["step"])})
+    cols = ["scene", "nodes", "springs", "steps", "step_us", "physics_us", "contact_us", "steps_per_s"]
+    heads = ["scene", "nodes", "springs", "steps", "step (µs)", "physics (µs)", "detect+elim (µs)", "steps/s"]
+    write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
+    with open(os.path.join(a.results, "tables", "realtime.md"), "w") as f:
+        f.write("# Real time: steps per second on one core\n\nThe bundled scenes at their default resolution, "
+                "one thread (`HARNESS_THREADS=1`), no references, no frames; median wall time per step. "
+                "Goal: 1000 steps/s (the haptic rate) for implant_expansion. Made by `scripts/study.py "
+                "realtime`; timings vary from run to run.\n\n" + md_table(rows, cols, heads))
+    with open(os.path.join(a.results, "tables", "realtime.tex"), "w") as f:
+        texrows = [{c: ("%.0f" % r[c] if isinstance(r[c], float) else r[c]) for c in cols} for r in rows]
+        f.write(tex_table(texrows, cols, [h.replace("µs", "$\\mu$s") for h in heads], "Steps per second on one core"))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("what", choices=["accuracy", "ablation", "convergence", "all"])
+    ap.add_argument("what", choices=["accuracy", "ablation", "convergence", "realtime", "all"])
     ap.add_argument("--harness", default="build/bin/harness")
     ap.add_argument("--results", default="results")
     ap.add_argument("--quick", action="store_true")
@@ -410,7 +442,7 @@ def main():
     a.extra_sets = ["time.steps=300"] if a.quick else []
     for d in ["figures", "tables"]:
         os.makedirs(os.path.join(a.results, d), exist_ok=True)
-    for w in (["accuracy", "ablation", "convergence"] if a.what == "all" else [a.what]):
+    for w in (["accuracy", "ablation", "convergence", "realtime"] if a.what == "all" else [a.what]):
         print("study:", w, file=sys.stderr)
         globals()[w](a)
 
