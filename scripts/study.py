@@ -243,7 +243,7 @@ def ablation(a):
                             "recall", "precision", "detect+elim (µs)"]))
         reason = default_reason(scene, sr, best, pen0)
         md.append(reason)
-        reasons.append("\\paragraph{Default of \\code{%s}.}" % tex_escape(scene) + md_to_tex(reason.replace("**Default.** ", "")))
+        reasons.append("\\paragraph{Default of \\code{%s}.}" % tex_escape(scene) + md_to_tex(re.sub(r"\*\*Default\.\*\* Rule:[^\n]*\n", "", reason)))
     best_rows = []
     for scene in ["cylinder_press", "implant_expansion"]:
         b = choose_default([r for r in rows if r["scene"] == scene])
