@@ -100,10 +100,15 @@ def baseline(a, scene, out):
     return rows[0]
 
 
-def effects_without_contact(scene):
+def bundled_scene(scene):
+    """The bundled scene file experiments/scenes/<scene>.json, parsed."""
     path = os.path.join(os.path.dirname(__file__), "..", "experiments", "scenes", scene + ".json")
     with open(path) as f:
-        return [e for e in json.load(f)["effects"] if e != "contact"]
+        return json.load(f)
+
+
+def effects_without_contact(scene):
+    return [e for e in bundled_scene(scene)["effects"] if e != "contact"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -284,9 +289,7 @@ def md_to_tex(text):
 
 
 def bundled_contact(scene):
-    path = os.path.join(os.path.dirname(__file__), "..", "experiments", "scenes", scene + ".json")
-    with open(path) as f:
-        c = json.load(f)["contacts"][0]
+    c = bundled_scene(scene)["contacts"][0]
     return str(c.get("force", "auto")), float(c.get("voxel_size", float("nan")))
 
 
