@@ -102,21 +102,27 @@ struct SpringGather {
   }
 };
 
-// Spring laws inlined for the hot loop: the very expressions of spring_tension (springs.cpp),
-// so the results are bit-identical (tests/core/test_parallel.cpp compares them).
+// Spring laws inlined for the hot loop: the very expressions of spring_force_per_length
+// (springs.cpp), so the results are bit-identical (tests/core/test_parallel.cpp compares them).
 inline double expm1_over_x_inline(double x) {
   if (std::fabs(x) < 1e-8) return 1.0 + 0.5 * x;
   return std::expm1(x) / x;
 }
 template <SpringLawKind K>
-inline double tension_of(const SpringLaw& law, double L0, double l) {
-  const double eps = (l - L0) / L0;
-  if constexpr (K == SpringLawKind::linear) return law.k * L0 * eps;
-  if constexpr (K == SpringLawKind::cubic) return law.k * L0 * (eps + law.beta * eps * eps * eps);
-  if constexpr (K == SpringLawKind::exponential) return law.k * L0 * eps * expm1_over_x_inline(law.beta * eps);
+inline double per_length_of(const SpringLaw& law, double L0, double l) {
+  if constexpr (K == SpringLawKind::linear) return law.k * (l - L0) / l;
+  if constexpr (K == SpringLawKind::cubic) {
+    const double s = l - L0, L2 = L0 * L0;
+    return law.k * s * (L2 + law.beta * s * s) / (L2 * l);
+  }
+  if constexpr (K == SpringLawKind::exponential) {
+    const double eps = (l - L0) / L0;
+    return law.k * L0 * eps * expm1_over_x_inline(law.beta * eps) / l;
+  }
 }
 
 constexpr int kChunk = 64;  // half-edges of one node evaluated at a time (stack buffers)
+constexpr int kGroup = 4;    // nodes whose sums are interleaved (spring_group_avx)
 
 // Node i's spring force added to acc, one half-edge after the other in spring order; a
 // half-edge of zero length adds nothing (the scatter's `if (l <= 0) continue`).
@@ -127,7 +133,7 @@ void spring_node(const SpringGather& g, const SpringLaw& law, const Points& x, i
     const Vec3 d = x[g.other[h]] - xi;
     const double l = d.norm();
     if (l <= 0.0) continue;
-    acc += (tension_of<K>(law, g.rest[h], l) / l) * d;
+    acc += per_length_of<K>(law, g.rest[h], l) * d;
   }
 }
 
@@ -150,7 +156,7 @@ void spring_node_once(const SpringGather& g, const SpringLaw& law, const Points&
     } else {
       const double l = d.norm();
       if (l <= 0.0) continue;
-      c = tension_of<K>(law, g.rest[h], l) / l;
+      c = per_length_of<K>(law, g.rest[h], l);
       if (j > i && j < i1) box[g.spring[h]] = c;
     }
     acc += c * d;
@@ -163,69 +169,104 @@ bool cpu_has_avx() {
   return has;
 }
 
+// c * (x_j - x_i) of the m half-edges [a, a + m) of node i (m <= kChunk) into FX, FY, FZ;
+// returns the mask of those of zero length (they add nothing). Four half-edges per instruction.
+template <SpringLawKind K>
+__attribute__((target("avx"))) inline std::uint64_t spring_chunk_avx(const SpringGather& g, const SpringLaw& law,
+                                                                      const Points& x, const Vec3& xi, int a, int m,
+                                                                      double* FX, double* FY, double* FZ) {
+  const __m256d x0 = _mm256_set1_pd(xi[0]), x1 = _mm256_set1_pd(xi[1]), x2 = _mm256_set1_pd(xi[2]);
+  const __m256d kk = _mm256_set1_pd(law.k), bb = _mm256_set1_pd(law.beta), zero = _mm256_setzero_pd();
+  const int* oth = g.other.data() + a;
+  const double* L = g.rest.data() + a;
+  std::uint64_t skip = 0;  // bit q: half-edge q has zero length
+  int q = 0;
+  for (; q + 4 <= m; q += 4) {
+    const double* p0 = x[oth[q]].data();
+    const double* p1 = x[oth[q + 1]].data();
+    const double* p2 = x[oth[q + 2]].data();
+    const double* p3 = x[oth[q + 3]].data();
+    const __m256d dx = _mm256_sub_pd(_mm256_set_pd(p3[0], p2[0], p1[0], p0[0]), x0);
+    const __m256d dy = _mm256_sub_pd(_mm256_set_pd(p3[1], p2[1], p1[1], p0[1]), x1);
+    const __m256d dz = _mm256_sub_pd(_mm256_set_pd(p3[2], p2[2], p1[2], p0[2]), x2);
+    const __m256d l2 =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    const __m256d l = _mm256_sqrt_pd(l2);
+    const __m256d L0 = _mm256_loadu_pd(L + q);
+    const __m256d s = _mm256_sub_pd(l, L0);
+    __m256d c;  // per_length_of, operation for operation
+    if constexpr (K == SpringLawKind::linear) {
+      c = _mm256_div_pd(_mm256_mul_pd(kk, s), l);
+    } else if constexpr (K == SpringLawKind::cubic) {
+      const __m256d L2 = _mm256_mul_pd(L0, L0);
+      const __m256d num = _mm256_mul_pd(_mm256_mul_pd(kk, s), _mm256_add_pd(L2, _mm256_mul_pd(_mm256_mul_pd(bb, s), s)));
+      c = _mm256_div_pd(num, _mm256_mul_pd(L2, l));
+    } else {
+      static_assert(K != SpringLawKind::exponential, "evaluated once per spring instead");
+    }
+    _mm256_store_pd(FX + q, _mm256_mul_pd(c, dx));
+    _mm256_store_pd(FY + q, _mm256_mul_pd(c, dy));
+    _mm256_store_pd(FZ + q, _mm256_mul_pd(c, dz));
+    skip |= static_cast<std::uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(l, zero, _CMP_LE_OQ))) << q;
+  }
+  for (; q < m; ++q) {  // the remainder, in this (VEX-encoded) function
+    const Vec3 d = x[oth[q]] - xi;
+    const double l = d.norm();
+    if (l <= 0.0) {
+      skip |= std::uint64_t{1} << q;
+      continue;
+    }
+    const double c = per_length_of<K>(law, L[q], l);
+    FX[q] = c * d[0], FY[q] = c * d[1], FZ[q] = c * d[2];
+  }
+  return skip;
+}
+
 // The same with AVX where the processor has it (chosen at run time; linear and cubic laws):
-// first the force
-// c * (x_other - x_i) of every half-edge of a chunk, four per instruction, into buffers; then
+// first the force c * (x_other - x_i) of every half-edge of a chunk (spring_chunk_avx); then
 // their sum in spring order. Every lane does the scalar operations (d.norm() is
 // sqrt((dx^2 + dy^2) + dz^2) in Eigen; no FMA), so the result is the same to the bit.
 template <SpringLawKind K>
 __attribute__((target("avx"))) void spring_node_avx(const SpringGather& g, const SpringLaw& law, const Points& x,
                                                     int i, Vec3& acc) {
   const Vec3 xi = x[i];
-  const __m256d x0 = _mm256_set1_pd(xi[0]), x1 = _mm256_set1_pd(xi[1]), x2 = _mm256_set1_pd(xi[2]);
-  const __m256d kk = _mm256_set1_pd(law.k), bb = _mm256_set1_pd(law.beta), zero = _mm256_setzero_pd();
   alignas(32) double FX[kChunk], FY[kChunk], FZ[kChunk];
   double ax = acc[0], ay = acc[1], az = acc[2];
   for (int a = g.start[i]; a < g.start[i + 1]; a += kChunk) {
     const int m = std::min(kChunk, g.start[i + 1] - a);
-    const int* oth = g.other.data() + a;
-    const double* L = g.rest.data() + a;
-    std::uint64_t skip = 0;  // bit q: half-edge q has zero length
-    int q = 0;
-    for (; q + 4 <= m; q += 4) {
-      const double* p0 = x[oth[q]].data();
-      const double* p1 = x[oth[q + 1]].data();
-      const double* p2 = x[oth[q + 2]].data();
-      const double* p3 = x[oth[q + 3]].data();
-      const __m256d dx = _mm256_sub_pd(_mm256_set_pd(p3[0], p2[0], p1[0], p0[0]), x0);
-      const __m256d dy = _mm256_sub_pd(_mm256_set_pd(p3[1], p2[1], p1[1], p0[1]), x1);
-      const __m256d dz = _mm256_sub_pd(_mm256_set_pd(p3[2], p2[2], p1[2], p0[2]), x2);
-      const __m256d l2 =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-      const __m256d l = _mm256_sqrt_pd(l2);
-      const __m256d L0 = _mm256_loadu_pd(L + q);
-      const __m256d eps = _mm256_div_pd(_mm256_sub_pd(l, L0), L0);
-      const __m256d kL0 = _mm256_mul_pd(kk, L0);
-      __m256d t;
-      if constexpr (K == SpringLawKind::linear) {
-        t = _mm256_mul_pd(kL0, eps);
-      } else if constexpr (K == SpringLawKind::cubic) {
-        t = _mm256_mul_pd(kL0, _mm256_add_pd(eps, _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(bb, eps), eps), eps)));
-      } else {
-        static_assert(K != SpringLawKind::exponential, "evaluated once per spring instead");
-      }
-      const __m256d c = _mm256_div_pd(t, l);
-      _mm256_store_pd(FX + q, _mm256_mul_pd(c, dx));
-      _mm256_store_pd(FY + q, _mm256_mul_pd(c, dy));
-      _mm256_store_pd(FZ + q, _mm256_mul_pd(c, dz));
-      skip |= static_cast<std::uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(l, zero, _CMP_LE_OQ))) << q;
-    }
-    for (; q < m; ++q) {  // the remainder, in this (VEX-encoded) function
-      const Vec3 d = x[oth[q]] - xi;
-      const double l = d.norm();
-      if (l <= 0.0) {
-        skip |= std::uint64_t{1} << q;
-        continue;
-      }
-      const double c = tension_of<K>(law, L[q], l) / l;
-      FX[q] = c * d[0], FY[q] = c * d[1], FZ[q] = c * d[2];
-    }
-    for (q = 0; q < m; ++q) {
+    const std::uint64_t skip = spring_chunk_avx<K>(g, law, x, xi, a, m, FX, FY, FZ);
+    for (int q = 0; q < m; ++q) {
       if ((skip >> q) & 1) continue;
       ax += FX[q], ay += FY[q], az += FZ[q];
     }
   }
   acc = Vec3(ax, ay, az);
+  _mm256_zeroupper();
+}
+
+// G consecutive nodes i .. i + G - 1 of one body, each with at most kChunk half-edges: their sums
+// in spring order interleaved, 3 G independent chains of additions instead of three (the sum,
+// not the arithmetic, bounds spring_node_avx: one addition's latency per half-edge). Each
+// node's result is spring_node_avx's to the bit.
+template <SpringLawKind K, int G>
+__attribute__((target("avx"))) void spring_group_avx(const SpringGather& g, const SpringLaw& law, const Points& x,
+                                                     int i, Vec3* acc) {
+  alignas(32) double F[G][3][kChunk];
+  std::uint64_t skip[G];
+  int m[G];
+  double a[G][3];
+  int most = 0;
+  for (int n = 0; n < G; ++n) {
+    const int first = g.start[i + n];
+    m[n] = g.start[i + n + 1] - first;
+    most = std::max(most, m[n]);
+    skip[n] = spring_chunk_avx<K>(g, law, x, x[i + n], first, m[n], F[n][0], F[n][1], F[n][2]);
+    a[n][0] = acc[n][0], a[n][1] = acc[n][1], a[n][2] = acc[n][2];
+  }
+  for (int q = 0; q < most; ++q)
+    for (int n = 0; n < G; ++n)
+      if (q < m[n] && !((skip[n] >> q) & 1)) a[n][0] += F[n][0][q], a[n][1] += F[n][1][q], a[n][2] += F[n][2][q];
+  for (int n = 0; n < G; ++n) acc[n] = Vec3(a[n][0], a[n][1], a[n][2]);
   _mm256_zeroupper();
 }
 #endif
@@ -242,8 +283,7 @@ void scatter_spring_forces(const World& w, Points& f, const std::vector<std::uin
     const Vec3 d = w.x[j] - w.x[i];
     const double l = d.norm();
     if (l <= 0.0) continue;  // coincident ends: no defined direction, no force
-    const double t = spring_tension(w.body_law[s.body[k]], s.rest[k], l);
-    const Vec3 fi = (t / l) * d;  // tension pulls i toward j
+    const Vec3 fi = spring_force_per_length(w.body_law[s.body[k]], s.rest[k], l) * d;  // pulls i toward j
     f[i] += fi;
     f[j] -= fi;
   }
@@ -301,6 +341,24 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
       if (b == -2) continue;
       if (scatter_exp && b >= 0 && g.is_exponential[b]) continue;
       Vec3 acc = f[i];
+#if defined(HARNESS_X86_AVX)
+      if (avx && b >= 0 && i + kGroup <= i1 && !(scatter_exp && g.is_exponential[b]) &&
+          (w.body_law[b].kind == SpringLawKind::linear || w.body_law[b].kind == SpringLawKind::cubic)) {
+        bool group = true;
+        for (int n = 0; n < kGroup && group; ++n)
+          group = g.node_body[i + n] == b && g.start[i + n + 1] - g.start[i + n] <= kChunk;
+        if (group) {
+          const SpringLaw& law = w.body_law[b];
+          Vec3 accs[kGroup];
+          for (int n = 0; n < kGroup; ++n) accs[n] = f[i + n];
+          if (law.kind == SpringLawKind::linear) spring_group_avx<SpringLawKind::linear, kGroup>(g, law, w.x, i, accs);
+          else spring_group_avx<SpringLawKind::cubic, kGroup>(g, law, w.x, i, accs);
+          for (int n = 0; n < kGroup; ++n) f[i + n] = accs[n];
+          i += kGroup - 1;
+          continue;
+        }
+      }
+#endif
       if (b >= 0) {
         const SpringLaw& law = w.body_law[b];
         switch (law.kind) {
@@ -324,7 +382,7 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
           const Vec3 d = w.x[j] - xi;
           const double l = d.norm();
           if (l <= 0.0) continue;
-          const double c = spring_tension(w.body_law[w.springs.body[g.spring[h]]], g.rest[h], l) / l;
+          const double c = spring_force_per_length(w.body_law[w.springs.body[g.spring[h]]], g.rest[h], l);
           if (j > i && j < i1) box[g.spring[h]] = c;  // for a higher end using spring_node_once
           acc += c * d;
         }

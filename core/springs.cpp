@@ -27,6 +27,19 @@ double spring_tension(const SpringLaw& law, double L0, double l) {
   return 0.0;
 }
 
+double spring_force_per_length(const SpringLaw& law, double L0, double l) {
+  const double s = l - L0;
+  switch (law.kind) {
+    case SpringLawKind::linear: return law.k * s / l;
+    case SpringLawKind::cubic: {
+      const double L2 = L0 * L0;
+      return law.k * s * (L2 + law.beta * s * s) / (L2 * l);
+    }
+    case SpringLawKind::exponential: return spring_tension(law, L0, l) / l;
+  }
+  return 0.0;
+}
+
 double spring_energy(const SpringLaw& law, double L0, double l) {
   const double eps = (l - L0) / L0;
   const double kL2 = law.k * L0 * L0;

@@ -18,6 +18,14 @@ struct SpringLaw {
 
 // Tension (N) of a spring of rest length L0 stretched to length l.
 double spring_tension(const SpringLaw& law, double L0, double l);
+// Tension over length, t / l (N/m): end i of a spring feels c (x_j - x_i). Every force path
+// (scatter, gathers, SIMD kernels) evaluates exactly this expression, so they agree to the bit.
+// With s = l - L0 it is one division for the polynomial laws:
+//   linear       c = k s / l
+//   cubic        c = k s (L0^2 + beta s^2) / (L0^2 l)
+//   exponential  c = spring_tension / l
+// (the same numbers as t / l up to rounding: k L0 eps = k s and eps^2 = s^2 / L0^2).
+double spring_force_per_length(const SpringLaw& law, double L0, double l);
 // Stored energy (J).
 double spring_energy(const SpringLaw& law, double L0, double l);
 // Tangent stiffness df/dl (N/m) at length l.

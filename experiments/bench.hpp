@@ -47,8 +47,12 @@ struct BenchOptions {
   int min_reps = 3;
   double single_rep_seconds = 2.0;   // references slower than this are measured once
   bool references = true;            // fcl and cgal rows (when the build has them)
+  std::vector<std::string> methods;  // only these rows (names as in the CSV); empty = all
   bool progress = true;              // one line per row on stderr
 };
+
+// The method names, in the order of the rows.
+const std::vector<std::string>& bench_methods();
 
 // Runs the benchmark and writes the CSV. Returns 0.
 int run_bench(const BenchOptions& options);

@@ -132,6 +132,7 @@ int main(int argc, char** argv) {
   bench->add_option("--threads", bo.threads, "thread counts to time")->delimiter(',')->capture_default_str();
   bench->add_option("--min-time", bo.min_seconds, "seconds of repetitions per row (at least 3 reps)")->capture_default_str();
   bench->add_flag("!--no-references", bo.references, "skip the fcl and cgal rows");
+  bench->add_option("--methods", bo.methods, "only these rows (CSV method names; default all)")->delimiter(',');
 
   try {
     app.parse(argc, argv);
@@ -152,6 +153,9 @@ int main(int argc, char** argv) {
       for (int t : bo.threads)
         if (t < 1) throw InputError("--threads", "must be >= 1");
       if (!(bo.min_seconds >= 0.0)) throw InputError("--min-time", "must be >= 0");
+      for (const std::string& m : bo.methods)
+        if (std::find(bench_methods().begin(), bench_methods().end(), m) == bench_methods().end())
+          throw InputError("--methods", "unknown method '" + m + "'");
       return run_bench(bo);
     }
     if (app.got_subcommand("sweep")) {

@@ -163,9 +163,9 @@ def table(rows, out_dir, csv_path):
         target = ">= 1.6" if not m.startswith("stream") else "(limit)"
         row("speed-up, 2 threads over 1: %s" % m, "10^6", ratio(us(rows, m, 1000000, 1), us(rows, m, 1000000, 2)),
             target, (lambda v: v >= 1.6) if not m.startswith("stream") else None)
-    lines += ["", "Grid memory (VoxelData capacity, the `bytes` column) against the region it covers: 5 bytes "
-              "per voxel of the region (list head, occupancy mark) plus 16 per host node (next, voxel, "
-              "occupied-list capacity and scratch):", "",
+    lines += ["", "Grid memory (VoxelData capacity, the `bytes` column) against the region it covers: 4 bytes "
+              "per voxel of the region's capacity (list head) plus 8 per listed host node (next, voxel) and 8 "
+              "per 4096 of them (a chunk's voxel range); nothing per guest node or per node of other bodies:", "",
               "| nodes per body | voxels in region | grid bytes | bytes per voxel | bytes per host node |",
               "|---|---|---|---|---|"]
     for n in sizes:

@@ -30,6 +30,8 @@ class CollisionDetector {
   virtual void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) = 0;
   // Up to k host nodes (global indices) nearest to the guest node of contact c, searched in the
   // detector's neighbourhood of the contact, nearest first. Returns how many were written.
+  // nearest_hosts() and contact_direction() are called from several threads at once (the
+  // eliminators' parallel loops): they must not modify the detector.
   virtual int nearest_hosts(const World& w, const Contact& c, int k, int* out) const = 0;
   // Exact detectors know the direction that pushes a contact's guest node out of the host
   // (unit vector, written to n); the eliminators then use it instead of their geometric rule

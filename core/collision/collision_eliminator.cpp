@@ -2,6 +2,8 @@
 
 #include "core/collision/eliminators.hpp"
 
+#include "core/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -52,7 +54,12 @@ double auto_contact_forces(const World& w, const std::vector<Push>& pushes, doub
     for (int k = 0; k < p.count; ++k) ++share[p.hosts[k]];
   double largest = 0.0;
   if (dt > 0.0) {
-    for (std::size_t i = 0; i < pushes.size(); ++i) {
+    // Each magnitude depends on its own push and on `share` alone: parallel; the largest is a
+    // max, exact in any order.
+    const std::size_t n = pushes.size();
+    const int T = threads_for(n, 8192);
+#pragma omp parallel for num_threads(T) schedule(static) reduction(max : largest)
+    for (std::size_t i = 0; i < n; ++i) {
       const Push& p = pushes[i];
       if (p.count == 0) continue;
       Vec3 dv = velocity(w, p.guest), da = acceleration(w, p.guest);

@@ -1,5 +1,7 @@
 #include "core/collision/eliminators.hpp"
 
+#include "core/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -71,27 +73,46 @@ bool plane_normal(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& hi
 void LineEliminator::pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
                             const std::vector<Contact>& contacts, std::vector<Push>& out) const {
   out.resize(contacts.size());
-  // The host centre is needed only for degenerate contacts: computed on first need.
+  // Contacts are independent: parallel chunks, each push written in its own slot. A contact whose
+  // guest and host nodes coincide needs the host centre: its chunk is flagged and the contact is
+  // finished afterwards, on one thread (the centre computed once, and only then).
+  const std::size_t n = contacts.size();
+  const int T = threads_for(n, 4096);
+  const int C = T == 1 ? 1 : std::min(64, 4 * T);
+  bool degenerate[64] = {};
+#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+  for (int part = 0; part < C; ++part) {
+    std::size_t b, e;
+    split_range(n, C, part, b, e);
+    for (std::size_t i = b; i < e; ++i) {
+      const Contact& c = contacts[i];
+      Push& p = out[i];
+      p = Push{};
+      p.guest = c.guest;
+      int h = -1;
+      if (det.nearest_hosts(w, c, 1, &h) < 1) continue;
+      p.count = 1;
+      p.hosts[0] = h;
+      p.weight[0] = 1.0;
+      if (det.contact_direction(w, c, p.n)) continue;  // exact detectors: their outward direction
+      p.n = unit_or_zero(w.x[c.guest] - w.x[h]);
+      degenerate[part] = degenerate[part] || p.n.squaredNorm() == 0.0;
+    }
+  }
   bool have_center = false;
   Vec3 center = Vec3::Zero();
-  for (std::size_t i = 0; i < contacts.size(); ++i) {
-    const Contact& c = contacts[i];
-    Push& p = out[i];
-    p = Push{};
-    p.guest = c.guest;
-    int h = -1;
-    if (det.nearest_hosts(w, c, 1, &h) < 1) continue;
-    p.count = 1;
-    p.hosts[0] = h;
-    p.weight[0] = 1.0;
-    if (det.contact_direction(w, c, p.n)) continue;  // exact detectors: their outward direction
-    p.n = unit_or_zero(w.x[c.guest] - w.x[h]);
-    if (p.n.squaredNorm() == 0.0) {
-      if (!have_center) {
-        center = host_center_of(w, spec.host);
-        have_center = true;
-      }
-      p.n = line_direction(w, spec.host, c.guest, h, center);
+  for (int part = 0; part < C; ++part) {
+    if (!degenerate[part]) continue;
+    if (!have_center) {
+      center = host_center_of(w, spec.host);
+      have_center = true;
+    }
+    std::size_t b, e;
+    split_range(n, C, part, b, e);
+    for (std::size_t i = b; i < e; ++i) {
+      Push& p = out[i];
+      if (p.count == 1 && p.n.squaredNorm() == 0.0)
+        p.n = line_direction(w, spec.host, contacts[i].guest, p.hosts[0], center);
     }
   }
 }
@@ -101,7 +122,11 @@ void PlaneEliminator::pushes(const World& w, const ContactSpec& spec, const Coll
   out.resize(contacts.size());
   if (contacts.empty()) return;
   const Vec3 center = host_center_of(w, spec.host);
-  for (std::size_t i = 0; i < contacts.size(); ++i) {
+  const std::size_t n = contacts.size();
+  const int T = threads_for(n, 2048);
+  // Contacts are independent: each push is written in its own slot, whatever the thread.
+#pragma omp parallel for num_threads(T) schedule(dynamic, 256)
+  for (std::size_t i = 0; i < n; ++i) {
     const Contact& c = contacts[i];
     Push& p = out[i];
     p = Push{};

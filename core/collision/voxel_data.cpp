@@ -191,6 +191,52 @@ __attribute__((target("avx"))) void bounds_avx(const Vec3* x, std::size_t b, std
 
 }  // namespace
 
+namespace {
+
+// lo = smallest c[k] as unsigned (so -1 only when every c[k] is -1), hi = largest c[k].
+void cell_range_scalar(const int* c, std::size_t n, unsigned& lo, int& hi) {
+  unsigned l = ~0u;
+  int h = -1;
+  for (std::size_t k = 0; k < n; ++k) {
+    l = std::min(l, static_cast<unsigned>(c[k]));
+    h = std::max(h, c[k]);
+  }
+  lo = l, hi = h;
+}
+
+#if defined(HARNESS_X86_AVX)
+bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+
+__attribute__((target("avx2"))) void cell_range_avx2(const int* c, std::size_t n, unsigned& lo, int& hi) {
+  __m256i l = _mm256_set1_epi32(-1), h = _mm256_set1_epi32(-1);
+  std::size_t k = 0;
+  for (; k + 8 <= n; k += 8) {
+    const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + k));
+    l = _mm256_min_epu32(l, v);
+    h = _mm256_max_epi32(h, v);
+  }
+  alignas(32) unsigned L[8];
+  alignas(32) int H[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(L), l);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(H), h);
+  _mm256_zeroupper();
+  cell_range_scalar(c + k, n - k, lo, hi);
+  for (int j = 0; j < 8; ++j) lo = std::min(lo, L[j]), hi = std::max(hi, H[j]);
+}
+#endif
+
+void cell_range(const int* c, std::size_t n, unsigned& lo, int& hi) {
+#if defined(HARNESS_X86_AVX)
+  if (cpu_has_avx2()) return cell_range_avx2(c, n, lo, hi);
+#endif
+  cell_range_scalar(c, n, lo, hi);
+}
+
+}  // namespace
+
 void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi) {
   const double inf = std::numeric_limits<double>::infinity();
   const int n = std::max(0, end - begin);
@@ -223,87 +269,134 @@ void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi) {
 }
 
 long long VoxelData::bytes() const {
-  return static_cast<long long>(
-      (head_.capacity() + next_.capacity() + node_cell_.capacity() + occupied_.capacity() +
-       occ_scratch_.capacity()) * sizeof(int) +
-      mark_.capacity());
+  return static_cast<long long>((head_.capacity() + next_.capacity() + node_cell_.capacity() +
+                                 chunk_lo_.capacity() + chunk_hi_.capacity()) * sizeof(int));
 }
 
 void VoxelData::allocate(long long max_voxels, int max_nodes) {
-  occupied_.clear();
   listed_ = 0;
+  opened_ = 0;
   count_ = 0;
-  marked_ = false;
   head_.assign(static_cast<std::size_t>(max_voxels), -1);
-  mark_.assign(static_cast<std::size_t>(max_voxels), 0);
   next_.assign(static_cast<std::size_t>(max_nodes), -1);
   node_cell_.assign(static_cast<std::size_t>(max_nodes), -1);
-  // Every listed node can open at most one voxel.
-  occupied_.reserve(static_cast<std::size_t>(max_nodes));
-  occ_scratch_.assign(static_cast<std::size_t>(max_nodes), 0);
+  const std::size_t chunks = (static_cast<std::size_t>(max_nodes) + kChunk - 1) / kChunk;
+  chunk_lo_.assign(chunks, ~0u);
+  chunk_hi_.assign(chunks, -1);
 }
 
 void VoxelData::fill(const GridGeometry& g, const Points& x, int node_begin, int node_end) {
-  prepare(g, x, node_begin, node_end, false);
+  prepare(g, x, node_begin, node_end);
   link();
 }
 
-void VoxelData::prepare(const GridGeometry& g, const Points& x, int node_begin, int node_end, bool marks) {
-  if (g.num_voxels() > capacity() || node_end - node_begin > static_cast<int>(next_.size()))
-    throw std::logic_error("VoxelData::fill: grid exceeds the allocated capacity");
-  // Clear by the previous occupancy list: slots are linear indices, valid whatever the layout.
-  {
-    const std::size_t no = occupied_.size();
-    const int T = threads_for(no, 32768);
-    const bool marked = marked_;
+void VoxelData::clear() {
+  // Every slot the last fill can have set holds a voxel of its layout (geom_) that one of its
+  // nodes lies in: all slots of that layout when they are few against the nodes (one sequential
+  // pass), else the nodes' own voxels (one pass over the nodes, O(nodes) however sparse).
+  const std::size_t n = static_cast<std::size_t>(count_);
+  if (n == 0) return;
+  const long long nv = geom_.num_voxels();
+  if (nv <= 8 * static_cast<long long>(n)) {
+    const std::size_t V = static_cast<std::size_t>(nv);
+    const int T = threads_for(V, 65536);
+#pragma omp parallel for num_threads(T) schedule(static, 1)
+    for (int t = 0; t < T; ++t) {
+      std::size_t b, e;
+      split_range(V, T, t, b, e);
+      std::fill(head_.begin() + static_cast<std::ptrdiff_t>(b), head_.begin() + static_cast<std::ptrdiff_t>(e), -1);
+    }
+  } else {
+    const int T = threads_for(n, 32768);
+    const int* cell = node_cell_.data();
+    // Several threads may clear one voxel, always to the same value: relaxed atomic stores.
 #pragma omp parallel for num_threads(T) schedule(static)
-    for (std::size_t i = 0; i < no; ++i) {
-      head_[occupied_[i]] = -1;
-      if (marked) mark_[occupied_[i]] = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const int c = cell[k];
+      if (c < 0) continue;
+      __atomic_store_n(head_.data() + c, -1, __ATOMIC_RELAXED);
     }
   }
-  marked_ = marks;
-  occupied_.clear();
+  count_ = 0;
   listed_ = 0;
+  opened_ = 0;
+}
+
+void VoxelData::prepare(const GridGeometry& g, const Points& x, int node_begin, int node_end) {
+  if (g.num_voxels() > capacity() || node_end - node_begin > static_cast<int>(next_.size()))
+    throw std::logic_error("VoxelData::fill: grid exceeds the allocated capacity");
+  clear();
   geom_ = g;
   base_ = node_begin;
   count_ = node_end - node_begin;
   const VoxelIndexer idx(g);
   const std::size_t n = static_cast<std::size_t>(count_);
   const int T = g.num_voxels() > 0 ? threads_for(n, 16384) : 1;
-  std::uint8_t* mark = mark_.data();
-  const int P = T == 1 ? 1 : 4 * T;  // dynamic parts: a descheduled thread delays one small part
-#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
-  for (int t = 0; t < P; ++t) {
-    std::size_t b, e;
-    split_range(n, P, t, b, e);
-    int* cell = node_cell_.data();
+  const int K = static_cast<int>((n + kChunk - 1) / kChunk);
+  int* cell = node_cell_.data();
+  // Chunks handed out dynamically: a thread the system deschedules delays one small chunk.
+#pragma omp parallel for num_threads(T) schedule(dynamic, 4)
+  for (int c = 0; c < K; ++c) {
+    const std::size_t b = static_cast<std::size_t>(c) * kChunk, e = std::min(n, b + kChunk);
     idx(x.data() + node_begin + b, e - b, cell + b);
-    // Several threads may mark one voxel, always with 1: relaxed atomic stores (plain moves).
-    if (marks)
-      for (std::size_t k = b; k < e; ++k)
-        if (cell[k] >= 0) __atomic_store_n(mark + cell[k], std::uint8_t{1}, __ATOMIC_RELAXED);
+    // The chunk's smallest and largest voxel (as unsigned, -1 is the largest: never the
+    // smallest unless every node of the chunk is outside), for link_part to skip the chunk.
+    cell_range(cell + b, e - b, chunk_lo_[static_cast<std::size_t>(c)], chunk_hi_[static_cast<std::size_t>(c)]);
+  }
+}
+
+int VoxelData::link_parts() const {
+  // Each part reads every node's voxel once: worth it only for many nodes.
+  return geom_.num_voxels() > 0 ? std::min(kMaxLinkParts, threads_for(static_cast<std::size_t>(count_), 65536))
+                                : 1;
+}
+
+void VoxelData::link_part(int part, int parts) {
+  // Part p owns the voxels [p V / parts, (p + 1) V / parts) and visits the nodes in decreasing
+  // order: pushing onto the front leaves each list in increasing order, whatever `parts` is.
+  // Chunks of nodes (prepare) with no voxel of the part are skipped: nodes outside the region,
+  // and, when nearby nodes have nearby indices (lattices, layered meshes), the other parts'.
+  // (A single backward pass computing the voxels too was twice as slow at 10^6 nodes: backward
+  // streams over x defeat the prefetcher; node_cell_ is 4 bytes a node.)
+  std::size_t vb, ve;
+  split_range(static_cast<std::size_t>(geom_.num_voxels()), parts, part, vb, ve);
+  const unsigned lo = static_cast<unsigned>(vb), len = static_cast<unsigned>(ve - vb);
+  const int* cell = node_cell_.data();
+  int* head = head_.data();
+  int* next = next_.data();
+  int listed = 0, opened = 0;
+  const int K = static_cast<int>((static_cast<std::size_t>(count_) + kChunk - 1) / kChunk);
+  for (int c = K - 1; c >= 0; --c) {
+    const std::size_t ci = static_cast<std::size_t>(c);
+    if (chunk_hi_[ci] < 0 || chunk_lo_[ci] >= ve || static_cast<std::size_t>(chunk_hi_[ci]) < vb) continue;
+    const int b = c * static_cast<int>(kChunk);
+    for (int k = std::min(count_, b + static_cast<int>(kChunk)) - 1; k >= b; --k) {
+      const int v = cell[k];
+      if (static_cast<unsigned>(v) - lo >= len) continue;  // -1 (outside the grid) too
+      const int h = head[v];
+      opened += h < 0;
+      next[k] = h;
+      head[v] = k;
+      ++listed;
+    }
+  }
+  part_listed_[part] = listed;
+  part_opened_[part] = opened;
+}
+
+void VoxelData::link_done(int parts) {
+  listed_ = opened_ = 0;
+  for (int p = 0; p < parts; ++p) {
+    listed_ += part_listed_[p];
+    opened_ += part_opened_[p];
   }
 }
 
 void VoxelData::link() {
-  // Decreasing node order: pushing onto the front leaves each list in increasing order. (A
-  // single backward pass computing the voxels too was twice as slow at 10^6 nodes: backward
-  // streams over x defeat the prefetcher; node_cell_ is 4 bytes a node.)
-  int* occ = occ_scratch_.data();
-  int no = 0, listed = 0;
-  for (int k = count_ - 1; k >= 0; --k) {
-    const int c = node_cell_[k];
-    if (c < 0) continue;
-    const int h = head_[c];
-    occ[no] = c;  // kept only when the voxel was empty (branch-free)
-    no += h < 0;
-    next_[k] = h;
-    head_[c] = k;
-    ++listed;
-  }
-  listed_ = listed;
-  occupied_.assign(occ, occ + no);  // within reserved capacity: no allocation
+  const int P = link_parts();
+#pragma omp parallel for num_threads(P) schedule(static, 1)
+  for (int p = 0; p < P; ++p) link_part(p, P);
+  link_done(P);
 }
 
 }  // namespace harness

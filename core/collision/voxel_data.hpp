@@ -15,13 +15,15 @@
 // Storage (rebuilt every step, no heap allocation after allocate()): per voxel the head of a
 // linked list of the host nodes in it (4 bytes per voxel), threaded through a per-node `next`
 // array. A fill computes every node's voxel (vectorised, VoxelIndexer) and pushes the nodes onto
-// their lists in decreasing index order, so each list comes out in increasing index order. Only
-// the voxels occupied in the last fill are listed and cleared again, so a fill costs O(host
-// nodes), not O(voxels), and huge sparse grids (small voxels) stay cheap per step.
+// their lists in decreasing index order, so each list comes out in increasing index order. A
+// fill empties only what the last one set: the voxels of its nodes (O(nodes), so huge sparse
+// grids of small voxels stay cheap per step), or the whole last layout when that is no larger
+// than a few slots per node (one sequential pass).
 //
-// With threads (core/parallel.hpp) the voxels are computed and marked in parallel chunks; the
-// lists are always built by one thread (linking is a pointer chase no partition speeds up),
-// which VoxelDetector overlaps with the guest lookup. The lists never depend on the thread count.
+// With threads (core/parallel.hpp) the voxels are computed in parallel chunks of nodes and the
+// lists are linked in parallel parts, each part owning a range of voxels and visiting the nodes
+// in decreasing order (skipping chunks of nodes with no voxel in its range), so each list is
+// built by one thread exactly as with one thread. The lists never depend on the thread count.
 #pragma once
 
 #include "core/types.hpp"
@@ -155,13 +157,11 @@ class VoxelData {
   // out. g.num_voxels() must not exceed the allocated capacity, nor node_end - node_begin the
   // allocated node count. The same as prepare() then link().
   void fill(const GridGeometry& g, const Points& x, int node_begin, int node_end);
-  // The two halves of fill(). prepare() computes every node's voxel (in parallel) and, with
-  // `marks`, marks the occupied voxels; link() then builds the lists, on the calling thread.
-  // Between the two, marked() already answers "is this voxel occupied", so a lookup can run
-  // beside link() (VoxelDetector).
-  void prepare(const GridGeometry& g, const Points& x, int node_begin, int node_end, bool marks);
+  // The two halves of fill(): prepare() empties the last fill's voxels and computes every
+  // node's voxel (in parallel chunks); link() then builds the lists (in parallel parts, each
+  // owning a range of voxels).
+  void prepare(const GridGeometry& g, const Points& x, int node_begin, int node_end);
   void link();
-  bool marked(int cell) const { return mark_[cell] != 0; }
 
   const GridGeometry& geometry() const { return geom_; }
   long long capacity() const { return static_cast<long long>(head_.size()); }
@@ -169,23 +169,28 @@ class VoxelData {
   long long bytes() const;
   bool occupied(int cell) const { return head_[cell] >= 0; }
   NodeList nodes(int cell) const { return NodeList(next_.data(), base_, head_[cell]); }
-  // Linear indices of the non-empty voxels, each once, in decreasing order of their highest node.
-  const std::vector<int>& occupied_voxels() const { return occupied_; }
-  // Nodes listed in the last fill (those inside the region).
+  // Non-empty voxels and nodes listed (those inside the region) in the last fill.
+  int occupied_count() const { return opened_; }
   int listed_nodes() const { return listed_; }
 
  private:
+  static constexpr int kMaxLinkParts = 64;
+  static constexpr std::size_t kChunk = 4096;  // nodes per chunk of prepare()
+  void clear();  // empties every voxel the last fill set
+  int link_parts() const;
+  void link_part(int part, int parts);  // concurrently for every part < parts, then link_done
+  void link_done(int parts);
+
   GridGeometry geom_;
   int base_ = 0;                // node_begin of the last fill: list entries are node - base_
   int count_ = 0;               // node_end - node_begin of the last prepare()
   std::vector<int> head_;       // per voxel of the capacity: first node (local index), -1 empty
-  std::vector<std::uint8_t> mark_;  // per voxel of the capacity: 1 = occupied (from prepare)
-  bool marked_ = false;         // the last prepare() set marks (cleared with the lists)
   std::vector<int> next_;       // per listed node: the next node of its voxel, -1 = last
   std::vector<int> node_cell_;  // voxel of each node of the range in the last fill, -1 = outside
-  std::vector<int> occupied_;   // voxels with a list (capacity: every node may open one)
-  std::vector<int> occ_scratch_;  // link(): voxels as opened (branch-free stores), then copied
-  int listed_ = 0;
+  std::vector<unsigned> chunk_lo_;  // per chunk of kChunk nodes: smallest voxel (~0u: none)
+  std::vector<int> chunk_hi_;       // per chunk: largest voxel (-1: none)
+  int listed_ = 0, opened_ = 0;
+  int part_listed_[kMaxLinkParts] = {}, part_opened_[kMaxLinkParts] = {};
 };
 
 }  // namespace harness

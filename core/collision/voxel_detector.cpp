@@ -34,38 +34,31 @@ void VoxelDetector::detect(const World& w, const ContactSpec&, std::vector<Conta
   const GridGeometry g = init_.update(w, grid_);
   const Body& gb = w.bodies[spec_.guest];
   const VoxelIndexer idx(g);
+  grid_.fill(g, w.x, fill_begin_, fill_end_);  // in parallel parts when the grid is large
+  if (grid_.listed_nodes() == 0) return;
   const std::size_t n = static_cast<std::size_t>(gb.size());
-  const int T = threads_for(n + static_cast<std::size_t>(fill_end_ - fill_begin_), 16384);
+  const int T = threads_for(n, 16384);
+  auto occupied = [&](int cell) { return grid_.occupied(cell); };
   if (T == 1) {
-    grid_.fill(g, w.x, fill_begin_, fill_end_);
-    if (grid_.listed_nodes() == 0) return;
-    lookup(idx, w.x, gb.begin, gb.end, [&](int i, int cell) { out.push_back(Contact{i, cell}); },
-           [&](int cell) { return grid_.occupied(cell); });
+    lookup(idx, w.x, gb.begin, gb.end, [&](int i, int cell) { out.push_back(Contact{i, cell}); }, occupied);
     return;
   }
-  // Fused fill and lookup: once the host nodes' voxels are marked (in parallel), one thread
-  // links the lists while the others look the guest nodes up against the marks. Each lookup
-  // chunk writes its contacts into its own part of the scratch list; the parts are then appended
-  // in chunk order, so the contacts are those of one thread, in guest node order.
-  grid_.prepare(g, w.x, fill_begin_, fill_end_, true);
+  // Parallel lookup: each chunk writes its contacts into its own part of the scratch list; the
+  // parts are then appended in chunk order, so the contacts are those of one thread, in guest
+  // node order. Chunks are handed out dynamically, several per thread, so that a thread the
+  // system deschedules delays one small chunk.
   if (scratch_.size() < n) scratch_.resize(n);  // once, on the first parallel detection
-  // Task 0 links (handed out first), tasks 1..L look up chunks; dynamic, several chunks per
-  // thread, so that a thread the system deschedules delays one small chunk.
-  const int L = std::min(63, 4 * (T - 1));
+  const int L = std::min(64, 4 * T);
   int found[64] = {};
 #pragma omp parallel for num_threads(T) schedule(dynamic, 1)
-  for (int t = 0; t <= L; ++t) {
-    if (t == 0) {
-      grid_.link();
-      continue;
-    }
+  for (int c = 0; c < L; ++c) {
     std::size_t b, e;
-    split_range(n, L, t - 1, b, e);
+    split_range(n, L, c, b, e);
     Contact* dst = scratch_.data() + b;
     int m = 0;
     lookup(idx, w.x, gb.begin + static_cast<int>(b), gb.begin + static_cast<int>(e),
-           [&](int i, int cell) { dst[m++] = Contact{i, cell}; }, [&](int cell) { return grid_.marked(cell); });
-    found[t - 1] = m;
+           [&](int i, int cell) { dst[m++] = Contact{i, cell}; }, occupied);
+    found[c] = m;
   }
   for (int c = 0; c < L; ++c) {
     std::size_t b, e;

@@ -9,10 +9,10 @@
 // detect() uses the spec given to initialize() (the argument is the same pair's spec).
 // No heap allocation per step after initialize(), except when the host outgrows the region
 // (a rebuild) and once when the thread count is first raised; `out` must have capacity for
-// every guest node to avoid growing it. With several threads (core/parallel.hpp) the lists are
-// linked while the guest nodes are looked up (against the voxels VoxelData::prepare() marked),
-// in chunks whose contacts are appended in chunk order: the contacts are the same, in the same
-// order, for any thread count.
+// every guest node to avoid growing it. With several threads (core/parallel.hpp) the grid is
+// filled in parallel (VoxelData), then the guest nodes are looked up in chunks whose contacts
+// are appended in chunk order: the contacts are the same, in the same order, for any thread
+// count.
 #pragma once
 
 #include "core/collision/collision_detector.hpp"

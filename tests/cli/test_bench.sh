@@ -25,6 +25,13 @@ awk -F, '$1=="voxel_detect" && $5 <= 0 {exit 1}' "$T/bench.csv" && ok || bad "vo
 # bad input: exit 2, one line
 "$H" bench --out "$T/x.csv" --sizes 0 2>"$T/err"; rc=$?
 [[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && ok || bad "bad --sizes: exit $rc"
+"$H" bench --out "$T/x.csv" --methods voxel_detect,nope 2>"$T/err"; rc=$?
+[[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && grep -q "nope" "$T/err" && ok || bad "bad --methods: exit $rc"
+# --methods keeps only the rows asked for
+"$H" bench --sizes 1000 --threads 1 --min-time 0 --methods stream_positions,voxel_detect --out "$T/m.csv" 2>/dev/null \
+  && ok || bad "bench --methods ran"
+[[ $(tail -n +2 "$T/m.csv" | cut -d, -f1 | sort | tr '\n' ' ') == "stream_positions voxel_detect " ]] && ok \
+  || bad "--methods rows: $(tail -n +2 "$T/m.csv" | cut -d, -f1 | tr '\n' ' ')"
 
 # `harness run --threads N`: the same state hash with 1 and 2 threads; a bad count is bad input.
 for t in 1 2; do

@@ -30,6 +30,20 @@ TEST_CASE("spring tension is dE/dl for every law (central differences)", "[sprin
   }
 }
 
+TEST_CASE("force per length is the tension over the length", "[springs]") {
+  // The force paths use t / l in a one-division form: the same number up to a few roundings.
+  const double L0 = 1.3e-3;
+  for (SpringLawKind kind : {SpringLawKind::linear, SpringLawKind::cubic, SpringLawKind::exponential})
+    for (double beta : {0.0, 0.5, 2.0, 10.0})
+      for (double strain : {-0.9, -0.3, -1e-9, 0.0, 1e-9, 0.01, 0.4, 3.0}) {
+        const SpringLaw law{kind, 100.0, beta};
+        const double l = L0 * (1.0 + strain);
+        const double ref = spring_tension(law, L0, l) / l;
+        INFO(to_string(kind) << " beta " << beta << " strain " << strain);
+        CHECK(std::fabs(spring_force_per_length(law, L0, l) - ref) <= 1e-14 * std::fabs(ref));
+      }
+}
+
 TEST_CASE("spring laws match DESIGN.md formulas", "[springs]") {
   const double L0 = 0.02, l = 0.025, k = 50.0, eps = 0.25;
   CHECK(spring_tension({SpringLawKind::linear, k, 0.0}, L0, l) == Approx(k * L0 * eps));
