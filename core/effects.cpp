@@ -104,10 +104,6 @@ struct SpringGather {
 
 // Spring laws inlined for the hot loop: the very expressions of spring_force_per_length
 // (springs.cpp), so the results are bit-identical (tests/core/test_parallel.cpp compares them).
-inline double expm1_over_x_inline(double x) {
-  if (std::fabs(x) < 1e-8) return 1.0 + 0.5 * x;
-  return std::expm1(x) / x;
-}
 template <SpringLawKind K>
 inline double per_length_of(const SpringLaw& law, double L0, double l) {
   if constexpr (K == SpringLawKind::linear) return law.k * (l - L0) / l;
@@ -116,8 +112,9 @@ inline double per_length_of(const SpringLaw& law, double L0, double l) {
     return law.k * s * (L2 + law.beta * s * s) / (L2 * l);
   }
   if constexpr (K == SpringLawKind::exponential) {
-    const double eps = (l - L0) / L0;
-    return law.k * L0 * eps * expm1_over_x_inline(law.beta * eps) / l;
+    const double s = l - L0, x = law.beta * (s / L0);
+    if (std::fabs(x) < 1e-8) return law.k * s * (1.0 + 0.5 * x) / l;
+    return law.k * L0 * std::expm1(x) / (law.beta * l);
   }
 }
 
@@ -274,18 +271,34 @@ __attribute__((target("avx"))) void spring_group_avx(const SpringGather& g, cons
 // The serial scatter itself (f[i] += F, f[j] -= F in spring order), for the springs of the
 // bodies `only` selects (all when null): with one thread it is the fastest form for the
 // exponential law, whose expm1 costs more than anything a gather saves.
-void scatter_spring_forces(const World& w, Points& f, const std::vector<std::uint8_t>* only) {
+template <SpringLawKind K>
+void scatter_run(const World& w, const SpringLaw& law, std::size_t k0, std::size_t k1, Points& f) {
   const Springs& s = w.springs;
-  const std::size_t n = s.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    if (only && !(*only)[s.body[k]]) continue;
+  for (std::size_t k = k0; k < k1; ++k) {
     const int i = s.ends[k][0], j = s.ends[k][1];
     const Vec3 d = w.x[j] - w.x[i];
     const double l = d.norm();
     if (l <= 0.0) continue;  // coincident ends: no defined direction, no force
-    const Vec3 fi = spring_force_per_length(w.body_law[s.body[k]], s.rest[k], l) * d;  // pulls i toward j
+    const Vec3 fi = per_length_of<K>(law, s.rest[k], l) * d;  // pulls i toward j
     f[i] += fi;
     f[j] -= fi;
+  }
+}
+
+void scatter_spring_forces(const World& w, Points& f, const std::vector<std::uint8_t>* only) {
+  // Runs of consecutive springs of one body, each with its law inlined; spring order kept.
+  const Springs& s = w.springs;
+  const std::size_t n = s.size();
+  for (std::size_t k0 = 0, k1; k0 < n; k0 = k1) {
+    const int b = s.body[k0];
+    for (k1 = k0 + 1; k1 < n && s.body[k1] == b;) ++k1;
+    if (only && !(*only)[b]) continue;
+    const SpringLaw& law = w.body_law[b];
+    switch (law.kind) {
+      case SpringLawKind::linear: scatter_run<SpringLawKind::linear>(w, law, k0, k1, f); break;
+      case SpringLawKind::cubic: scatter_run<SpringLawKind::cubic>(w, law, k0, k1, f); break;
+      case SpringLawKind::exponential: scatter_run<SpringLawKind::exponential>(w, law, k0, k1, f); break;
+    }
   }
 }
 

@@ -35,7 +35,11 @@ double spring_force_per_length(const SpringLaw& law, double L0, double l) {
       const double L2 = L0 * L0;
       return law.k * s * (L2 + law.beta * s * s) / (L2 * l);
     }
-    case SpringLawKind::exponential: return spring_tension(law, L0, l) / l;
+    case SpringLawKind::exponential: {
+      const double x = law.beta * (s / L0);
+      if (std::fabs(x) < 1e-8) return law.k * s * (1.0 + 0.5 * x) / l;
+      return law.k * L0 * std::expm1(x) / (law.beta * l);
+    }
   }
   return 0.0;
 }

@@ -20,11 +20,13 @@ struct SpringLaw {
 double spring_tension(const SpringLaw& law, double L0, double l);
 // Tension over length, t / l (N/m): end i of a spring feels c (x_j - x_i). Every force path
 // (scatter, gathers, SIMD kernels) evaluates exactly this expression, so they agree to the bit.
-// With s = l - L0 it is one division for the polynomial laws:
+// With s = l - L0 and x = beta s / L0 it is one division for the polynomial laws, two for the
+// exponential:
 //   linear       c = k s / l
 //   cubic        c = k s (L0^2 + beta s^2) / (L0^2 l)
-//   exponential  c = spring_tension / l
-// (the same numbers as t / l up to rounding: k L0 eps = k s and eps^2 = s^2 / L0^2).
+//   exponential  c = k L0 expm1(x) / (beta l), or k s (1 + x/2) / l when |x| < 1e-8
+// (the same numbers as t / l up to rounding: k L0 eps = k s, eps^2 = s^2 / L0^2 and
+// k L0 eps expm1(x)/x = k L0 expm1(x) / beta).
 double spring_force_per_length(const SpringLaw& law, double L0, double l);
 // Stored energy (J).
 double spring_energy(const SpringLaw& law, double L0, double l);

@@ -88,26 +88,40 @@ struct Row {
   std::string note;
 };
 
-// Median time of fn (one step) in microseconds. The first call is a warm-up unless it took
-// longer than `single` seconds, in which case it is the measurement (reps = 1).
-double time_step(const std::function<void()>& fn, const BenchOptions& o, double single, int& reps) {
-  auto t0 = Clock::now();
-  fn();
-  const double first = seconds_since(t0);
-  if (first > single) {
-    reps = 1;
-    return first * 1e6;
-  }
-  std::vector<double> t;
-  const auto start = Clock::now();
-  while (static_cast<int>(t.size()) < o.min_reps || seconds_since(start) < o.min_seconds) {
-    t0 = Clock::now();
+// Median times of fn (one step) in microseconds, one per thread count of `counts`, the counts
+// taking turns repetition by repetition: a slow phase of the shared machine then hits every count
+// alike, and the speed-ups (ratios of these medians) hold. One warm-up call per count; when a
+// first call takes longer than `single` seconds, the first calls are the measurements (reps = 1).
+std::vector<double> time_steps(const std::function<void()>& fn, const std::vector<int>& counts, const BenchOptions& o,
+                               double single, std::vector<int>& reps) {
+  const std::size_t K = counts.size();
+  std::vector<std::vector<double>> t(K);
+  std::vector<double> out(K);
+  reps.assign(K, 1);
+  bool slow = false;
+  for (std::size_t c = 0; c < K; ++c) {
+    set_threads(counts[c]);
+    const auto t0 = Clock::now();
     fn();
-    t.push_back(seconds_since(t0) * 1e6);
-    if (t.size() >= 200000) break;
+    out[c] = seconds_since(t0) * 1e6;
+    slow = slow || out[c] > single * 1e6;
   }
-  reps = static_cast<int>(t.size());
-  return median_of(t);
+  if (slow) return out;
+  const auto start = Clock::now();
+  while (static_cast<int>(t[0].size()) < o.min_reps || seconds_since(start) < o.min_seconds * static_cast<double>(K)) {
+    for (std::size_t c = 0; c < K; ++c) {
+      set_threads(counts[c]);
+      const auto t0 = Clock::now();
+      fn();
+      t[c].push_back(seconds_since(t0) * 1e6);
+    }
+    if (t[0].size() >= 200000) break;
+  }
+  for (std::size_t c = 0; c < K; ++c) {
+    reps[c] = static_cast<int>(t[c].size());
+    out[c] = median_of(t[c]);
+  }
+  return out;
 }
 
 // Streaming passes (bench.hpp). Bits are summed as integers: exact, and the compiler cannot drop
@@ -239,37 +253,40 @@ int run_bench(const BenchOptions& opt) {
         std::fprintf(stderr, "bench: %-22s %8lld nodes %d thr %14.1f us/step (%d reps)\n", r.method.c_str(),
                      r.nodes, r.threads, r.us, r.reps);
     };
-    auto measure = [&](const std::string& method, int t, const std::function<void()>& fn, long long bytes,
-                       const std::string& note, double single = 1e30) {
+    // One row per thread count of `counts` (time_steps: the counts take turns).
+    auto measure = [&](const std::string& method, const std::vector<int>& counts, const std::function<void()>& fn,
+                       long long bytes, const std::string& note, double single = 1e30) {
       if (!wanted(method)) return;
-      Row r;
-      r.method = method;
-      r.nodes = n;
-      r.threads = t;
-      r.bytes = bytes;
-      r.note = note;
-      r.us = time_step(fn, opt, single, r.reps);
-      emit(r);
+      std::vector<int> reps;
+      const std::vector<double> us = time_steps(fn, counts, opt, single, reps);
+      for (std::size_t c = 0; c < counts.size(); ++c) {
+        Row r;
+        r.method = method;
+        r.nodes = n;
+        r.threads = counts[c];
+        r.bytes = bytes;
+        r.note = note;
+        r.us = us[c];
+        r.reps = reps[c];
+        emit(r);
+      }
     };
 
     const long long node_bytes = 24LL * w.num_nodes();
     const long long step_bytes = 16LL * static_cast<long long>(w.springs.size()) +
                                  (24 * 3 + 8 + 1 + 2 * 24) * static_cast<long long>(w.num_nodes());
-    for (int t : opt.threads) {
-      set_threads(t);
-      measure("voxel_detect", t, [&] { col.detect(w); }, vd.grid().bytes(), "grid bytes");
-      measure("voxel_detect_eliminate", t, [&] { col.step(w, sim.scene().dt); }, vd.grid().bytes(),
-              "grid bytes");
-      measure("stream_positions", t, [&] { sink = sink + stream_positions(w); }, node_bytes, "bytes read");
-      if (wanted("step")) {
-        // Steps move the bodies: every other row is timed on the initial state.
-        const Points x0 = w.x, v0 = w.v;
-        measure("step", t, [&] { sim.step(); }, 0, "");
-        std::copy(x0.begin(), x0.end(), w.x.begin());
-        std::copy(v0.begin(), v0.end(), w.v.begin());
-      }
-      measure("stream_step", t, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
+    const std::vector<int>& T = opt.threads;
+    measure("voxel_detect", T, [&] { col.detect(w); }, vd.grid().bytes(), "grid bytes");
+    measure("voxel_detect_eliminate", T, [&] { col.step(w, sim.scene().dt); }, vd.grid().bytes(), "grid bytes");
+    measure("stream_positions", T, [&] { sink = sink + stream_positions(w); }, node_bytes, "bytes read");
+    if (wanted("step")) {
+      // Steps move the bodies: every other row is timed on the initial state.
+      const Points x0 = w.x, v0 = w.v;
+      measure("step", T, [&] { sim.step(); }, 0, "");
+      std::copy(x0.begin(), x0.end(), w.x.begin());
+      std::copy(v0.begin(), v0.end(), w.v.begin());
     }
+    measure("stream_step", T, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
     set_threads(1);
 #ifdef HARNESS_HAVE_REFERENCE
     if (opt.references) {
@@ -278,7 +295,7 @@ int run_bench(const BenchOptions& opt) {
         a.set_topology(host.n_surface, host.faces);
         b.set_topology(guest.n_surface, guest.faces);
         std::vector<TrianglePair> pairs;
-        measure("fcl", 1, [&] {
+        measure("fcl", {1}, [&] {
           a.update(&w.x[host.begin]);
           b.update(&w.x[guest.begin]);
           intersecting_pairs(a, b, pairs, false);
@@ -288,7 +305,7 @@ int run_bench(const BenchOptions& opt) {
       if (wanted("cgal")) {
         CgalSurface s;
         s.set_topology(host.n_surface, host.faces);
-        measure("cgal", 1, [&] {
+        measure("cgal", {1}, [&] {
           s.update(&w.x[host.begin]);
           int inside = 0;
           for (int i = guest.begin; i < guest.end; ++i) inside += s.strictly_inside(w.x[i]);

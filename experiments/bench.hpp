@@ -29,8 +29,10 @@
 //                           position, velocity, force, inverse mass and kinematic flag, and
 //                           writing every position and velocity: the memory limit of a step.
 // fcl and cgal are single-threaded libraries: they are timed with one thread only.
-// Times are medians over repetitions (at least 3, and at least min_seconds in total); a
-// reference whose first repetition takes longer than single_rep_seconds is measured once.
+// Times are medians over repetitions (at least 3, and at least min_seconds per thread count); the
+// thread counts of a method take turns repetition by repetition, so that a slow phase of the
+// shared machine hits them alike and the speed-ups hold. A reference whose first repetition
+// takes longer than single_rep_seconds is measured once.
 #pragma once
 
 #include <string>
@@ -43,7 +45,7 @@ struct BenchOptions {
   std::string out;                   // CSV path
   std::vector<long long> sizes;      // nodes per body; empty = 10^3 .. 10^6 (10^5 with quick)
   std::vector<int> threads = {1, 2};
-  double min_seconds = 0.2;          // per method and point
+  double min_seconds = 0.2;          // per method, point and thread count
   int min_reps = 3;
   double single_rep_seconds = 2.0;   // references slower than this are measured once
   bool references = true;            // fcl and cgal rows (when the build has them)

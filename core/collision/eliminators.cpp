@@ -84,6 +84,7 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
   for (int part = 0; part < C; ++part) {
     std::size_t b, e;
     split_range(n, C, part, b, e);
+    bool any = false;  // local: the flags share a cache line
     for (std::size_t i = b; i < e; ++i) {
       const Contact& c = contacts[i];
       Push& p = out[i];
@@ -96,8 +97,9 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
       p.weight[0] = 1.0;
       if (det.contact_direction(w, c, p.n)) continue;  // exact detectors: their outward direction
       p.n = unit_or_zero(w.x[c.guest] - w.x[h]);
-      degenerate[part] = degenerate[part] || p.n.squaredNorm() == 0.0;
+      any = any || p.n.squaredNorm() == 0.0;
     }
+    degenerate[part] = any;
   }
   bool have_center = false;
   Vec3 center = Vec3::Zero();
