@@ -32,7 +32,7 @@ void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<d
   const std::size_t n = pushes.size();
   const int T = threads_for(n, 16384);
   const unsigned parts = static_cast<unsigned>(T);
-#pragma omp parallel for num_threads(T) schedule(static, 1)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static, 1)
   for (int t = 0; t < T; ++t) {
     const unsigned me = static_cast<unsigned>(t);
     auto mine = [&](int node) { return parts == 1 || (static_cast<unsigned>(node) >> 12) % parts == me; };
@@ -70,7 +70,7 @@ double auto_contact_forces(const World& w, const std::vector<Push>& pushes, doub
     // max, exact in any order.
     const std::size_t n = pushes.size();
     const int T = threads_for(n, 8192);
-#pragma omp parallel for num_threads(T) schedule(static) reduction(max : largest)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static) reduction(max : largest)
     for (std::size_t i = 0; i < n; ++i) {
       const Push& p = pushes[i];
       if (p.count == 0) continue;

@@ -80,7 +80,7 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
   const int T = threads_for(n, 4096);
   const int C = T == 1 ? 1 : std::min(64, 4 * T);
   bool degenerate[64] = {};
-#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(dynamic, 1)
   for (int part = 0; part < C; ++part) {
     std::size_t b, e;
     split_range(n, C, part, b, e);
@@ -127,7 +127,7 @@ void PlaneEliminator::pushes(const World& w, const ContactSpec& spec, const Coll
   const std::size_t n = contacts.size();
   const int T = threads_for(n, 2048);
   // Contacts are independent: each push is written in its own slot, whatever the thread.
-#pragma omp parallel for num_threads(T) schedule(dynamic, 256)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(dynamic, 256)
   for (std::size_t i = 0; i < n; ++i) {
     const Contact& c = contacts[i];
     Push& p = out[i];

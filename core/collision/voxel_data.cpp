@@ -133,8 +133,85 @@ __attribute__((target("avx512f"))) void VoxelIndexer::batch_avx512(const Vec3* p
 }
 #endif
 
+#if defined(HARNESS_X86_AVX)
+namespace {
+bool cpu_has_avx512_int() {
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                          __builtin_cpu_supports("bmi2");
+  return has;
+}
+}  // namespace
+
+// Eight points per iteration on the coordinates as they lie in memory (x0 y0 z0 x1 ...: lane j of
+// load v holds coordinate (8v + j) % 3), so no shuffle before the arithmetic: t = (p - c) / v
+// per lane, floor and conversion in one instruction (round toward -inf: exact for t in int
+// range; anything else, NaN included, becomes INT_MIN), i = floor(t) - lo as int32, and the range
+// test 0 <= i < dims as one unsigned comparison. Only then are the 24 lanes regrouped per point
+// (weighted by 1, dims.x, dims.x dims.y, three two-source permutes) and summed. Exact, as the
+// scalar operator, whenever |lo| and |lo + dims| < 2^30 on every axis (then no out-of-range t
+// can wrap into [0, dims)); operator() checks that before choosing it.
+// GCC 12's headers implement the 256 <-> 512-bit casts with an undefined operand and warn on it
+// (a false positive): silenced for this function only.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+__attribute__((target("avx2,avx512f,avx512vl,bmi2"))) void VoxelIndexer::batch_avx512_packed(const Vec3* p,
+                                                                                            std::size_t n,
+                                                                                            int* out) const {
+  const double* q = p->data();
+  alignas(64) double pc[24];
+  alignas(32) int pl[24], pd[24], pw[24];
+  const int weight[3] = {1, dx_, dxy_};
+  for (int j = 0; j < 24; ++j) {
+    pc[j] = c_[j % 3];
+    pl[j] = ilo_[j % 3];
+    pd[j] = static_cast<int>(hi_[j % 3] - lo_[j % 3]);
+    pw[j] = weight[j % 3];
+  }
+  const __m512d c0 = _mm512_load_pd(pc), c1 = _mm512_load_pd(pc + 8), c2 = _mm512_load_pd(pc + 16);
+  const __m512d inv = _mm512_set1_pd(inv_);
+#define HARNESS_LD(a) _mm256_load_si256(reinterpret_cast<const __m256i*>(a))
+  const __m256i l0 = HARNESS_LD(pl), l1 = HARNESS_LD(pl + 8), l2 = HARNESS_LD(pl + 16);
+  const __m256i d0 = HARNESS_LD(pd), d1 = HARNESS_LD(pd + 8), d2 = HARNESS_LD(pd + 16);
+  const __m256i w0 = HARNESS_LD(pw), w1 = HARNESS_LD(pw + 8), w2 = HARNESS_LD(pw + 16);
+#undef HARNESS_LD
+  // Point k's three lanes are 3k, 3k + 1, 3k + 2 of (load 0 | load 1 | load 2).
+  const __m512i ix = _mm512_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21, 0, 0, 0, 0, 0, 0, 0, 0);
+  const __m512i iy = _mm512_setr_epi32(1, 4, 7, 10, 13, 16, 19, 22, 0, 0, 0, 0, 0, 0, 0, 0);
+  const __m512i iz = _mm512_setr_epi32(2, 5, 8, 11, 14, 17, 20, 23, 0, 0, 0, 0, 0, 0, 0, 0);
+  const __m256i none = _mm256_set1_epi32(-1), zero8 = _mm256_setzero_si256();
+  const __m512i zero16 = _mm512_setzero_si512();
+  // (masked forms of the conversion and insertion: GCC 12 warns on the plain ones' pass-through)
+  constexpr int down = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+  std::size_t k = 0;
+  for (; k + 8 <= n; k += 8, q += 24) {
+    const __m256i a =
+        _mm256_sub_epi32(_mm512_mask_cvt_roundpd_epi32(zero8, 0xFF, _mm512_mul_pd(_mm512_sub_pd(_mm512_loadu_pd(q), c0), inv), down), l0);
+    const __m256i b = _mm256_sub_epi32(
+        _mm512_mask_cvt_roundpd_epi32(zero8, 0xFF, _mm512_mul_pd(_mm512_sub_pd(_mm512_loadu_pd(q + 8), c1), inv), down), l1);
+    const __m256i c = _mm256_sub_epi32(
+        _mm512_mask_cvt_roundpd_epi32(zero8, 0xFF, _mm512_mul_pd(_mm512_sub_pd(_mm512_loadu_pd(q + 16), c2), inv), down), l2);
+    const unsigned m = static_cast<unsigned>(_mm256_cmplt_epu32_mask(a, d0)) |
+                       static_cast<unsigned>(_mm256_cmplt_epu32_mask(b, d1)) << 8 |
+                       static_cast<unsigned>(_mm256_cmplt_epu32_mask(c, d2)) << 16;
+    const __mmask8 in = static_cast<__mmask8>(_pext_u32(m & (m >> 1) & (m >> 2), 0x249249u));
+    const __m512i ab = _mm512_mask_inserti64x4(zero16, 0xFF, _mm512_zextsi256_si512(_mm256_mullo_epi32(a, w0)),
+                                               _mm256_mullo_epi32(b, w1), 1);
+    const __m512i cc = _mm512_zextsi256_si512(_mm256_mullo_epi32(c, w2));
+    const __m256i X = _mm512_castsi512_si256(_mm512_permutex2var_epi32(ab, ix, cc));
+    const __m256i Y = _mm512_castsi512_si256(_mm512_permutex2var_epi32(ab, iy, cc));
+    const __m256i Z = _mm512_castsi512_si256(_mm512_permutex2var_epi32(ab, iz, cc));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + k),
+                        _mm256_mask_blend_epi32(in, none, _mm256_add_epi32(_mm256_add_epi32(X, Y), Z)));
+  }
+  for (; k < n; ++k) out[k] = (*this)(p[k]);
+  _mm256_zeroupper();
+}
+#pragma GCC diagnostic pop
+#endif
+
 void VoxelIndexer::operator()(const Vec3* p, std::size_t n, int* out) const {
 #if defined(HARNESS_X86_AVX)
+  if (packed_ok_ && cpu_has_avx512_int()) return batch_avx512_packed(p, n, out);
   if (cpu_has_avx512()) return batch_avx512(p, n, out);
   if (cpu_has_avx()) return batch_avx(p, n, out);
 #endif
@@ -243,7 +320,7 @@ void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi) {
   const int T = threads_for(static_cast<std::size_t>(n), 16384);
   double part[64][6];  // per thread: lo xyz, hi xyz
   const int parts = std::min(T, 64);
-#pragma omp parallel for num_threads(parts) schedule(static, 1)
+#pragma omp parallel for num_threads(parts) if(parts > 1) schedule(static, 1)
   for (int t = 0; t < parts; ++t) {
     std::size_t b, e;
     split_range(static_cast<std::size_t>(n), parts, t, b, e);
@@ -300,7 +377,7 @@ void VoxelData::clear() {
   if (nv <= 8 * static_cast<long long>(n)) {
     const std::size_t V = static_cast<std::size_t>(nv);
     const int T = threads_for(V, 65536);
-#pragma omp parallel for num_threads(T) schedule(static, 1)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static, 1)
     for (int t = 0; t < T; ++t) {
       std::size_t b, e;
       split_range(V, T, t, b, e);
@@ -310,7 +387,7 @@ void VoxelData::clear() {
     const int T = threads_for(n, 32768);
     const int* cell = node_cell_.data();
     // Several threads may clear one voxel, always to the same value: relaxed atomic stores.
-#pragma omp parallel for num_threads(T) schedule(static)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
     for (std::size_t k = 0; k < n; ++k) {
       const int c = cell[k];
       if (c < 0) continue;
@@ -335,7 +412,7 @@ void VoxelData::prepare(const GridGeometry& g, const Points& x, int node_begin, 
   const int K = static_cast<int>((n + kChunk - 1) / kChunk);
   int* cell = node_cell_.data();
   // Chunks handed out dynamically: a thread the system deschedules delays one small chunk.
-#pragma omp parallel for num_threads(T) schedule(dynamic, 4)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(dynamic, 4)
   for (int c = 0; c < K; ++c) {
     const std::size_t b = static_cast<std::size_t>(c) * kChunk, e = std::min(n, b + kChunk);
     idx(x.data() + node_begin + b, e - b, cell + b);
@@ -394,7 +471,7 @@ void VoxelData::link_done(int parts) {
 
 void VoxelData::link() {
   const int P = link_parts();
-#pragma omp parallel for num_threads(P) schedule(static, 1)
+#pragma omp parallel for num_threads(P) if(P > 1) schedule(static, 1)
   for (int p = 0; p < P; ++p) link_part(p, P);
   link_done(P);
 }

@@ -50,7 +50,7 @@ void VoxelDetector::detect(const World& w, const ContactSpec&, std::vector<Conta
   if (scratch_.size() < n) scratch_.resize(n);  // once, on the first parallel detection
   const int L = std::min(64, 4 * T);
   int found[64] = {};
-#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(dynamic, 1)
   for (int c = 0; c < L; ++c) {
     std::size_t b, e;
     split_range(n, L, c, b, e);

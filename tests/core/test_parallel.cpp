@@ -189,6 +189,11 @@ TEST_CASE("VoxelIndexer (scalar and batch) equals voxel_of", "[parallel][voxel]"
         case 1: q[(t + 1) % 3] = std::nan(""); break;
         case 2: q[t % 3] = (t % 2 ? 1 : -1) * inf; break;
         case 3: q[(t + 2) % 3] = (t % 2 ? 1e300 : -3e9); break;
+        case 4: {  // around +-2^31 voxels from the centre: int32 conversion and wrap-around
+          const double edge[] = {2147483647.0, 2147483648.0, -2147483648.0, -2147483649.0, 2147483655.5, -2147483640.0};
+          q[t % 3] = g.center[t % 3] + g.voxel * edge[static_cast<std::size_t>(l(rng) + 8) % 6];
+          break;
+        }
         default: break;
       }
     }
