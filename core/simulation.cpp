@@ -179,7 +179,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   }
 
   // Stability guard of the explicit integrator (at rest); implicit Euler needs none.
-  dt_crit = critical_dt(w);
+  dt_crit = critical_dt(w, crit_rows_);
   dt_crit_min = dt_crit;
   if (sc.integrator == Integrator::symplectic_euler && std::isfinite(dt_crit) && sc.dt > 0.9 * dt_crit) {
     char buf[256];
@@ -199,7 +199,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
 }
 
 void Simulation::guard_check() {
-  const double measured = critical_dt(world);
+  const double measured = critical_dt(world, crit_rows_);
   // A stiffening law keeps shrinking dt_crit during the coming step: extrapolate the trend
   // since the last check (geometrically) so that the substeps are sized for the step's end.
   double d = measured;
@@ -328,27 +328,66 @@ double Simulation::potential_energy() const {
   return e;
 }
 
-double critical_dt(const World& w) {
-  const int n = w.num_nodes();
-  if (w.springs.size() == 0) return std::numeric_limits<double>::infinity();
-  std::vector<Vec3> rows(n, Vec3::Zero());
-  for (std::size_t k = 0; k < w.springs.size(); ++k) {
-    const int i = w.springs.ends[k][0], j = w.springs.ends[k][1];
-    Vec3 d = w.x[j] - w.x[i];
-    const double l = d.norm();
-    if (l <= 0.0) continue;
-    const Vec3 u = d / l;
-    const double kt = std::fabs(spring_tangent(w.body_law[w.springs.body[k]], w.springs.rest[k], l));
-    // Tangent block k u u^T appears on the diagonal and off-diagonal: row a sums 2 k |u_a| |u|_1.
-    const Vec3 r = (2.0 * kt * u.cwiseAbs().sum()) * u.cwiseAbs();
+namespace {
+
+// |df/dl| / l^2 of law K at length l = sqrt(l2) (spring_tangent over the squared length, in as
+// few divisions as each law allows; the linear law needs no length).
+template <SpringLawKind K>
+inline double tangent_over_l2(const SpringLaw& law, double L0, double l2) {
+  if constexpr (K == SpringLawKind::linear) return std::fabs(law.k) / l2;
+  const double s = std::sqrt(l2) - L0;
+  if constexpr (K == SpringLawKind::cubic) {
+    const double L2 = L0 * L0;
+    return std::fabs(law.k * (L2 + 3.0 * law.beta * s * s)) / (L2 * l2);
+  }
+  if constexpr (K == SpringLawKind::exponential) return std::fabs(law.k * std::exp(law.beta * (s / L0))) / l2;
+}
+
+// Row sums of the springs [k0, k1), all of one law: the block k u u^T, u = d / l, adds
+// 2 k |u_a| |u|_1 = 2 (k / l^2) |d_a| |d|_1 to row a of both ends.
+template <SpringLawKind K>
+void gershgorin_run(const World& w, const SpringLaw& law, std::size_t k0, std::size_t k1, std::vector<Vec3>& rows) {
+  const Springs& s = w.springs;
+  for (std::size_t k = k0; k < k1; ++k) {
+    const int i = s.ends[k][0], j = s.ends[k][1];
+    const Vec3 d = w.x[j] - w.x[i];
+    const double l2 = d.squaredNorm();
+    if (!(l2 > 0.0)) continue;
+    const Vec3 a = d.cwiseAbs();
+    const Vec3 r = (2.0 * tangent_over_l2<K>(law, s.rest[k], l2) * a.sum()) * a;
     rows[i] += r;
     rows[j] += r;
+  }
+}
+
+}  // namespace
+
+double critical_dt(const World& w, std::vector<Vec3>& rows) {
+  const int n = w.num_nodes();
+  if (w.springs.size() == 0) return std::numeric_limits<double>::infinity();
+  rows.assign(static_cast<std::size_t>(n), Vec3::Zero());
+  const Springs& s = w.springs;
+  const std::size_t ns = s.size();
+  for (std::size_t k0 = 0, k1; k0 < ns; k0 = k1) {  // runs of springs of one body
+    const int b = s.body[k0];
+    for (k1 = k0 + 1; k1 < ns && s.body[k1] == b;) ++k1;
+    const SpringLaw& law = w.body_law[b];
+    switch (law.kind) {
+      case SpringLawKind::linear: gershgorin_run<SpringLawKind::linear>(w, law, k0, k1, rows); break;
+      case SpringLawKind::cubic: gershgorin_run<SpringLawKind::cubic>(w, law, k0, k1, rows); break;
+      case SpringLawKind::exponential: gershgorin_run<SpringLawKind::exponential>(w, law, k0, k1, rows); break;
+    }
   }
   double lam = 0.0;
   for (int i = 0; i < n; ++i)
     if (w.kinematic[i] == 0) lam = std::max(lam, rows[i].maxCoeff() * w.inv_m[i]);
   if (lam <= 0.0) return std::numeric_limits<double>::infinity();
   return 2.0 / std::sqrt(lam);
+}
+
+double critical_dt(const World& w) {
+  std::vector<Vec3> rows;
+  return critical_dt(w, rows);
 }
 
 std::string state_hash(const World& w) {

@@ -79,12 +79,15 @@ class Simulation {
   std::vector<std::uint8_t> driven_now_;  // scratch of update_kinematics
   ImplicitEuler implicit_;
   double dt_crit_last_ = 0.0;  // dt_crit at the last check
+  std::vector<Vec3> crit_rows_;  // critical_dt's scratch, kept between checks
   void guard_check();
 };
 
 // Critical time step of symplectic Euler from a Gershgorin bound on M^-1 K (spring tangent
 // stiffness at the current strain): dt_crit = 2 / sqrt(max_i rowsum_i / m_i). Infinity
-// without springs. Kinematic nodes are skipped (they are not integrated).
+// without springs. Kinematic nodes are skipped (they are not integrated). `rows` is scratch
+// (resized to the node count; pass the same vector every time to avoid allocating).
+double critical_dt(const World& w, std::vector<Vec3>& rows);
 double critical_dt(const World& w);
 
 // Global node indices of a body that a selection picks (on the rest positions).

@@ -95,6 +95,7 @@ struct Row {
 std::vector<double> time_steps(const std::function<void()>& fn, const std::vector<int>& counts, const BenchOptions& o,
                                double single, std::vector<int>& reps) {
   const std::size_t K = counts.size();
+  if (K == 0) return {};
   std::vector<std::vector<double>> t(K);
   std::vector<double> out(K);
   reps.assign(K, 1);
@@ -127,7 +128,10 @@ std::vector<double> time_steps(const std::function<void()>& fn, const std::vecto
 // Streaming passes (bench.hpp). Bits are summed as integers: exact, and the compiler cannot drop
 // the loads. Four independent sums (AVX2 where the processor has it), so that the loop, not a
 // chain of additions, is never what limits a pass over data in cache: the bound stays a bound.
-std::uint64_t sum_words_scalar(const std::uint64_t* p, std::size_t n) {
+// Words of any type read through a type that may alias it.
+typedef std::uint64_t word_t __attribute__((may_alias));
+
+std::uint64_t sum_words_scalar(const word_t* p, std::size_t n) {
   std::uint64_t s0 = 0, s1 = 0, s2 = 0, s3 = 0;
   std::size_t i = 0;
   for (; i + 4 <= n; i += 4) s0 += p[i], s1 += p[i + 1], s2 += p[i + 2], s3 += p[i + 3];
@@ -136,7 +140,7 @@ std::uint64_t sum_words_scalar(const std::uint64_t* p, std::size_t n) {
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx2"))) std::uint64_t sum_words_avx2(const std::uint64_t* p, std::size_t n) {
+__attribute__((target("avx2"))) std::uint64_t sum_words_avx2(const word_t* p, std::size_t n) {
   __m256i a = _mm256_setzero_si256(), b = a, c = a, d = a;
   std::size_t i = 0;
   for (; i + 16 <= n; i += 16) {
@@ -153,7 +157,7 @@ __attribute__((target("avx2"))) std::uint64_t sum_words_avx2(const std::uint64_t
 #endif
 
 std::uint64_t sum_words(const void* data, std::size_t n) {
-  const auto* p = static_cast<const std::uint64_t*>(data);
+  const auto* p = static_cast<const word_t*>(data);
 #if defined(__x86_64__) && defined(__GNUC__)
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (avx2) return sum_words_avx2(p, n);
@@ -255,10 +259,11 @@ int run_bench(const BenchOptions& opt) {
     };
     // One row per thread count of `counts` (time_steps: the counts take turns).
     auto measure = [&](const std::string& method, const std::vector<int>& counts, const std::function<void()>& fn,
-                       long long bytes, const std::string& note, double single = 1e30) {
+                       long long bytes, const std::string& note, double single = 1e30, int per_rep = 1) {
       if (!wanted(method)) return;
       std::vector<int> reps;
-      const std::vector<double> us = time_steps(fn, counts, opt, single, reps);
+      std::vector<double> us = time_steps(fn, counts, opt, single, reps);
+      for (double& u : us) u /= per_rep;
       for (std::size_t c = 0; c < counts.size(); ++c) {
         Row r;
         r.method = method;
@@ -282,7 +287,12 @@ int run_bench(const BenchOptions& opt) {
     if (wanted("step")) {
       // Steps move the bodies: every other row is timed on the initial state.
       const Points x0 = w.x, v0 = w.v;
-      measure("step", T, [&] { sim.step(); }, 0, "");
+      // A repetition is kGuardEvery steps (one stability check each, as in a run), divided by
+      // their number: the step's cost with its periodic guard, not the median step without it.
+      measure("step", T, [&] {
+        for (int k = 0; k < Simulation::kGuardEvery; ++k) sim.step();
+      }, 0, "per step; repetitions of " + std::to_string(Simulation::kGuardEvery) + " steps (one stability check)", 1e30,
+              Simulation::kGuardEvery);
       std::copy(x0.begin(), x0.end(), w.x.begin());
       std::copy(v0.begin(), v0.end(), w.v.begin());
     }

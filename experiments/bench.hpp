@@ -24,7 +24,8 @@
 //   stream_positions        one pass reading every node position of both bodies once: the
 //                           memory-bandwidth limit of detection.
 //   step                    Simulation::step: springs, pins, contact (detect and eliminate),
-//                           integration.
+//                           integration; timed over blocks of Simulation::kGuardEvery steps, so
+//                           that the periodic stability check (critical_dt) is in the figure.
 //   stream_step             one pass reading every spring (ends, rest length) and every node's
 //                           position, velocity, force, inverse mass and kinematic flag, and
 //                           writing every position and velocity: the memory limit of a step.

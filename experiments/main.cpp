@@ -150,6 +150,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("bench")) {
       for (long long n : bo.sizes)
         if (n < 8) throw InputError("--sizes", "nodes per body must be >= 8");
+      if (bo.threads.empty()) throw InputError("--threads", "needs at least one thread count");
       for (int t : bo.threads)
         if (t < 1) throw InputError("--threads", "must be >= 1");
       if (!(bo.min_seconds >= 0.0)) throw InputError("--min-time", "must be >= 0");

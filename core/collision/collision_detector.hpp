@@ -34,8 +34,8 @@ class CollisionDetector {
   // eliminators' parallel loops): they must not modify the detector.
   virtual int nearest_hosts(const World& w, const Contact& c, int k, int* out) const = 0;
   // Exact detectors know the direction that pushes a contact's guest node out of the host
-  // (unit vector, written to n); the eliminators then use it instead of their geometric rule
-  // for the guest's direction. The voxel detector knows none (returns false).
+  // (unit vector, written to n; never true with a zero n); the eliminators then use it instead
+  // of their geometric rule for the guest's direction. The voxel detector knows none (false).
   virtual bool contact_direction(const World& w, const Contact& c, Vec3& n) const {
     (void)w, (void)c, (void)n;
     return false;
