@@ -360,6 +360,35 @@ void gershgorin_run(const World& w, const SpringLaw& law, std::size_t k0, std::s
   }
 }
 
+// The exponential law in blocks, its exp for a block at once (spring_exp_batch).
+template <>
+void gershgorin_run<SpringLawKind::exponential>(const World& w, const SpringLaw& law, std::size_t k0,
+                                                std::size_t k1, std::vector<Vec3>& rows) {
+  const Springs& s = w.springs;
+  constexpr int B = 64;
+  double X[B], E[B], L2[B];
+  for (std::size_t b = k0; b < k1; b += B) {
+    const int m = static_cast<int>(std::min<std::size_t>(B, k1 - b));
+    for (int q = 0; q < m; ++q) {
+      const std::size_t k = b + static_cast<std::size_t>(q);
+      const Vec3 d = w.x[s.ends[k][1]] - w.x[s.ends[k][0]];
+      L2[q] = d.squaredNorm();
+      const double L0 = s.rest[k];
+      X[q] = L2[q] > 0.0 ? law.beta * ((std::sqrt(L2[q]) - L0) / L0) : 0.0;
+    }
+    spring_exp_batch(X, E, m);
+    for (int q = 0; q < m; ++q) {
+      if (!(L2[q] > 0.0)) continue;
+      const std::size_t k = b + static_cast<std::size_t>(q);
+      const int i = s.ends[k][0], j = s.ends[k][1];
+      const Vec3 a = (w.x[j] - w.x[i]).cwiseAbs();
+      const Vec3 r = (2.0 * (std::fabs(law.k * E[q]) / L2[q]) * a.sum()) * a;
+      rows[i] += r;
+      rows[j] += r;
+    }
+  }
+}
+
 }  // namespace
 
 double critical_dt(const World& w, std::vector<Vec3>& rows) {

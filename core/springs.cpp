@@ -2,6 +2,12 @@
 
 #include <cmath>
 
+#if defined(HARNESS_HAVE_MVEC)
+#include <immintrin.h>
+extern "C" __attribute__((target("avx2"))) __m256d _ZGVdN4v_expm1(__m256d);  // glibc libmvec
+extern "C" __attribute__((target("avx2"))) __m256d _ZGVdN4v_exp(__m256d);
+#endif
+
 namespace harness {
 
 namespace {
@@ -16,6 +22,59 @@ double expm1_over_x(double x) {
   return std::expm1(x) / x;
 }
 }  // namespace
+
+#if defined(HARNESS_HAVE_MVEC)
+namespace {
+bool use_mvec() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+__attribute__((target("avx2"))) void expm1_4(const double* x, double* out) {
+  _mm256_storeu_pd(out, _ZGVdN4v_expm1(_mm256_loadu_pd(x)));
+}
+__attribute__((target("avx2"))) void exp_4(const double* x, double* out) {
+  _mm256_storeu_pd(out, _ZGVdN4v_exp(_mm256_loadu_pd(x)));
+}
+// f over x[0, n) four at a time (the last block padded with zeros).
+template <class F>
+void by_fours(F f, const double* x, double* out, int n) {
+  int i = 0;
+  for (; i + 4 <= n; i += 4) f(x + i, out + i);
+  if (i < n) {
+    double in[4] = {0.0, 0.0, 0.0, 0.0}, o[4];
+    for (int j = i; j < n; ++j) in[j - i] = x[j];
+    f(in, o);
+    for (int j = i; j < n; ++j) out[j] = o[j - i];
+  }
+}
+}  // namespace
+#endif
+
+double spring_expm1(double x) {
+#if defined(HARNESS_HAVE_MVEC)
+  if (use_mvec()) {
+    const double in[4] = {x, x, x, x};
+    double out[4];
+    expm1_4(in, out);
+    return out[0];
+  }
+#endif
+  return std::expm1(x);
+}
+
+void spring_expm1_batch(const double* x, double* out, int n) {
+#if defined(HARNESS_HAVE_MVEC)
+  if (use_mvec()) return by_fours(expm1_4, x, out, n);
+#endif
+  for (int i = 0; i < n; ++i) out[i] = std::expm1(x[i]);
+}
+
+void spring_exp_batch(const double* x, double* out, int n) {
+#if defined(HARNESS_HAVE_MVEC)
+  if (use_mvec()) return by_fours(exp_4, x, out, n);
+#endif
+  for (int i = 0; i < n; ++i) out[i] = std::exp(x[i]);
+}
 
 double spring_tension(const SpringLaw& law, double L0, double l) {
   const double eps = (l - L0) / L0;
@@ -38,7 +97,7 @@ double spring_force_per_length(const SpringLaw& law, double L0, double l) {
     case SpringLawKind::exponential: {
       const double x = law.beta * (s / L0);
       if (std::fabs(x) < 1e-8) return law.k * s * (1.0 + 0.5 * x) / l;
-      return law.k * L0 * std::expm1(x) / (law.beta * l);
+      return law.k * L0 * spring_expm1(x) / (law.beta * l);
     }
   }
   return 0.0;

@@ -16,6 +16,16 @@ struct SpringLaw {
   double beta = 0.0;  // dimensionless nonlinearity, >= 0
 };
 
+// expm1 as the force laws evaluate it: glibc's vector expm1 (libmvec, four lanes, within 1 ulp
+// or so of std::expm1) when the build has it and the processor has AVX2, else std::expm1. Every
+// lane is computed on its own, so one value and a batch give the same bits: the scatter (in
+// batches) and the gathers (one at a time) agree.
+double spring_expm1(double x);
+// out[i] = spring_expm1(x[i]) for i < n.
+void spring_expm1_batch(const double* x, double* out, int n);
+// out[i] = e^x[i] for i < n, the same way (libmvec's exp, else std::exp).
+void spring_exp_batch(const double* x, double* out, int n);
+
 // Tension (N) of a spring of rest length L0 stretched to length l.
 double spring_tension(const SpringLaw& law, double L0, double l);
 // Tension over length, t / l (N/m): end i of a spring feels c (x_j - x_i). Every force path
@@ -25,6 +35,7 @@ double spring_tension(const SpringLaw& law, double L0, double l);
 //   linear       c = k s / l
 //   cubic        c = k s (L0^2 + beta s^2) / (L0^2 l)
 //   exponential  c = k L0 expm1(x) / (beta l), or k s (1 + x/2) / l when |x| < 1e-8
+//                (expm1 = spring_expm1)
 // (the same numbers as t / l up to rounding: k L0 eps = k s, eps^2 = s^2 / L0^2 and
 // k L0 eps expm1(x)/x = k L0 expm1(x) / beta).
 double spring_force_per_length(const SpringLaw& law, double L0, double l);

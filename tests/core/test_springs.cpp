@@ -6,6 +6,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
+#include <vector>
 #include <random>
 
 using namespace harness;
@@ -27,6 +29,27 @@ TEST_CASE("spring tension is dE/dl for every law (central differences)", "[sprin
         CHECK(std::fabs(kd - spring_tangent(law, L0, l)) <= 1e-6 * std::fabs(kd) + 1e-9);
       }
     }
+  }
+}
+
+TEST_CASE("spring_expm1 and spring_exp: close to the library, batches equal single values", "[springs]") {
+  std::vector<double> x;
+  for (int i = -3000; i <= 3000; ++i) x.push_back(i * 1e-3);
+  for (double v : {1e-12, -1e-12, 1e-300, 0.0, -0.0, 40.0, -40.0, 700.0, 710.0, -800.0}) x.push_back(v);
+  const int n = static_cast<int>(x.size());
+  std::vector<double> em(x.size()), ex(x.size());
+  spring_expm1_batch(x.data(), em.data(), n - 1);  // an odd count: a padded last block
+  em[x.size() - 1] = spring_expm1(x.back());
+  spring_exp_batch(x.data(), ex.data(), n);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    INFO("x = " << x[i]);
+    const double a = std::expm1(x[i]), b = std::exp(x[i]);
+    const double one = spring_expm1(x[i]);
+    CHECK(std::memcmp(&em[i], &one, sizeof(double)) == 0);  // a batch gives the single value's bits
+    if (std::isfinite(a)) CHECK(std::fabs(em[i] - a) <= 4e-16 * std::fabs(a));
+    else CHECK(em[i] == a);
+    if (std::isfinite(b)) CHECK(std::fabs(ex[i] - b) <= 1e-15 * std::fabs(b));  // libmvec: 4 ulp
+    else CHECK(ex[i] == b);
   }
 }
 
