@@ -102,19 +102,14 @@ struct SpringGather {
   }
 };
 
-// Spring laws inlined for the hot loop: the very expressions of spring_force_per_length
-// (springs.cpp), so the results are bit-identical (tests/core/test_parallel.cpp compares them).
+// The law of a body, chosen at compile time (springs.hpp: the expressions every path shares).
 template <SpringLawKind K>
 inline double per_length_of(const SpringLaw& law, double L0, double l) {
-  if constexpr (K == SpringLawKind::linear) return law.k * (l - L0) / l;
-  if constexpr (K == SpringLawKind::cubic) {
-    const double s = l - L0, L2 = L0 * L0;
-    return law.k * s * (L2 + law.beta * s * s) / (L2 * l);
-  }
+  if constexpr (K == SpringLawKind::linear) return linear_per_length(law, L0, l);
+  if constexpr (K == SpringLawKind::cubic) return cubic_per_length(law, L0, l);
   if constexpr (K == SpringLawKind::exponential) {
-    const double s = l - L0, x = law.beta * (s / L0);
-    if (std::fabs(x) < 1e-8) return law.k * s * (1.0 + 0.5 * x) / l;
-    return law.k * L0 * spring_expm1(x) / (law.beta * l);
+    const double x = exponential_arg(law, L0, l);
+    return exponential_per_length(law, L0, l, x, spring_expm1(x));
   }
 }
 
@@ -292,7 +287,7 @@ void scatter_run<SpringLawKind::exponential>(const World& w, const SpringLaw& la
                                              Points& f) {
   const Springs& s = w.springs;
   constexpr int B = 64;
-  double X[B], E[B], S[B], Lr[B];
+  double X[B], E[B], Lr[B];
   Vec3 D[B];
   for (std::size_t b = k0; b < k1; b += B) {
     const int m = static_cast<int>(std::min<std::size_t>(B, k1 - b));
@@ -300,19 +295,14 @@ void scatter_run<SpringLawKind::exponential>(const World& w, const SpringLaw& la
       const std::size_t k = b + static_cast<std::size_t>(q);
       D[q] = w.x[s.ends[k][1]] - w.x[s.ends[k][0]];
       Lr[q] = D[q].norm();
-      const double L0 = s.rest[k];
-      S[q] = Lr[q] - L0;
-      X[q] = law.beta * (S[q] / L0);
+      X[q] = exponential_arg(law, s.rest[k], Lr[q]);
     }
     spring_expm1_batch(X, E, m);
     for (int q = 0; q < m; ++q) {
       const double l = Lr[q];
       if (l <= 0.0) continue;
       const std::size_t k = b + static_cast<std::size_t>(q);
-      const double x = X[q];
-      // per_length_of<exponential>, operation for operation, with E[q] = spring_expm1(x)
-      const double c = std::fabs(x) < 1e-8 ? law.k * S[q] * (1.0 + 0.5 * x) / l
-                                           : law.k * s.rest[k] * E[q] / (law.beta * l);
+      const double c = exponential_per_length(law, s.rest[k], l, X[q], E[q]);
       const Vec3 fi = c * D[q];
       f[s.ends[k][0]] += fi;
       f[s.ends[k][1]] -= fi;

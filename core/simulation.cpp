@@ -331,16 +331,14 @@ double Simulation::potential_energy() const {
 namespace {
 
 // |df/dl| / l^2 of law K at length l = sqrt(l2) (spring_tangent over the squared length, in as
-// few divisions as each law allows; the linear law needs no length).
+// few divisions as each law allows; the linear law needs no length). The exponential law has
+// its own gershgorin_run, which takes its exps in blocks.
 template <SpringLawKind K>
 inline double tangent_over_l2(const SpringLaw& law, double L0, double l2) {
+  static_assert(K != SpringLawKind::exponential, "gershgorin_run<exponential> handles it");
   if constexpr (K == SpringLawKind::linear) return std::fabs(law.k) / l2;
-  const double s = std::sqrt(l2) - L0;
-  if constexpr (K == SpringLawKind::cubic) {
-    const double L2 = L0 * L0;
-    return std::fabs(law.k * (L2 + 3.0 * law.beta * s * s)) / (L2 * l2);
-  }
-  if constexpr (K == SpringLawKind::exponential) return std::fabs(law.k * std::exp(law.beta * (s / L0))) / l2;
+  const double s = std::sqrt(l2) - L0, L2 = L0 * L0;
+  return std::fabs(law.k * (L2 + 3.0 * law.beta * s * s)) / (L2 * l2);
 }
 
 // Row sums of the springs [k0, k1), all of one law: the block k u u^T, u = d / l, adds
@@ -374,7 +372,7 @@ void gershgorin_run<SpringLawKind::exponential>(const World& w, const SpringLaw&
       const Vec3 d = w.x[s.ends[k][1]] - w.x[s.ends[k][0]];
       L2[q] = d.squaredNorm();
       const double L0 = s.rest[k];
-      X[q] = L2[q] > 0.0 ? law.beta * ((std::sqrt(L2[q]) - L0) / L0) : 0.0;
+      X[q] = L2[q] > 0.0 ? exponential_arg(law, L0, std::sqrt(L2[q])) : 0.0;
     }
     spring_exp_batch(X, E, m);
     for (int q = 0; q < m; ++q) {

@@ -87,17 +87,12 @@ double spring_tension(const SpringLaw& law, double L0, double l) {
 }
 
 double spring_force_per_length(const SpringLaw& law, double L0, double l) {
-  const double s = l - L0;
   switch (law.kind) {
-    case SpringLawKind::linear: return law.k * s / l;
-    case SpringLawKind::cubic: {
-      const double L2 = L0 * L0;
-      return law.k * s * (L2 + law.beta * s * s) / (L2 * l);
-    }
+    case SpringLawKind::linear: return linear_per_length(law, L0, l);
+    case SpringLawKind::cubic: return cubic_per_length(law, L0, l);
     case SpringLawKind::exponential: {
-      const double x = law.beta * (s / L0);
-      if (std::fabs(x) < 1e-8) return law.k * s * (1.0 + 0.5 * x) / l;
-      return law.k * L0 * spring_expm1(x) / (law.beta * l);
+      const double x = exponential_arg(law, L0, l);
+      return exponential_per_length(law, L0, l, x, spring_expm1(x));
     }
   }
   return 0.0;

@@ -6,6 +6,8 @@
 // so f = dE/dl exactly (tested by finite differences).
 #pragma once
 
+#include <cmath>
+
 namespace harness {
 
 enum class SpringLawKind { linear, cubic, exponential };
@@ -39,6 +41,21 @@ double spring_tension(const SpringLaw& law, double L0, double l);
 // (the same numbers as t / l up to rounding: k L0 eps = k s, eps^2 = s^2 / L0^2 and
 // k L0 eps expm1(x)/x = k L0 expm1(x) / beta).
 double spring_force_per_length(const SpringLaw& law, double L0, double l);
+
+// The laws of spring_force_per_length one by one, inline for the force loops (the scatter, the
+// gathers and spring_force_per_length itself all evaluate these, so they agree to the bit).
+inline double linear_per_length(const SpringLaw& law, double L0, double l) { return law.k * (l - L0) / l; }
+inline double cubic_per_length(const SpringLaw& law, double L0, double l) {
+  const double s = l - L0, L2 = L0 * L0;
+  return law.k * s * (L2 + law.beta * s * s) / (L2 * l);
+}
+// The exponential law's argument x = beta (l - L0) / L0, and the law given x and
+// em1 = spring_expm1(x) (a loop may evaluate the expm1 of many springs at once).
+inline double exponential_arg(const SpringLaw& law, double L0, double l) { return law.beta * ((l - L0) / L0); }
+inline double exponential_per_length(const SpringLaw& law, double L0, double l, double x, double em1) {
+  if (std::fabs(x) < 1e-8) return law.k * (l - L0) * (1.0 + 0.5 * x) / l;
+  return law.k * L0 * em1 / (law.beta * l);
+}
 // Stored energy (J).
 double spring_energy(const SpringLaw& law, double L0, double l);
 // Tangent stiffness df/dl (N/m) at length l.
