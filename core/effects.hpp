@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/scene.hpp"
+#include "core/spring_forces.hpp"
 #include "core/world.hpp"
 
 #include <memory>
@@ -26,12 +27,8 @@ class ForceEffect {
   virtual double energy(const World&) const { return 0.0; }
 };
 
-// Free functions (also used by tests and benchmarks).
-// Adds spring tensions of springs [begin, end) into f.
-void add_spring_forces(const World& w, Points& f);
-double spring_potential(const World& w);
-// Dashpots along springs (material.damping) and mass-proportional damping (material.mass_damping).
-void add_damping_forces(const World& w, Points& f);
+// Free functions (also used by tests and benchmarks); the spring and dashpot forces are in
+// core/spring_forces.hpp.
 void add_gravity_forces(const World& w, const Vec3& g, Points& f);
 // Internal pressure p (Pa) on a body's closed surface: p times each triangle's area along its
 // outward normal, a third to each vertex.

@@ -3,6 +3,7 @@
 #include "core/mesh.hpp"
 #include "core/parallel.hpp"
 #include "core/shapes.hpp"
+#include "core/spring_forces.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -328,83 +329,11 @@ double Simulation::potential_energy() const {
   return e;
 }
 
-namespace {
-
-// |df/dl| / l^2 of law K at length l = sqrt(l2) (spring_tangent over the squared length, in as
-// few divisions as each law allows; the linear law needs no length). The exponential law has
-// its own gershgorin_run, which takes its exps in blocks.
-template <SpringLawKind K>
-inline double tangent_over_l2(const SpringLaw& law, double L0, double l2) {
-  static_assert(K != SpringLawKind::exponential, "gershgorin_run<exponential> handles it");
-  if constexpr (K == SpringLawKind::linear) return std::fabs(law.k) / l2;
-  const double s = std::sqrt(l2) - L0, L2 = L0 * L0;
-  return std::fabs(law.k * (L2 + 3.0 * law.beta * s * s)) / (L2 * l2);
-}
-
-// Row sums of the springs [k0, k1), all of one law: the block k u u^T, u = d / l, adds
-// 2 k |u_a| |u|_1 = 2 (k / l^2) |d_a| |d|_1 to row a of both ends.
-template <SpringLawKind K>
-void gershgorin_run(const World& w, const SpringLaw& law, std::size_t k0, std::size_t k1, std::vector<Vec3>& rows) {
-  const Springs& s = w.springs;
-  for (std::size_t k = k0; k < k1; ++k) {
-    const int i = s.ends[k][0], j = s.ends[k][1];
-    const Vec3 d = w.x[j] - w.x[i];
-    const double l2 = d.squaredNorm();
-    if (!(l2 > 0.0)) continue;
-    const Vec3 a = d.cwiseAbs();
-    const Vec3 r = (2.0 * tangent_over_l2<K>(law, s.rest[k], l2) * a.sum()) * a;
-    rows[i] += r;
-    rows[j] += r;
-  }
-}
-
-// The exponential law in blocks, its exp for a block at once (spring_exp_batch).
-template <>
-void gershgorin_run<SpringLawKind::exponential>(const World& w, const SpringLaw& law, std::size_t k0,
-                                                std::size_t k1, std::vector<Vec3>& rows) {
-  const Springs& s = w.springs;
-  constexpr int B = 64;
-  double X[B], E[B], L2[B];
-  for (std::size_t b = k0; b < k1; b += B) {
-    const int m = static_cast<int>(std::min<std::size_t>(B, k1 - b));
-    for (int q = 0; q < m; ++q) {
-      const std::size_t k = b + static_cast<std::size_t>(q);
-      const Vec3 d = w.x[s.ends[k][1]] - w.x[s.ends[k][0]];
-      L2[q] = d.squaredNorm();
-      const double L0 = s.rest[k];
-      X[q] = L2[q] > 0.0 ? exponential_arg(law, L0, std::sqrt(L2[q])) : 0.0;
-    }
-    spring_exp_batch(X, E, m);
-    for (int q = 0; q < m; ++q) {
-      if (!(L2[q] > 0.0)) continue;
-      const std::size_t k = b + static_cast<std::size_t>(q);
-      const int i = s.ends[k][0], j = s.ends[k][1];
-      const Vec3 a = (w.x[j] - w.x[i]).cwiseAbs();
-      const Vec3 r = (2.0 * (std::fabs(law.k * E[q]) / L2[q]) * a.sum()) * a;
-      rows[i] += r;
-      rows[j] += r;
-    }
-  }
-}
-
-}  // namespace
-
 double critical_dt(const World& w, std::vector<Vec3>& rows) {
   const int n = w.num_nodes();
   if (w.springs.size() == 0) return std::numeric_limits<double>::infinity();
   rows.assign(static_cast<std::size_t>(n), Vec3::Zero());
-  const Springs& s = w.springs;
-  const std::size_t ns = s.size();
-  for (std::size_t k0 = 0, k1; k0 < ns; k0 = k1) {  // runs of springs of one body
-    const int b = s.body[k0];
-    for (k1 = k0 + 1; k1 < ns && s.body[k1] == b;) ++k1;
-    const SpringLaw& law = w.body_law[b];
-    switch (law.kind) {
-      case SpringLawKind::linear: gershgorin_run<SpringLawKind::linear>(w, law, k0, k1, rows); break;
-      case SpringLawKind::cubic: gershgorin_run<SpringLawKind::cubic>(w, law, k0, k1, rows); break;
-      case SpringLawKind::exponential: gershgorin_run<SpringLawKind::exponential>(w, law, k0, k1, rows); break;
-    }
-  }
+  add_spring_stiffness_rows(w, rows);
   double lam = 0.0;
   for (int i = 0; i < n; ++i)
     if (w.kinematic[i] == 0) lam = std::max(lam, rows[i].maxCoeff() * w.inv_m[i]);
