@@ -1,13 +1,14 @@
 // Linearised backward Euler (Baraff and Witkin 1998) for stiff scenes:
 //   (M - h D - h^2 K) dv = h (f0 + h K v0),   v1 = v0 + dv,   x1 = x0 + h v1
 // f0 is every force of the step at (x0, v0) (w.f, contact included, treated explicitly);
-// K = df/dx of the springs, D = df/dv of the dashpots and mass damping. The spring block is
-// k_t u u^T + max(T/l, 0) (I - u u^T): the compressive geometric term is dropped so that
-// M - h D - h^2 K stays symmetric positive definite and conjugate gradient applies.
+// K = df/dx and D = df/dv as the simulated effects describe them (effect.hpp, LinearSystem):
+// per spring a stiffness block and a dashpot along it, per node mass-proportional damping.
 // Kinematic nodes (pins, drivers) are not unknowns: pinned nodes stay put, driven ones move
-// with their kin_v; their coupling enters the right-hand side through K v0.
+// with their kin_v; their coupling enters the right-hand side through K v0. The system is
+// symmetric positive definite (the effects keep their blocks so), solved by conjugate gradient.
 #pragma once
 
+#include "core/effects/effect.hpp"
 #include "core/world.hpp"
 
 #include <Eigen/Sparse>
@@ -24,12 +25,13 @@ struct ImplicitStats {
 
 class ImplicitEuler {
  public:
-  // springs/damping: whether those effects are simulated (their Jacobians enter the matrix).
-  ImplicitStats step(World& w, double h, bool springs, bool damping);
+  ImplicitStats step(World& w, double h, const LinearSystem& sys);
   double tolerance = 1e-9;   // relative residual of CG
   int max_iterations = 1000;
 
  private:
+  void assemble_springs(const World& w, double h, const LinearSystem& sys);
+
   std::vector<int> dof_;  // node -> first unknown (3 per free node), -1 for kinematic nodes
   std::vector<Eigen::Triplet<double>> triplets_;
   Eigen::SparseMatrix<double> A_;

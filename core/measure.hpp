@@ -3,7 +3,7 @@
 // the simulation.
 #pragma once
 
-#include "core/collision/collision_detector.hpp"
+#include "core/collision/detectors/collision_detector.hpp"
 #include "core/collision/contact_spec.hpp"
 #include "core/world.hpp"
 

@@ -3,6 +3,8 @@
 // size before anything is reserved, and every token is parsed with std::from_chars.
 #include "core/mesh.hpp"
 
+#include "core/geometry.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -26,22 +28,6 @@ int isize(const C& c) {
   return static_cast<int>(c.size());
 }
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[b] = a;
-  }
-};
 
 std::uint64_t edge_key(int a, int b) {
   if (a > b) std::swap(a, b);

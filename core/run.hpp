@@ -1,5 +1,6 @@
-// `harness run`: simulates a scene and writes DIR/steps.csv, DIR/summary.json and
-// DIR/frames/*.vtk (DESIGN.md, "Outputs of harness run").
+// `harness run`: simulates a scene and writes DIR/steps.csv (run/columns.hpp),
+// DIR/summary.json (run/summary.hpp), DIR/frames/*.vtk (run/frames.hpp) and, with CGAL,
+// DIR/penetration_episodes.csv. One loop: step, check, record (run/recorder.hpp), write.
 #pragma once
 
 #include "core/measure.hpp"
@@ -13,8 +14,9 @@ namespace harness {
 
 struct RunOptions {
   std::string out_dir = "out";
-  bool progress = false;  // a progress line on stderr
-  MeasurerFactory measurer;  // empty: references unavailable in this build
+  bool progress = false;                        // a progress line on stderr
+  MeasurerFactory measurer;                     // empty: references unavailable in this program
+  ExactDetectorMaker exact_detectors = nullptr;  // empty: detectors "cgal", "fcl" unavailable
   std::map<std::string, std::string> versions;  // extra library versions (FCL, CGAL)
 };
 
@@ -22,21 +24,9 @@ struct RunOptions {
 // Throws InputError before anything is written when the scene cannot be built.
 int run_scene(const Scene& scene, const RunOptions& options);
 
-// Legacy ASCII VTK POLYDATA of a body's closed outward surface; with `penetrating` (per body
-// node, body-local) also POINT_DATA "penetrating" (0/1) on the surface vertices.
-void write_vtk(const std::string& path, const World& w, int body, const std::string& title,
-               const std::vector<std::uint8_t>* penetrating = nullptr);
-
-// Unit vector from the host's to the guest's bounding-box centre (the approach side).
-Vec3 approach_axis(const World& w, const ContactSpec& pair);
-// Guest nodes that lie beyond the host's far side along `axis` (the approach axis at rest):
-// nodes that tunnelled through the host. summary.json: pairs[].tunnelled.
-int tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis);
-
-// Fixed leading columns of steps.csv (DESIGN.md), then the extra ones.
-extern const char* const kStepsColumns;
-
-std::string compiler_version();
-std::string eigen_version();
+// One step with the run's checks: the state before it is kept, and when the step throws (the
+// voxel region outgrew its cap) or leaves a non-finite state, it is put back and the reason is
+// returned (empty: the step went through). `good_x`, `good_v` are scratch of the node count.
+std::string checked_step(Simulation& sim, Points& good_x, Points& good_v);
 
 }  // namespace harness

@@ -1,6 +1,6 @@
 #include "core/scene.hpp"
 
-#include "core/collision/collision_detector.hpp"
+#include "core/effects/effects.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -13,10 +13,9 @@ namespace harness {
 
 using nlohmann::json;
 
-const std::vector<std::pair<Effect, const char*>>& effect_names() {
-  static const std::vector<std::pair<Effect, const char*>> names = {
-      {kSprings, "springs"}, {kDamping, "damping"}, {kGravity, "gravity"}, {kPins, "pins"},
-      {kDrivers, "drivers"}, {kPressure, "pressure"}, {kContact, "contact"}};
+std::vector<std::pair<EffectFlag, const char*>> effect_names() {
+  std::vector<std::pair<EffectFlag, const char*>> names;
+  for (const EffectEntry& e : effect_table()) names.emplace_back(static_cast<EffectFlag>(e.flag), e.name);
   return names;
 }
 
@@ -368,31 +367,32 @@ BodySpec read_body(const Ctx& c, const json& j, const std::string& path, json& o
 
 }  // namespace
 
-Scene scene_from_json(const json& doc, const std::string& file, const std::string& dir) {
-  Ctx c{file};
-  Scene s;
-  s.file = file;
-  s.dir = dir;
+namespace {
+
+// The enum value a scene word names, from a (value, name) table.
+template <class E>
+E pick(Obj& o, const std::string& key, const std::string& def, const std::vector<std::pair<E, const char*>>& table) {
+  std::vector<std::string> names;
+  for (const auto& [v, n] : table) names.emplace_back(n);
+  const std::string word = o.choice(key, def, names);
+  for (const auto& [v, n] : table)
+    if (word == n) return v;
+  return table.front().first;
+}
+
+void read_time(const Ctx& c, Obj& top, Scene& s) {
+  Obj t(c, top.require("time"), "time", s.resolved["time"]);
+  s.dt = t.number("dt", std::nullopt, 0.0, 1e3, true);
+  s.steps = static_cast<int>(t.integer("steps", std::nullopt, 0, 2000000000));
+  s.integrator = pick<Integrator>(t, "integrator", "symplectic_euler",
+                                  {{Integrator::symplectic_euler, "symplectic_euler"},
+                                   {Integrator::implicit_euler, "implicit_euler"}});
+  s.guard = pick<Guard>(t, "guard", "refuse", {{Guard::refuse, "refuse"}, {Guard::substep, "substep"}});
+  t.finish();
+}
+
+void read_effects(const Ctx& c, Obj& top, Scene& s) {
   json& R = s.resolved;
-  Obj top(c, doc, "", R);
-  s.name = top.string("name", std::filesystem::path(file).stem().string());
-  if (const json* seed = top.get("seed")) {
-    s.seed = as_integer(c, "seed", *seed);
-    R["seed"] = *s.seed;
-  }
-  {
-    Obj t(c, top.require("time"), "time", R["time"]);
-    s.dt = t.number("dt", std::nullopt, 0.0, 1e3, true);
-    s.steps = static_cast<int>(t.integer("steps", std::nullopt, 0, 2000000000));
-    s.integrator = t.choice("integrator", std::string("symplectic_euler"),
-                            {"symplectic_euler", "implicit_euler"}) == "symplectic_euler"
-                       ? Integrator::symplectic_euler
-                       : Integrator::implicit_euler;
-    s.guard = t.choice("guard", std::string("refuse"), {"refuse", "substep"}) == "refuse"
-                  ? Guard::refuse
-                  : Guard::substep;
-    t.finish();
-  }
   R["effects"] = json::array();
   if (const json* eff = top.get("effects")) {
     as_list(c, "effects", *eff);
@@ -411,100 +411,126 @@ Scene scene_from_json(const json& doc, const std::string& file, const std::strin
   }
   for (const auto& [b, n] : effect_names())
     if (s.effects & b) R["effects"].push_back(n);
-  s.gravity = top.vec3("gravity", Vec3(0.0, 0.0, -9.81));
+}
 
+void read_bodies(const Ctx& c, Obj& top, Scene& s, const std::string& dir) {
   const json& bodies = as_list(c, "bodies", top.require("bodies"));
   if (bodies.empty()) c.fail("bodies", "at least one body is needed");
-  R["bodies"] = json::array();
+  s.resolved["bodies"] = json::array();
   std::set<std::string> names;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     json r;
     BodySpec b = read_body(c, bodies[i], join("bodies", i), r, dir);
-    if (!names.insert(b.name).second)
-      c.fail(join(join("bodies", i), "name"), "duplicate body name \"" + b.name + "\"");
-    R["bodies"].push_back(r);
+    if (!names.insert(b.name).second) c.fail(join(join("bodies", i), "name"), "duplicate body name \"" + b.name + "\"");
+    s.resolved["bodies"].push_back(r);
     s.bodies.push_back(std::move(b));
   }
+}
 
-  R["contacts"] = json::array();
-  if (const json* cs = top.get("contacts")) {
-    as_list(c, "contacts", *cs);
-    for (std::size_t i = 0; i < cs->size(); ++i) {
-      json r;
-      const std::string path = join("contacts", i);
-      Obj o(c, (*cs)[i], path, r);
-      ContactPairSpec p;
-      p.path = path;
-      p.host = o.string("host", std::nullopt);
-      p.guest = o.string("guest", std::nullopt);
-      if (!names.count(p.host)) c.fail(o.at("host"), "unknown body \"" + p.host + "\"");
-      if (!names.count(p.guest)) c.fail(o.at("guest"), "unknown body \"" + p.guest + "\"");
-      if (p.host == p.guest) c.fail(o.at("guest"), "host and guest must be different bodies");
-      ContactSpec& cs2 = p.spec;
-      cs2.detector = o.string("detector", std::string("voxel"));
-      if (!detector_known(cs2.detector))
-        c.fail(o.at("detector"), "unknown detector \"" + cs2.detector +
-                                     "\" (this build knows \"voxel\"" +
-                                     (detector_known("cgal") ? ", \"cgal\", \"fcl\")" : ")"));
-      const json* vs = o.get("voxel_size");
-      if (!vs || (vs->is_string() && vs->get<std::string>() == "auto")) {
-        cs2.voxel_size = 0.0;
-        o.out()["voxel_size"] = "auto";
-      } else {
-        cs2.voxel_size = o.number("voxel_size", std::nullopt, 0.0, 1e6, true);
-      }
-      const std::string region = o.choice("region", std::string("half"), {"half", "full", "overlap"});
-      cs2.region = region == "half" ? Region::half : region == "full" ? Region::full : Region::overlap;
-      cs2.margin = static_cast<int>(o.integer("margin", 1, 0, 64));
-      cs2.host_nodes = o.choice("host_nodes", std::string("all"), {"all", "surface"}) == "all"
-                           ? HostNodes::all
-                           : HostNodes::surface;
-      cs2.eliminator = o.choice("eliminator", std::string("line"), {"line", "plane"}) == "line"
-                           ? EliminatorKind::line
-                           : EliminatorKind::plane;
-      const json* f = o.get("force");
-      if (!f || (f->is_string() && f->get<std::string>() == "auto")) {
-        cs2.force_auto = true;
-        o.out()["force"] = "auto";
-      } else if (f->is_string()) {
-        c.fail(o.at("force"), "expected a number of newtons or \"auto\"");
-      } else {
-        cs2.force = o.number("force", std::nullopt, 0.0, 1e12);
-      }
-      o.finish();
-      R["contacts"].push_back(r);
-      s.contacts.push_back(std::move(p));
+ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& path, json& r, const Scene& s) {
+  Obj o(c, j, path, r);
+  ContactPairSpec p;
+  p.path = path;
+  p.host = o.string("host", std::nullopt);
+  p.guest = o.string("guest", std::nullopt);
+  auto known = [&](const std::string& name) {
+    for (const BodySpec& b : s.bodies)
+      if (b.name == name) return true;
+    return false;
+  };
+  if (!known(p.host)) c.fail(o.at("host"), "unknown body \"" + p.host + "\"");
+  if (!known(p.guest)) c.fail(o.at("guest"), "unknown body \"" + p.guest + "\"");
+  if (p.host == p.guest) c.fail(o.at("guest"), "host and guest must be different bodies");
+  ContactSpec& cs = p.spec;
+  std::vector<std::pair<DetectorKind, const char*>> detectors;
+  for (const DetectorName& d : detector_names()) detectors.emplace_back(d.kind, d.name);
+  cs.detector = pick(o, "detector", "voxel", detectors);
+  const json* vs = o.get("voxel_size");
+  if (!vs || (vs->is_string() && vs->get<std::string>() == "auto")) {
+    cs.voxel_size = 0.0;
+    o.out()["voxel_size"] = "auto";
+  } else {
+    cs.voxel_size = o.number("voxel_size", std::nullopt, 0.0, 1e6, true);
+  }
+  cs.region = pick<Region>(o, "region", "half", {{Region::half, "half"}, {Region::full, "full"}, {Region::overlap, "overlap"}});
+  cs.margin = static_cast<int>(o.integer("margin", 1, 0, 64));
+  cs.host_nodes = pick<HostNodes>(o, "host_nodes", "all", {{HostNodes::all, "all"}, {HostNodes::surface, "surface"}});
+  cs.eliminator = pick(o, "eliminator", "line", eliminator_names());
+  const json* f = o.get("force");
+  if (!f || (f->is_string() && f->get<std::string>() == "auto")) {
+    cs.force_rule = ForceRule::automatic;
+    o.out()["force"] = "auto";
+  } else if (f->is_string()) {
+    c.fail(o.at("force"), "expected a number of newtons or \"auto\"");
+  } else {
+    cs.force_rule = ForceRule::constant;
+    cs.force = o.number("force", std::nullopt, 0.0, 1e12);
+  }
+  o.finish();
+  return p;
+}
+
+void read_contacts(const Ctx& c, Obj& top, Scene& s) {
+  s.resolved["contacts"] = json::array();
+  const json* cs = top.get("contacts");
+  if (!cs) return;
+  as_list(c, "contacts", *cs);
+  for (std::size_t i = 0; i < cs->size(); ++i) {
+    json r;
+    s.contacts.push_back(read_contact(c, (*cs)[i], join("contacts", i), r, s));
+    s.resolved["contacts"].push_back(r);
+  }
+}
+
+void read_references(const Ctx& c, Obj& top, Scene& s) {
+  static const json empty = json::object();
+  const json* rj = top.get("references");
+  Obj o(c, rj ? *rj : empty, "references", s.resolved["references"]);
+  o.out()["solvers"] = json::array();
+  if (const json* sv = o.get("solvers")) {
+    as_list(c, o.at("solvers"), *sv);
+    for (std::size_t i = 0; i < sv->size(); ++i) {
+      const std::string n = as_string(c, join(o.at("solvers"), i), (*sv)[i]);
+      bool* flag = n == "cgal" ? &s.references.cgal : n == "fcl" ? &s.references.fcl : n == "ccd" ? &s.references.ccd : nullptr;
+      if (!flag) c.fail(join(o.at("solvers"), i), "unknown solver \"" + n + "\" (expected \"cgal\", \"fcl\" or \"ccd\")");
+      if (*flag) c.fail(join(o.at("solvers"), i), "solver \"" + n + "\" listed twice");
+      *flag = true;
+      o.out()["solvers"].push_back(n);
     }
   }
-  {
-    static const json empty = json::object();
-    const json* rj = top.get("references");
-    Obj o(c, rj ? *rj : empty, "references", R["references"]);
-    o.out()["solvers"] = json::array();
-    if (const json* sv = o.get("solvers")) {
-      as_list(c, o.at("solvers"), *sv);
-      for (std::size_t i = 0; i < sv->size(); ++i) {
-        const std::string n = as_string(c, join(o.at("solvers"), i), (*sv)[i]);
-        bool* flag = n == "cgal" ? &s.references.cgal
-                     : n == "fcl" ? &s.references.fcl
-                     : n == "ccd" ? &s.references.ccd : nullptr;
-        if (!flag) c.fail(join(o.at("solvers"), i), "unknown solver \"" + n + "\" (expected \"cgal\", \"fcl\" or \"ccd\")");
-        if (*flag) c.fail(join(o.at("solvers"), i), "solver \"" + n + "\" listed twice");
-        *flag = true;
-        o.out()["solvers"].push_back(n);
-      }
-    }
-    s.references.every = static_cast<int>(o.integer("every", 1, 1, 2000000000));
-    s.references.volume = o.boolean("volume", false);
-    o.finish();
+  s.references.every = static_cast<int>(o.integer("every", 1, 1, 2000000000));
+  s.references.volume = o.boolean("volume", false);
+  o.finish();
+}
+
+void read_output(const Ctx& c, Obj& top, Scene& s) {
+  static const json empty = json::object();
+  const json* oj = top.get("output");
+  Obj o(c, oj ? *oj : empty, "output", s.resolved["output"]);
+  s.frames_every = static_cast<int>(o.integer("frames_every", 0, 0, 2000000000));
+  o.finish();
+}
+
+}  // namespace
+
+Scene scene_from_json(const json& doc, const std::string& file, const std::string& dir) {
+  Ctx c{file};
+  Scene s;
+  s.file = file;
+  s.dir = dir;
+  Obj top(c, doc, "", s.resolved);
+  s.name = top.string("name", std::filesystem::path(file).stem().string());
+  if (const json* seed = top.get("seed")) {
+    s.seed = as_integer(c, "seed", *seed);
+    s.resolved["seed"] = *s.seed;
   }
-  {
-    static const json empty = json::object();
-    const json* oj = top.get("output");
-    Obj o(c, oj ? *oj : empty, "output", R["output"]);
-    s.frames_every = static_cast<int>(o.integer("frames_every", 0, 0, 2000000000));
-    o.finish();
-  }
+  read_time(c, top, s);
+  read_effects(c, top, s);
+  s.gravity = top.vec3("gravity", Vec3(0.0, 0.0, -9.81));
+  read_bodies(c, top, s, dir);
+  read_contacts(c, top, s);
+  read_references(c, top, s);
+  read_output(c, top, s);
   top.finish();
   return s;
 }

@@ -21,8 +21,9 @@ namespace harness {
 enum class Integrator { symplectic_euler, implicit_euler };
 enum class Guard { refuse, substep };
 
-// Effects a scene may list; exactly the listed ones are simulated.
-enum Effect : unsigned {
+// Effects a scene may list; exactly the listed ones are simulated (effects/effects.hpp has the
+// table of their names and makers).
+enum EffectFlag : unsigned {
   kSprings = 1u << 0,
   kDamping = 1u << 1,
   kGravity = 1u << 2,
@@ -31,7 +32,8 @@ enum Effect : unsigned {
   kPressure = 1u << 5,
   kContact = 1u << 6,
 };
-const std::vector<std::pair<Effect, const char*>>& effect_names();
+// (flag, name) of every effect, in table order.
+std::vector<std::pair<EffectFlag, const char*>> effect_names();
 
 struct Selection {
   enum Kind { side, box, all } kind = all;
@@ -105,7 +107,7 @@ struct Scene {
   int frames_every = 0;
   nlohmann::json resolved;  // the scene with every default written in
 
-  bool has(Effect e) const { return (effects & e) != 0; }
+  bool has(EffectFlag e) const { return (effects & e) != 0; }
 };
 
 // Parses JSON text (errors as "file:line:col: ..."), applies the overrides, validates.

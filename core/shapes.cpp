@@ -3,6 +3,8 @@
 // subdivisions, 10 million vertices) remain buildable.
 #include "core/shapes.hpp"
 
+#include "core/geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -46,22 +48,6 @@ void sort_unique(std::vector<std::uint64_t>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[b] = a;
-  }
-};
 
 // Static kd-tree over a subset of points (implicit layout: the median of each range is its
 // node), for k-nearest and radius queries.
@@ -134,28 +120,6 @@ class KdTree {
   std::vector<int> ids_;
   std::vector<int> axis_;
 };
-
-// Squared distance from p to triangle abc (Ericson, Real-Time Collision Detection 5.1.5).
-double point_triangle_dist2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.squaredNorm();
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.squaredNorm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (ap - ab * (d1 / (d1 - d3))).squaredNorm();
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.squaredNorm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (ap - ac * (d2 / (d2 - d6))).squaredNorm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return (bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))).squaredNorm();
-  const double denom = 1.0 / (va + vb + vc);
-  return (ap - ab * (vb * denom) - ac * (vc * denom)).squaredNorm();
-}
 
 // ---- icosphere ---------------------------------------------------------------------------
 
@@ -368,7 +332,7 @@ void drop_near_surface(const Points& V, const std::vector<Tri>& F, const Lattice
         const Vec3 p = L.point(i, j, k);
         for (int q = start[c]; q < start[c + 1]; ++q) {
           const Tri& t = F[items[q]];
-          if (point_triangle_dist2(p, V[t[0]], V[t[1]], V[t[2]]) <= r2) {
+          if ((closest_on_triangle(p, V[t[0]], V[t[1]], V[t[2]]) - p).squaredNorm() <= r2) {
             inside[c] = 0;
             break;
           }

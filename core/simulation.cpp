@@ -1,9 +1,8 @@
 #include "core/simulation.hpp"
 
 #include "core/mesh.hpp"
-#include "core/parallel.hpp"
+#include "core/integrator.hpp"
 #include "core/shapes.hpp"
-#include "core/spring_forces.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -49,10 +48,8 @@ std::vector<int> select_nodes(const World& w, int body, const Selection& sel) {
   std::vector<int> out;
   const double diag = (b.rest_max - b.rest_min).norm();
   const double tol = 1e-6 * diag;
-  // Rest positions are not kept separately: selections are evaluated at build time, before
-  // any step, when x holds the rest positions.
   for (int i = b.begin; i < b.end; ++i) {
-    const Vec3& p = w.x[i];
+    const Vec3& p = w.x0[i];
     bool in = false;
     switch (sel.kind) {
       case Selection::all: in = true; break;
@@ -70,280 +67,174 @@ std::vector<int> select_nodes(const World& w, int body, const Selection& sel) {
   return out;
 }
 
-Simulation::Simulation(const Scene& scene) : scene_(scene) {
-  const Scene& sc = scene_;
-  World& w = world;
-  // Generate every body, then lay the nodes out in one set of arrays.
-  for (const BodySpec& bs : sc.bodies) {
-    ShapeModel model = generate(sc, bs);
-    Body b;
-    b.name = bs.name;
-    b.begin = w.num_nodes();
-    b.end = b.begin + static_cast<int>(model.nodes.size());
-    b.n_surface = model.n_surface;
-    b.faces = std::move(model.faces);
-    b.material = bs.material;
-    b.volume = model.volume;
-    // Vertex -> face CSR for vertex normals.
-    b.vf_start.assign(b.n_surface + 1, 0);
-    for (const Tri& t : b.faces)
-      for (int v : t) ++b.vf_start[v + 1];
-    for (int s = 0; s < b.n_surface; ++s) b.vf_start[s + 1] += b.vf_start[s];
-    b.vf_faces.assign(b.vf_start.back(), 0);
-    std::vector<int> fill(b.vf_start.begin(), b.vf_start.end() - 1);
-    for (std::size_t fi = 0; fi < b.faces.size(); ++fi)
-      for (int v : b.faces[fi]) b.vf_faces[fill[v]++] = static_cast<int>(fi);
-    b.rest_min = Vec3::Constant(std::numeric_limits<double>::infinity());
-    b.rest_max = -b.rest_min;
-    for (const Vec3& p : model.nodes) {
-      b.rest_min = b.rest_min.cwiseMin(p);
-      b.rest_max = b.rest_max.cwiseMax(p);
-    }
-    const int body_index = static_cast<int>(w.bodies.size());
-    b.spring_begin = static_cast<int>(w.springs.size());
-    for (const Edge& e : model.springs) {
-      w.springs.ends.push_back({b.begin + e[0], b.begin + e[1]});
-      w.springs.rest.push_back((model.nodes[e[1]] - model.nodes[e[0]]).norm());
-      w.springs.body.push_back(body_index);
-    }
-    b.spring_end = static_cast<int>(w.springs.size());
-    for (std::size_t i = 0; i < model.nodes.size(); ++i) {
-      w.x.push_back(model.nodes[i]);
-      w.v.push_back(bs.velocity);
-      const double m = bs.material.density * model.node_volume[i];
-      w.m.push_back(m);
-    }
-    w.body_law.push_back({bs.material.law, bs.material.stiffness, bs.material.nonlinearity});
-    w.bodies.push_back(std::move(b));
+namespace {
+
+// Appends a generated body to the world's arrays (nodes, springs, masses) and its topology.
+void append_body(World& w, const BodySpec& bs, ShapeModel&& model) {
+  Body b;
+  b.name = bs.name;
+  b.begin = w.num_nodes();
+  b.end = b.begin + static_cast<int>(model.nodes.size());
+  b.n_surface = model.n_surface;
+  b.faces = std::move(model.faces);
+  b.material = bs.material;
+  b.volume = model.volume;
+  // Vertex -> face CSR for vertex normals.
+  b.vf_start.assign(b.n_surface + 1, 0);
+  for (const Tri& t : b.faces)
+    for (int v : t) ++b.vf_start[v + 1];
+  for (int s = 0; s < b.n_surface; ++s) b.vf_start[s + 1] += b.vf_start[s];
+  b.vf_faces.assign(b.vf_start.back(), 0);
+  std::vector<int> fill(b.vf_start.begin(), b.vf_start.end() - 1);
+  for (std::size_t fi = 0; fi < b.faces.size(); ++fi)
+    for (int v : b.faces[fi]) b.vf_faces[fill[v]++] = static_cast<int>(fi);
+  b.rest_min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  b.rest_max = -b.rest_min;
+  for (const Vec3& p : model.nodes) {
+    b.rest_min = b.rest_min.cwiseMin(p);
+    b.rest_max = b.rest_max.cwiseMax(p);
   }
+  const int body_index = static_cast<int>(w.bodies.size());
+  b.spring_begin = static_cast<int>(w.springs.size());
+  for (const Edge& e : model.springs) {
+    w.springs.ends.push_back({b.begin + e[0], b.begin + e[1]});
+    w.springs.rest.push_back((model.nodes[e[1]] - model.nodes[e[0]]).norm());
+    w.springs.body.push_back(body_index);
+  }
+  b.spring_end = static_cast<int>(w.springs.size());
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+    w.x.push_back(model.nodes[i]);
+    w.v.push_back(bs.velocity);
+    w.m.push_back(bs.material.density * model.node_volume[i]);
+  }
+  w.body_law.push_back({bs.material.law, bs.material.stiffness, bs.material.nonlinearity});
+  w.bodies.push_back(std::move(b));
+}
+
+}  // namespace
+
+Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : scene_(scene) {
+  build_world();
+  build_kinematics();
+  build_pairs();
+  build_effects(options);
+  guard_ = std::make_unique<StabilityGuard>(scene_, world_, effects_);
+  stats_.stability = guard_->stats();
+}
+
+void Simulation::build_world() {
+  World& w = world_;
+  for (const BodySpec& bs : scene_.bodies) append_body(w, bs, generate(scene_, bs));
   const int n = w.num_nodes();
   for (int i = 0; i < n; ++i) {
     if (!(w.m[i] > 0.0) || !std::isfinite(w.m[i]))
-      throw InputError(sc.file + ": bodies", "a node has no positive mass (check density and shape)");
+      throw InputError(scene_.file + ": bodies", "a node has no positive mass (check density and shape)");
     w.inv_m.push_back(1.0 / w.m[i]);
   }
+  w.x0 = w.x;
   w.f.assign(n, Vec3::Zero());
-  w.kinematic.assign(n, 0);
+  w.kinematic.assign(n, Kinematic::free);
   w.kin_v.assign(n, Vec3::Zero());
-  pinned_.assign(n, 0);
-  driven_now_.assign(n, 0);
+}
 
-  // Selections are checked whether or not their effect is listed: a bad scene is bad input.
-  for (std::size_t bi = 0; bi < sc.bodies.size(); ++bi) {
-    const BodySpec& bs = sc.bodies[bi];
+// Selections are resolved and checked whether or not their effect is listed: a bad scene is
+// bad input either way.
+void Simulation::build_kinematics() {
+  for (std::size_t bi = 0; bi < scene_.bodies.size(); ++bi) {
+    const BodySpec& bs = scene_.bodies[bi];
     for (const Selection& sel : bs.pins) {
-      const auto nodes = select_nodes(w, static_cast<int>(bi), sel);
-      if (nodes.empty()) throw InputError(sc.file + ": " + sel.path, "selection selects no node");
-      if (sc.has(kPins))
-        for (int i : nodes) pinned_[i] = 1;
+      const auto nodes = select_nodes(world_, static_cast<int>(bi), sel);
+      if (nodes.empty()) throw InputError(scene_.file + ": " + sel.path, "selection selects no node");
+      pinned_nodes_.insert(pinned_nodes_.end(), nodes.begin(), nodes.end());
     }
     for (std::size_t d = 0; d < bs.drivers.size(); ++d) {
       const DriverSpec& ds = bs.drivers[d];
-      auto nodes = select_nodes(w, static_cast<int>(bi), ds.select);
+      auto nodes = select_nodes(world_, static_cast<int>(bi), ds.select);
       if (nodes.empty())
-        throw InputError(sc.file + ": " + bs.path + ".drivers." + std::to_string(d) + ".select",
+        throw InputError(scene_.file + ": " + bs.path + ".drivers." + std::to_string(d) + ".select",
                          "selection selects no node");
-      if (sc.has(kDrivers)) driver_nodes_.push_back({std::move(nodes), ds.velocity, ds.from_step, ds.to_step});
+      drivers_.push_back({std::move(nodes), ds.velocity, ds.from_step, ds.to_step});
     }
   }
-  pins_ = sc.has(kPins);
-  drivers_ = sc.has(kDrivers);
-  for (int i = 0; i < n; ++i) {
-    w.kinematic[i] = pinned_[i];
-    if (pinned_[i]) w.v[i] = Vec3::Zero();
-  }
-
-  if (sc.has(kSprings)) forces_.push_back(make_springs_effect());
-  if (sc.has(kDamping)) forces_.push_back(make_damping_effect());
-  if (sc.has(kGravity)) forces_.push_back(make_gravity_effect(sc.gravity));
-  if (sc.has(kPressure)) {
-    std::vector<std::pair<int, PressureSpec>> pb;
-    for (std::size_t bi = 0; bi < sc.bodies.size(); ++bi)
-      if (sc.bodies[bi].pressure.present) pb.emplace_back(static_cast<int>(bi), sc.bodies[bi].pressure);
-    if (!pb.empty()) forces_.push_back(make_pressure_effect(std::move(pb)));
-  }
-
-  for (const ContactPairSpec& cp : sc.contacts) {
-    PairSlot slot;
-    slot.spec = cp.spec;
-    slot.spec.host = w.find_body(cp.host);
-    slot.spec.guest = w.find_body(cp.guest);
-    slot.label = cp.host + "/" + cp.guest;
-    if (sc.has(kContact)) {
-      try {
-        slot.collision = std::make_unique<Collision>(w, slot.spec);
-      } catch (const std::invalid_argument& e) {
-        throw InputError(sc.file + ": " + cp.path, e.what());
-      }
-    }
-    pairs.push_back(std::move(slot));
-  }
-
-  // Stability guard of the explicit integrator (at rest); implicit Euler needs none.
-  dt_crit = critical_dt(w, crit_rows_);
-  dt_crit_min = dt_crit;
-  if (sc.integrator == Integrator::symplectic_euler && std::isfinite(dt_crit) && sc.dt > 0.9 * dt_crit) {
-    char buf[256];
-    if (sc.guard == Guard::refuse) {
-      std::snprintf(buf, sizeof buf,
-                    "dt = %.6g s exceeds 0.9 dt_crit = %.6g s (dt_crit = %.6g s, Gershgorin bound); "
-                    "lower dt or set time.guard to \"substep\"",
-                    sc.dt, 0.9 * dt_crit, dt_crit);
-      throw InputError(sc.file + ": time.dt", buf);
-    }
-    const double ratio = sc.dt / (0.9 * dt_crit);
-    if (ratio > 1e6) throw InputError(sc.file + ": time.dt", "dt needs more than 1e6 substeps");
-    substeps = static_cast<int>(std::ceil(ratio));
-  }
-  max_substeps = substeps;
-  dt_crit_last_ = dt_crit;
 }
 
-void Simulation::guard_check() {
-  const double measured = critical_dt(world, crit_rows_);
-  // A stiffening law keeps shrinking dt_crit during the coming step: extrapolate the trend
-  // since the last check (geometrically) so that the substeps are sized for the step's end.
-  double d = measured;
-  if (std::isfinite(dt_crit_last_) && dt_crit_last_ > measured && measured > 0.0)
-    d = measured * (measured / dt_crit_last_);
-  dt_crit_last_ = measured;
-  dt_crit_min = std::min(dt_crit_min, d);
-  if (scene_.integrator != Integrator::symplectic_euler || !std::isfinite(d)) return;
-  const double ratio = scene_.dt / (0.9 * d);
-  if (scene_.guard == Guard::substep) {
-    substeps = std::max(1, static_cast<int>(std::ceil(std::min(ratio, 1e6))));
-    max_substeps = std::max(max_substeps, substeps);
-  } else if (ratio > 1.0) {
-    ++guard_violations;
+void Simulation::build_pairs() {
+  for (const ContactPairSpec& cp : scene_.contacts) {
+    Pair p;
+    p.spec = cp.spec;
+    p.spec.host = world_.find_body(cp.host);
+    p.spec.guest = world_.find_body(cp.guest);
+    p.label = cp.host + "/" + cp.guest;
+    pairs_.push_back(std::move(p));
   }
+}
+
+void Simulation::build_effects(const SimulationOptions& options) {
+  EffectBuild b{scene_, world_, pairs_, pinned_nodes_, drivers_, options.exact_detectors};
+  effects_ = make_effects(b);
 }
 
 std::vector<std::string> Simulation::effects_simulated() const {
   std::vector<std::string> out;
-  for (const auto& [bit, name] : effect_names())
-    if (scene_.has(bit)) out.push_back(name);
+  for (const EffectEntry& e : effect_table())
+    if (scene_.effects & e.flag) out.push_back(e.name);
   return out;
 }
 
-void Simulation::update_kinematics(int step) {
-  if (!drivers_) return;
-  World& w = world;
-  // Active drivers first (a later driver wins where two overlap); then the nodes no active
-  // driver moves any more are released with their last velocity. Releasing inside the loop
-  // would let an inactive driver free nodes that another driver is moving.
-  for (const DriverNodes& d : driver_nodes_)
-    for (int i : d.nodes) driven_now_[i] = 0;
-  for (const DriverNodes& d : driver_nodes_) {
-    if (!(step >= d.from_step && (d.to_step < 0 || step <= d.to_step))) continue;
-    for (int i : d.nodes) {
-      if (pinned_[i]) continue;  // a pin wins over a driver
-      driven_now_[i] = 1;
-      w.kinematic[i] = 2;
-      w.kin_v[i] = d.velocity;
-      w.v[i] = d.velocity;
-    }
-  }
-  for (const DriverNodes& d : driver_nodes_)
-    for (int i : d.nodes)
-      if (!driven_now_[i] && w.kinematic[i] == 2) {
-        w.kinematic[i] = 0;  // released: keeps its last velocity
-        w.kin_v[i] = Vec3::Zero();
-      }
-}
-
-void Simulation::integrate(double h) {
-  World& w = world;
-  const int n = w.num_nodes();
-  // Per node, independent: parallel (core/parallel.hpp) with the same result for any thread count.
-#pragma omp parallel for num_threads(threads_for(static_cast<std::size_t>(n))) schedule(dynamic, 8192)
-  for (int i = 0; i < n; ++i) {
-    switch (w.kinematic[i]) {
-      case 0:
-        w.v[i] += (h * w.inv_m[i]) * w.f[i];
-        w.x[i] += h * w.v[i];
-        break;
-      case 1:  // pinned: untouched, bit-exact
-        break;
-      default:  // driven
-        w.x[i] += h * w.kin_v[i];
-        break;
-    }
-  }
+void Simulation::integrate(const StepContext& s) {
+  if (scene_.integrator == Integrator::symplectic_euler) return symplectic_euler_step(world_, s.h);
+  system_.reset(world_);
+  for (const auto& e : effects_) e->add_jacobian(world_, system_);
+  stats_.implicit_last = implicit_.step(world_, s.h, system_);
+  stats_.implicit_max_iterations = std::max(stats_.implicit_max_iterations, stats_.implicit_last.iterations);
+  if (!stats_.implicit_last.converged) ++stats_.implicit_unconverged;
 }
 
 void Simulation::step() {
   const auto t0 = Clock::now();
-  ++step_index;
-  World& w = world;
-  // The guard re-evaluates dt_crit every kGuardEvery steps, and every step once dt per substep
-  // is within a factor 2 of the limit (stiffening laws can halve dt_crit within ten steps).
-  if (scene_.has(kSprings) && step_index > 1 &&
-      ((step_index - 1) % kGuardEvery == 0 || scene_.dt / substeps > 0.45 * dt_crit_last_))
-    guard_check();
-  const double h = scene_.dt / substeps;
-  update_kinematics(step_index);
-  for (PairSlot& p : pairs) p.contacts = 0, p.t_detect_us = p.t_eliminate_us = p.force = 0.0;
-  StepInfo info{step_index, h};
-  double physics = 0.0;
+  ++step_index_;
+  World& w = world_;
+  guard_->before_step(w, effects_, step_index_);
+  const int substeps = guard_->substeps();
+  const StepContext ctx{step_index_, scene_.dt, scene_.dt / substeps, substeps};
+  for (const auto& e : effects_) e->begin_step(w, ctx);
+  double total = 0.0;
   for (int s = 0; s < substeps; ++s) {
-    const auto tp = Clock::now();
+    const auto ts = Clock::now();
     std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
-    for (auto& e : forces_) e->apply(w, info);
-    physics += us_since(tp);
-    for (PairSlot& p : pairs) {
-      if (!p.collision) continue;
-      const PairStepStats st = p.collision->step(w, h);
-      p.contacts += st.contacts;
-      p.t_detect_us += st.t_detect_us;
-      p.t_eliminate_us += st.t_eliminate_us;
-      p.force = std::max(p.force, st.force);
-    }
-    const auto ti = Clock::now();
-    if (scene_.integrator == Integrator::implicit_euler) {
-      implicit_last = implicit_.step(w, h, scene_.has(kSprings), scene_.has(kDamping));
-      implicit_max_iterations = std::max(implicit_max_iterations, implicit_last.iterations);
-      if (!implicit_last.converged) ++implicit_unconverged;
-    } else {
-      integrate(h);
-    }
-    physics += us_since(ti);
+    for (const auto& e : effects_) e->add_forces(w, ctx);
+    integrate(ctx);
+    total += us_since(ts);
   }
-  if (substeps > 1)
-    for (PairSlot& p : pairs) p.contacts = (p.contacts + substeps - 1) / substeps;
-  time = step_index * scene_.dt;
-  last.physics_us = physics;
-  last.detect_us = last.eliminate_us = 0.0;
-  for (const PairSlot& p : pairs) last.detect_us += p.t_detect_us, last.eliminate_us += p.t_eliminate_us;
-  last.step_us = us_since(t0);
+  for (const auto& e : effects_) e->end_step(w, ctx);
+  last_.detect_us = last_.eliminate_us = 0.0;
+  for (const Pair& p : pairs_) last_.detect_us += p.last.detect_us, last_.eliminate_us += p.last.eliminate_us;
+  last_.physics_us = total - last_.detect_us - last_.eliminate_us;
+  stats_.stability = guard_->stats();
+  last_.step_us = us_since(t0);
+}
+
+void Simulation::restore(const Points& x, const Points& v, int step) {
+  std::copy(x.begin(), x.end(), world_.x.begin());
+  std::copy(v.begin(), v.end(), world_.v.begin());
+  step_index_ = step;
 }
 
 double Simulation::kinetic_energy() const {
   double e = 0.0;
-  for (int i = 0; i < world.num_nodes(); ++i) e += 0.5 * world.m[i] * world.v[i].squaredNorm();
+  for (int i = 0; i < world_.num_nodes(); ++i) e += 0.5 * world_.m[i] * world_.v[i].squaredNorm();
   return e;
 }
 
 double Simulation::potential_energy() const {
   double e = 0.0;
-  for (const auto& f : forces_) e += f->energy(world);
+  for (const auto& f : effects_) e += f->energy(world_);
   return e;
 }
 
-double critical_dt(const World& w, std::vector<Vec3>& rows) {
-  const int n = w.num_nodes();
-  if (w.springs.size() == 0) return std::numeric_limits<double>::infinity();
-  rows.assign(static_cast<std::size_t>(n), Vec3::Zero());
-  add_spring_stiffness_rows(w, rows);
-  double lam = 0.0;
-  for (int i = 0; i < n; ++i)
-    if (w.kinematic[i] == 0) lam = std::max(lam, rows[i].maxCoeff() * w.inv_m[i]);
-  if (lam <= 0.0) return std::numeric_limits<double>::infinity();
-  return 2.0 / std::sqrt(lam);
-}
-
-double critical_dt(const World& w) {
+double Simulation::critical_dt() const {
   std::vector<Vec3> rows;
-  return critical_dt(w, rows);
+  return harness::critical_dt(world_, effects_, rows);
 }
 
 std::string state_hash(const World& w) {

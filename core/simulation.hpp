@@ -1,10 +1,14 @@
-// Builds a World from a Scene (only the listed effects) and advances it step by step.
+// Builds a World from a Scene, with only the effects the scene lists, and advances it step by
+// step. Built in named steps: the world (bodies laid out in one set of arrays), the kinematic
+// selections (pins, drivers: resolved and checked whether listed or not), the contact pairs,
+// the effects (effects/effects.hpp: one factory, one interface), and the stability guard.
 #pragma once
 
 #include "core/collision/collision.hpp"
-#include "core/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "core/implicit.hpp"
 #include "core/scene.hpp"
+#include "core/stability.hpp"
 #include "core/world.hpp"
 
 #include <memory>
@@ -13,82 +17,68 @@
 
 namespace harness {
 
-// One contact pair of the scene. `collision` exists only when the scene lists "contact";
-// without it the pair is still measured by the references (penetration without contact).
-struct PairSlot {
-  ContactSpec spec;
-  std::string label;  // "host/guest"
-  std::unique_ptr<Collision> collision;
-  // Of the last step (summed over substeps):
-  int contacts = 0;
-  double t_detect_us = 0.0, t_eliminate_us = 0.0, force = 0.0;
+struct SimulationOptions {
+  ExactDetectorMaker exact_detectors = nullptr;  // reference::make_exact_detector where linked
 };
 
+// Wall time of the last step, microseconds (steady_clock). physics: everything but the contact
+// pairs' detection and elimination.
 struct StepTimes {
   double step_us = 0.0, physics_us = 0.0, detect_us = 0.0, eliminate_us = 0.0;
 };
 
-class Simulation {
- public:
-  // Generates the bodies and builds the listed effects. Throws InputError (with the scene's
-  // file and key path) for inputs that only show when built: mesh files, empty selections,
-  // a dt refused by the stability guard.
-  explicit Simulation(const Scene& scene);
-
-  void step();  // advances one step of scene.dt (in `substeps` equal parts)
-
-  World world;
-  std::vector<PairSlot> pairs;
-  int step_index = 0;  // steps taken
-  double time = 0.0;   // s
-  StepTimes last;      // timings of the last step
-  int substeps = 1;    // explicit substeps per step chosen by the stability guard
-  double dt_crit = 0.0;  // s, Gershgorin bound at rest (infinity without springs)
-  // Stability guard during the run (explicit integrator): dt_crit is re-evaluated at the
-  // current strain every kGuardEvery steps (every step when close to the limit); with guard
-  // "substep" the substeps follow it.
-  static constexpr int kGuardEvery = 10;
-  double dt_crit_min = 0.0;   // smallest dt_crit seen, s
-  int max_substeps = 1;       // largest substep count used
-  int guard_violations = 0;   // checks with dt > 0.9 dt_crit under guard "refuse"
-  ImplicitStats implicit_last;  // of the last implicit solve
+struct SimulationStats {
+  StabilityStats stability;
+  ImplicitStats implicit_last;   // of the last implicit solve
   int implicit_max_iterations = 0;
-  int implicit_unconverged = 0;
-
-  const Scene& scene() const { return scene_; }
-  // Names of the effects built (and simulated), in canonical order.
-  std::vector<std::string> effects_simulated() const;
-  double kinetic_energy() const;
-  double potential_energy() const;  // springs + gravity (conservative effects)
-
- private:
-  void update_kinematics(int step);
-  void integrate(double h);
-
-  Scene scene_;
-  std::vector<std::unique_ptr<ForceEffect>> forces_;
-  bool pins_ = false, drivers_ = false;
-  // Nodes fixed by pins (kinematic value 1); driven nodes get value 2 while a driver acts.
-  struct DriverNodes {
-    std::vector<int> nodes;
-    Vec3 velocity;
-    int from_step, to_step;
-  };
-  std::vector<DriverNodes> driver_nodes_;
-  std::vector<std::uint8_t> pinned_;
-  std::vector<std::uint8_t> driven_now_;  // scratch of update_kinematics
-  ImplicitEuler implicit_;
-  double dt_crit_last_ = 0.0;  // dt_crit at the last check
-  std::vector<Vec3> crit_rows_;  // critical_dt's scratch, kept between checks
-  void guard_check();
+  int implicit_unconverged = 0;  // solves that missed the CG tolerance
 };
 
-// Critical time step of symplectic Euler from a Gershgorin bound on M^-1 K (spring tangent
-// stiffness at the current strain): dt_crit = 2 / sqrt(max_i rowsum_i / m_i). Infinity
-// without springs. Kinematic nodes are skipped (they are not integrated). `rows` is scratch
-// (resized to the node count; pass the same vector every time to avoid allocating).
-double critical_dt(const World& w, std::vector<Vec3>& rows);
-double critical_dt(const World& w);
+class Simulation {
+ public:
+  // Throws InputError (with the scene's file and key path) for inputs that only show when
+  // built: mesh files, empty selections, a dt refused by the stability guard.
+  explicit Simulation(const Scene& scene, const SimulationOptions& options = {});
+
+  void step();  // advances one step of scene.dt (in `substeps` equal parts)
+  // Puts back a state (after a failed step): positions, velocities and the step count.
+  void restore(const Points& x, const Points& v, int step);
+
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  const std::vector<Pair>& pairs() const { return pairs_; }
+  const Scene& scene() const { return scene_; }
+  int step_index() const { return step_index_; }  // steps taken
+  double time() const { return step_index_ * scene_.dt; }  // s
+  const StepTimes& last() const { return last_; }
+  const SimulationStats& stats() const { return stats_; }
+  const Effects& effects() const { return effects_; }
+  // Names of the effects simulated, in canonical order.
+  std::vector<std::string> effects_simulated() const;
+  double kinetic_energy() const;
+  double potential_energy() const;  // stored energy of the built effects (springs, gravity)
+  double critical_dt() const;       // of the built effects at the current state, s
+
+ private:
+  void build_world();
+  void build_kinematics();
+  void build_pairs();
+  void build_effects(const SimulationOptions& options);
+  void integrate(const StepContext& s);
+
+  Scene scene_;
+  World world_;
+  std::vector<int> pinned_nodes_;
+  std::vector<DriverNodes> drivers_;
+  std::vector<Pair> pairs_;
+  Effects effects_;
+  std::unique_ptr<StabilityGuard> guard_;
+  ImplicitEuler implicit_;
+  LinearSystem system_;
+  int step_index_ = 0;
+  StepTimes last_;
+  SimulationStats stats_;
+};
 
 // Global node indices of a body that a selection picks (on the rest positions).
 std::vector<int> select_nodes(const World& w, int body, const Selection& sel);

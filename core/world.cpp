@@ -33,4 +33,12 @@ double enclosed_volume(const World& w, int body) {
   return v / 6.0;
 }
 
+double mean_rest_length(const World& w, int body) {
+  const Body& b = w.bodies[body];
+  if (b.spring_end <= b.spring_begin) return 0.0;
+  double sum = 0.0;
+  for (int k = b.spring_begin; k < b.spring_end; ++k) sum += w.springs.rest[k];
+  return sum / (b.spring_end - b.spring_begin);
+}
+
 }  // namespace harness

@@ -45,20 +45,26 @@ struct Springs {
   std::size_t size() const { return ends.size(); }
 };
 
+// How a node moves: integrated (free), held fixed (pinned, effect "pins"), or moved with a
+// prescribed velocity kin_v (driven, effect "drivers").
+enum class Kinematic : std::uint8_t { free, pinned, driven };
+
 struct World {
   Points x;   // positions, m
+  Points x0;  // rest positions, m (as generated; selections and displacements refer to them)
   Points v;   // velocities, m/s
   Points f;   // force accumulator, N (cleared each step)
   std::vector<double> m;      // lumped masses, kg
   std::vector<double> inv_m;  // 1/m
   // Kinematic nodes (pins, drivers) are moved with kin_v instead of integrated.
-  std::vector<std::uint8_t> kinematic;
+  std::vector<Kinematic> kinematic;
   Points kin_v;
   std::vector<Body> bodies;
   std::vector<SpringLaw> body_law;  // per body
   Springs springs;
 
   int num_nodes() const { return static_cast<int>(x.size()); }
+  bool is_free(int i) const { return kinematic[i] == Kinematic::free; }
   int find_body(const std::string& name) const {
     for (std::size_t i = 0; i < bodies.size(); ++i)
       if (bodies[i].name == name) return static_cast<int>(i);
@@ -72,5 +78,7 @@ void body_bounds(const World& w, int body, Vec3& lo, Vec3& hi);
 Vec3 vertex_normal(const World& w, int body, int s);
 // Enclosed volume of a body's current surface (divergence theorem), m^3.
 double enclosed_volume(const World& w, int body);
+// Mean rest length of a body's springs, m (0 without springs).
+double mean_rest_length(const World& w, int body);
 
 }  // namespace harness

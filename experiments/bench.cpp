@@ -1,6 +1,6 @@
 #include "experiments/bench.hpp"
 
-#include "core/collision/voxel_detector.hpp"
+#include "core/collision/detectors/voxel.hpp"
 #include "core/parallel.hpp"
 #include "core/scene.hpp"
 #include "core/simulation.hpp"
@@ -199,7 +199,7 @@ __attribute__((noinline)) std::uint64_t stream_step(World& w) {
     split_range(n, T, t, b, e);
     const double h = 0.0;  // leaves the state as it is, but every value is read and written
     for (std::size_t i = b; i < e; ++i) {
-      if (w.kinematic[i] != 0) continue;
+      if (!w.is_free(i)) continue;
       w.v[i] += (h * w.inv_m[i]) * w.f[i];
       w.x[i] += h * w.v[i];
     }
@@ -237,11 +237,11 @@ int run_bench(const BenchOptions& opt) {
   for (long long n : sizes) {
     const auto tb = Clock::now();
     Simulation sim(make_bench_scene(n));
-    World& w = sim.world;
+    World& w = sim.world();
     if (opt.progress)
       std::fprintf(stderr, "bench: %lld nodes per body: built in %.1f s (%d + %d nodes, %zu springs)\n", n,
                    seconds_since(tb), w.bodies[0].size(), w.bodies[1].size(), w.springs.size());
-    Collision& col = *sim.pairs.at(0).collision;
+    Collision& col = *sim.pairs().at(0).collision;
     const auto& vd = dynamic_cast<const VoxelDetector&>(col.detector());
     const Body& host = w.bodies[0];
     const Body& guest = w.bodies[1];
@@ -290,9 +290,9 @@ int run_bench(const BenchOptions& opt) {
       // A repetition is kGuardEvery steps (one stability check each, as in a run), divided by
       // their number: the step's cost with its periodic guard, not the median step without it.
       measure("step", T, [&] {
-        for (int k = 0; k < Simulation::kGuardEvery; ++k) sim.step();
-      }, 0, "per step; repetitions of " + std::to_string(Simulation::kGuardEvery) + " steps (one stability check)", 1e30,
-              Simulation::kGuardEvery);
+        for (int k = 0; k < StabilityGuard::kEvery; ++k) sim.step();
+      }, 0, "per step; repetitions of " + std::to_string(StabilityGuard::kEvery) + " steps (one stability check)", 1e30,
+              StabilityGuard::kEvery);
       std::copy(x0.begin(), x0.end(), w.x.begin());
       std::copy(v0.begin(), v0.end(), w.v.begin());
     }

@@ -90,9 +90,6 @@ int cmd_list() {
 }  // namespace
 
 int main(int argc, char** argv) {
-#ifdef HARNESS_HAVE_REFERENCE
-  register_reference_detectors();
-#endif
   CLI::App app{"harness: soft bodies as nonlinear mass-spring models, collisions by the local voxel "
                "model of Nikolaev (2013), measured against FCL and CGAL"};
   app.require_subcommand(1);
@@ -183,6 +180,7 @@ int main(int argc, char** argv) {
     opt.progress = !quiet;
 #ifdef HARNESS_HAVE_REFERENCE
     opt.measurer = make_reference_measurer;
+    opt.exact_detectors = make_exact_detector;
     opt.versions = reference_version_map();
 #endif
     return run_scene(scene, opt);

@@ -3,6 +3,8 @@
 
 #include "reference/cgal_types.hpp"
 
+#include "core/geometry.hpp"
+
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/version_macros.h>
@@ -101,15 +103,6 @@ SurfaceSide CgalSurface::side(const Vec3& p) const {
 }
 
 namespace {
-
-// Closest point to p on segment [a, b], in plain double arithmetic (safe when a == b).
-Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double l2 = ab.squaredNorm();
-  if (!(l2 > 0.0)) return a;
-  const double t = std::clamp((p - a).dot(ab) / l2, 0.0, 1.0);
-  return a + t * ab;
-}
 
 // Nearest surface point to p: face index, point, squared distance.
 struct Nearest {

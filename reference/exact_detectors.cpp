@@ -1,5 +1,7 @@
 #include "reference/exact_detectors.hpp"
 
+#include "core/geometry.hpp"
+
 #include <cmath>
 
 #include <algorithm>
@@ -9,28 +11,6 @@
 namespace harness {
 
 namespace {
-
-// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
 
 // Exact predicates on a NaN abort the program inside GMP: a diverged state gets no contacts
 // (the run's finiteness check then stops it).
@@ -164,10 +144,13 @@ bool FclDetector::contact_direction(const World& w, const Contact& c, Vec3& n) c
   return face_normal(w, host_begin_, host_.faces()[c.key], n);
 }
 
-void register_reference_detectors() {
-  // Idempotent: tests and the program may both call it.
-  if (!detector_known("cgal")) register_detector("cgal", [] { return std::make_unique<CgalDetector>(); });
-  if (!detector_known("fcl")) register_detector("fcl", [] { return std::make_unique<FclDetector>(); });
+std::unique_ptr<CollisionDetector> make_exact_detector(DetectorKind kind) {
+  switch (kind) {
+    case DetectorKind::cgal: return std::make_unique<CgalDetector>();
+    case DetectorKind::fcl: return std::make_unique<FclDetector>();
+    default: break;
+  }
+  throw std::invalid_argument(std::string("detector \"") + to_string(kind) + "\" is not an exact detector");
 }
 
 }  // namespace harness

@@ -12,7 +12,7 @@
 //  "fcl":  the key triangle's outward normal (FCL's contact normal of the pair).
 #pragma once
 
-#include "core/collision/collision_detector.hpp"
+#include "core/collision/detectors/collision_detector.hpp"
 #include "reference/cgal_surface.hpp"
 #include "reference/fcl_surface.hpp"
 
@@ -49,7 +49,8 @@ class FclDetector final : public CollisionDetector {
   std::vector<int> touched_;     // guest surface vertices with best_tri_ set this call
 };
 
-// Registers "cgal" and "fcl" with harness::register_detector().
-void register_reference_detectors();
+// The exact detectors' maker (an ExactDetectorMaker: SimulationOptions, RunOptions): "cgal" and
+// "fcl"; throws std::invalid_argument for any other kind.
+std::unique_ptr<CollisionDetector> make_exact_detector(DetectorKind kind);
 
 }  // namespace harness

@@ -2,6 +2,6 @@
 #pragma once
 
 #include "reference/cgal_surface.hpp"       // inside_surface(), CgalSurface
-#include "reference/exact_detectors.hpp"    // register_reference_detectors()
+#include "reference/exact_detectors.hpp"    // make_exact_detector()
 #include "reference/measure_reference.hpp"  // make_reference_measurer(), reference_versions(),
                                             // reference_version_map()

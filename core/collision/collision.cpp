@@ -1,5 +1,7 @@
 #include "core/collision/collision.hpp"
 
+#include "core/collision/responses/force_rules.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -14,13 +16,13 @@ double micros(Clock::time_point a, Clock::time_point b) {
 }
 }  // namespace
 
-Collision::Collision(const World& w, ContactSpec spec) : spec_(std::move(spec)) {
+Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact) : spec_(std::move(spec)) {
   const int nb = static_cast<int>(w.bodies.size());
   if (spec_.host < 0 || spec_.host >= nb || spec_.guest < 0 || spec_.guest >= nb)
     throw std::invalid_argument("contact pair: host or guest body index out of range");
-  if (!spec_.force_auto && (!(spec_.force >= 0.0) || !std::isfinite(spec_.force)))
+  if (spec_.force_rule == ForceRule::constant && (!(spec_.force >= 0.0) || !std::isfinite(spec_.force)))
     throw std::invalid_argument("contact pair: force must be finite and >= 0");
-  detector_ = make_detector(spec_.detector);
+  detector_ = make_detector(spec_.detector, exact);
   eliminator_ = make_eliminator(spec_.eliminator);
   detector_->initialize(w, spec_);
   contacts_.reserve(static_cast<std::size_t>(w.bodies[spec_.guest].size()));
@@ -28,10 +30,7 @@ Collision::Collision(const World& w, ContactSpec spec) : spec_(std::move(spec)) 
   pushes_.reserve(contacts_.capacity());
   share_.assign(w.x.size(), 0);
   // Length scale of the automatic force for detectors without a grid: mean host spring length.
-  const Body& hb = w.bodies[spec_.host];
-  double sum = 0.0;
-  for (int k = hb.spring_begin; k < hb.spring_end; ++k) sum += w.springs.rest[k];
-  length_scale_ = hb.spring_end > hb.spring_begin ? sum / (hb.spring_end - hb.spring_begin) : 0.0;
+  length_scale_ = mean_rest_length(w, spec_.host);
 }
 
 int Collision::detect(const World& w) {
@@ -39,13 +38,13 @@ int Collision::detect(const World& w) {
   return static_cast<int>(contacts_.size());
 }
 
-PairStepStats Collision::step(World& w, double dt) {
-  PairStepStats s;
+PairStep Collision::step(World& w, double dt) {
+  PairStep s;
   const auto t0 = Clock::now();
   detector_->detect(w, spec_, contacts_);
   const auto t1 = Clock::now();
   eliminator_->pushes(w, spec_, *detector_, contacts_, pushes_);
-  if (spec_.force_auto) {
+  if (spec_.force_rule == ForceRule::automatic) {
     const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
     s.force = auto_contact_forces(w, pushes_, dt, dt > 0.0 ? L / (kSeparationSteps * dt) : 0.0,
                                   magnitude_, share_);
@@ -56,8 +55,8 @@ PairStepStats Collision::step(World& w, double dt) {
   apply_pushes(w, pushes_, magnitude_);
   const auto t2 = Clock::now();
   s.contacts = static_cast<int>(contacts_.size());
-  s.t_detect_us = micros(t0, t1);
-  s.t_eliminate_us = micros(t1, t2);
+  s.detect_us = micros(t0, t1);
+  s.eliminate_us = micros(t1, t2);
   return s;
 }
 

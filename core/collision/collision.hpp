@@ -1,42 +1,44 @@
 // Collision: the paper's wrapper, one per contact pair, with one interface for the simulation:
-// it owns the pair's detector (make_detector(spec.detector)) and eliminator
-// (make_eliminator(spec.eliminator)), and each step detects and then eliminates, adding the
-// penalty forces into World::f. It runs after every other force of the step, because the
-// automatic force magnitude is derived from them (auto_contact_forces, collision_eliminator.hpp).
+// it owns the pair's detector (make_detector, detectors/) and eliminator (make_eliminator,
+// responses/), and each step detects, then eliminates with the pair's force rule
+// (responses/force_rules.hpp), adding the penalty forces into World::f. It runs after every
+// other force of the step (the contact effect is last in the effect table), because the
+// automatic force is derived from them.
 #pragma once
 
-#include "core/collision/collision_detector.hpp"
-#include "core/collision/collision_eliminator.hpp"
 #include "core/collision/contact_spec.hpp"
+#include "core/collision/detectors/collision_detector.hpp"
+#include "core/collision/responses/collision_eliminator.hpp"
 #include "core/world.hpp"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace harness {
 
-struct PairStepStats {
-  int contacts = 0;             // contacts detected this step
-  double t_detect_us = 0.0;     // wall time of detection, microseconds (steady_clock)
-  double t_eliminate_us = 0.0;  // wall time of elimination, including the auto force
-  double force = 0.0;           // largest force magnitude of a contact this step, N
+// What a pair did in one step (summed over its substeps; `contacts` averaged over them).
+struct PairStep {
+  int contacts = 0;             // contacts detected
+  double detect_us = 0.0;       // wall time of detection, microseconds (steady_clock)
+  double eliminate_us = 0.0;    // wall time of elimination, force rule included
+  double force = 0.0;           // largest force magnitude of a contact, N
 };
 
 class Collision {
  public:
   // The automatic force separates a contact at v_sep = L / (kSeparationSteps dt), L the voxel
-  // size: a pair resting in one voxel leaves it in about this many steps (see
-  // auto_contact_forces). 200 injected energy through the voxel-thick contact skin once voxels
-  // reached 8 mm (cylinder_press diverged); 2000 keeps the ejection speed at a few cm/s.
+  // size (see auto_contact_forces): a pair resting in one voxel leaves it in about this many
+  // steps, a few cm/s.
   static constexpr double kSeparationSteps = 2000.0;
 
   // Makes and initializes the detector on the current (rest) positions. Throws
-  // std::invalid_argument for an unknown detector, bad body indices, a negative margin, a
-  // non-finite or negative force, a bad voxel size, or a region above kMaxVoxels.
-  Collision(const World& w, ContactSpec spec);
+  // std::invalid_argument for a detector this program cannot make, bad body indices, a negative
+  // margin, a non-finite or negative force, a bad voxel size, or a region above kMaxVoxels.
+  Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact = nullptr);
 
   // Detect, then eliminate. dt (s) is used by the automatic force only.
-  PairStepStats step(World& w, double dt);
+  PairStep step(World& w, double dt);
   // Detection only (tests, benchmarks, measurement); returns the number of contacts.
   int detect(const World& w);
 
@@ -46,7 +48,6 @@ class Collision {
   const ContactSpec& spec() const { return spec_; }
   const CollisionDetector& detector() const { return *detector_; }
   const CollisionEliminator& eliminator() const { return *eliminator_; }
-  const std::vector<Push>& pushes() const { return pushes_; }
 
  private:
   ContactSpec spec_;
@@ -57,6 +58,15 @@ class Collision {
   std::vector<double> magnitude_;  // force per contact, N (same capacity)
   double length_scale_ = 0.0;      // m, for the automatic force without a grid
   std::vector<int> share_;         // per node: contacts leaning on it (scratch, all zero)
+};
+
+// One contact pair of the scene. `collision` exists only when the scene lists "contact";
+// without it the pair is still measured by the references (penetration without contact).
+struct Pair {
+  ContactSpec spec;
+  std::string label;  // "host/guest"
+  std::unique_ptr<Collision> collision;
+  PairStep last;      // the last step
 };
 
 }  // namespace harness

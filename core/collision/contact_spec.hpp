@@ -1,25 +1,44 @@
-// Parameters of one contact pair as resolved from the scene (DESIGN.md, "Contact pair").
+// Parameters of one contact pair as resolved from the scene (docs/scenes.md, "contacts"), and the
+// names the scene uses for each choice (one table per swap point: a new detector, response or
+// force rule is one line in its table plus its file pair).
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace harness {
 
 enum class Region { half, full, overlap };
 enum class HostNodes { all, surface };
+// Which detection drives elimination. `exact` detectors need the reference library.
+enum class DetectorKind { voxel, cgal, fcl };
+// The direction rule of the penalty push (responses/).
 enum class EliminatorKind { line, plane };
+// How large each contact's force is: the paper's constant F, or `auto` (force_rules.hpp).
+enum class ForceRule { constant, automatic };
+
+struct DetectorName {
+  DetectorKind kind;
+  const char* name;
+  bool exact;  // built by the reference library (FCL, CGAL)
+};
+const std::vector<DetectorName>& detector_names();
+const std::vector<std::pair<EliminatorKind, const char*>>& eliminator_names();
+const char* to_string(DetectorKind k);
+const char* to_string(EliminatorKind k);
 
 struct ContactSpec {
-  int host = -1;                 // body index in World::bodies
+  int host = -1;  // body index in World::bodies
   int guest = -1;
-  std::string detector = "voxel";  // "voxel" | "cgal" | "fcl" (the latter two from reference/)
-  double voxel_size = 0.0;       // requested, m; rounded down to a power of two; 0 = automatic
+  DetectorKind detector = DetectorKind::voxel;
+  double voxel_size = 0.0;  // requested, m; rounded down to a power of two; 0 = automatic
   Region region = Region::half;
-  int margin = 1;                // voxels added around the region
+  int margin = 1;  // voxels added around the region
   HostNodes host_nodes = HostNodes::all;
   EliminatorKind eliminator = EliminatorKind::line;
-  bool force_auto = false;
-  double force = 1.0;            // N per contact when !force_auto
+  ForceRule force_rule = ForceRule::constant;
+  double force = 1.0;  // N per contact (ForceRule::constant)
 };
 
 }  // namespace harness

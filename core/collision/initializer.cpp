@@ -31,16 +31,8 @@ double resolve_voxel_size(const World& w, const ContactSpec& spec) {
   if (spec.voxel_size > 0.0) return round_down_pow2(spec.voxel_size);
 
   const Body& b = w.bodies[spec.host];
-  double sum = 0.0;
-  int count = 0;
-  for (int s = b.spring_begin; s < b.spring_end; ++s) {
-    sum += w.springs.rest[s];
-    ++count;
-  }
-  double spacing = 0.0;
-  if (count > 0) {
-    spacing = sum / count;
-  } else if (b.size() > 0) {
+  double spacing = mean_rest_length(w, spec.host);
+  if (b.spring_end <= b.spring_begin && b.size() > 0) {
     // No springs (a rigid or hand-made host): the spacing of a uniform lattice of its nodes.
     Vec3 lo, hi;
     body_bounds(w, spec.host, lo, hi);

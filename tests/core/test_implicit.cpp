@@ -23,7 +23,7 @@ TEST_CASE("implicit Euler is stable at 10x the explicit dt_crit and its energy d
           "[implicit][stability]") {
   for (const char* law : {"linear", "exponential"}) {
     Simulation probe(parse_scene(lattice(1e-6, "symplectic_euler", law), "imp.json"));
-    const double dtc = probe.dt_crit;
+    const double dtc = probe.stats().stability.dt_crit;
     REQUIRE(std::isfinite(dtc));
     // The explicit integrator refuses this dt ...
     CHECK_THROWS_AS(Simulation(parse_scene(lattice(10.0 * dtc, "symplectic_euler", law), "imp.json")), InputError);
@@ -31,9 +31,9 @@ TEST_CASE("implicit Euler is stable at 10x the explicit dt_crit and its energy d
     Simulation sim(parse_scene(lattice(10.0 * dtc, "implicit_euler", law), "imp.json"));
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    for (int i = 0; i < sim.world.num_nodes(); ++i)
-      if (!sim.world.kinematic[i]) sim.world.v[i] = 0.2 * Vec3(u(rng), u(rng), u(rng));
-    const Points pinned_before = sim.world.x;
+    for (int i = 0; i < sim.world().num_nodes(); ++i)
+      if (sim.world().is_free(i)) sim.world().v[i] = 0.2 * Vec3(u(rng), u(rng), u(rng));
+    const Points pinned_before = sim.world().x;
     double e_prev = sim.kinetic_energy() + sim.potential_energy();
     const double e0 = e_prev;
     bool grew = false;
@@ -43,13 +43,13 @@ TEST_CASE("implicit Euler is stable at 10x the explicit dt_crit and its energy d
       if (e > e_prev * (1.0 + 1e-9) + 1e-15) grew = true;
       e_prev = e;
       REQUIRE(std::isfinite(e));
-      CHECK(sim.implicit_last.converged);
+      CHECK(sim.stats().implicit_last.converged);
     }
     INFO(law << ": E0 " << e0 << " E_end " << e_prev);
     CHECK_FALSE(grew);
     CHECK(e_prev < e0);
-    for (int i = 0; i < sim.world.num_nodes(); ++i)
-      if (sim.world.kinematic[i] == 1) CHECK(std::memcmp(pinned_before[i].data(), sim.world.x[i].data(), 24) == 0);
+    for (int i = 0; i < sim.world().num_nodes(); ++i)
+      if (sim.world().kinematic[i] == Kinematic::pinned) CHECK(std::memcmp(pinned_before[i].data(), sim.world().x[i].data(), 24) == 0);
   }
 }
 
@@ -64,9 +64,9 @@ TEST_CASE("implicit Euler agrees with symplectic Euler at small dt", "[implicit]
   Simulation a(parse_scene(scene("symplectic_euler"), "a.json")), b(parse_scene(scene("implicit_euler"), "b.json"));
   for (int s = 0; s < 3000; ++s) a.step(), b.step();
   double worst = 0.0, sag = 0.0;
-  for (int i = 0; i < a.world.num_nodes(); ++i) {
-    worst = std::max(worst, (a.world.x[i] - b.world.x[i]).norm());
-    sag = std::max(sag, 0.0 - std::min(0.0, a.world.x[i].z()));
+  for (int i = 0; i < a.world().num_nodes(); ++i) {
+    worst = std::max(worst, (a.world().x[i] - b.world().x[i]).norm());
+    sag = std::max(sag, 0.0 - std::min(0.0, a.world().x[i].z()));
   }
   INFO("max position difference " << worst << " m");
   CHECK(worst < 0.05 * (0.02 + sag));  // both integrators first order: close, not equal

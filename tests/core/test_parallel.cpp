@@ -2,7 +2,7 @@
 // fast forms equal their plain serial definitions bit for bit. set_parallel_grain(1) makes the
 // small worlds here take the parallel code paths.
 #include "core/collision/voxel_data.hpp"
-#include "core/effects.hpp"
+#include "core/spring_forces.hpp"
 #include "core/parallel.hpp"
 #include "core/scene.hpp"
 #include "core/simulation.hpp"
@@ -74,9 +74,9 @@ std::string run_hash(const Scene& scene, int steps, std::vector<int>* contacts =
   for (int s = 0; s < steps; ++s) {
     sim.step();
     if (contacts)
-      for (const PairSlot& p : sim.pairs) contacts->push_back(p.contacts);
+      for (const Pair& p : sim.pairs()) contacts->push_back(p.last.contacts);
   }
-  return state_hash(sim.world);
+  return state_hash(sim.world());
 }
 
 }  // namespace
@@ -131,7 +131,7 @@ TEST_CASE("spring and damping gathers equal the serial scatter bit for bit", "[p
                "fill":"volume"},
                "material":{"stiffness":20,"law":"exponential","nonlinearity":3,"damping":0.02}}]})";
   Simulation sim(parse_scene(text, "laws.json"));
-  World& w = sim.world;
+  World& w = sim.world();
   w.bodies[2].material.mass_damping = 3.0;
   // A spring owned by body 0 reaching into body 1: nodes where laws of two bodies meet.
   w.springs.ends.push_back({w.bodies[0].begin + 1, w.bodies[1].begin + 2});

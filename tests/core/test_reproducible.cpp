@@ -22,7 +22,7 @@ TEST_CASE("every bundled scene, shortened, gives the same state hash twice in on
       for (std::string& h : hashes) {
         Simulation sim(sc);
         for (int s = 0; s < sc.steps; ++s) sim.step();
-        h = state_hash(sim.world);
+        h = state_hash(sim.world());
       }
       INFO(e.path().filename().string());
       CHECK(hashes[0] == hashes[1]);

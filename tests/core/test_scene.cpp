@@ -68,12 +68,12 @@ TEST_CASE("a good scene loads, with defaults written into the resolved scene", "
 TEST_CASE("effects not listed are not built", "[scene][effects]") {
   Simulation sim(parse_scene(replace(kGood, R"("springs", "contact")", R"("springs")"), "scene.json"));
   CHECK(sim.effects_simulated() == std::vector<std::string>{"springs"});
-  REQUIRE(sim.pairs.size() == 1);
-  CHECK(sim.pairs[0].collision == nullptr);  // contact not listed: never built, never timed
+  REQUIRE(sim.pairs().size() == 1);
+  CHECK(sim.pairs()[0].collision == nullptr);  // contact not listed: never built, never timed
   sim.step();
-  CHECK(sim.last.detect_us == 0.0);
-  CHECK(sim.last.eliminate_us == 0.0);
-  for (auto k : sim.world.kinematic) CHECK(k == 0);  // pins not listed
+  CHECK(sim.last().detect_us == 0.0);
+  CHECK(sim.last().eliminate_us == 0.0);
+  for (auto k : sim.world().kinematic) CHECK(k == Kinematic::free);  // pins not listed
 }
 
 TEST_CASE("bad input: one message naming the file and the key path", "[scene][bad-input]") {
@@ -155,7 +155,7 @@ TEST_CASE("overrides given with --set apply before validation", "[scene][set]") 
   Scene s = parse_scene(kGood, "scene.json", {{"contacts.0.force", "2.5"}, {"time.dt", "5e-5"},
                                               {"references.solvers", R"(["cgal"])"}});
   CHECK(s.contacts[0].spec.force == 2.5);
-  CHECK_FALSE(s.contacts[0].spec.force_auto);
+  CHECK(s.contacts[0].spec.force_rule == ForceRule::constant);
   CHECK(s.dt == 5e-5);
   CHECK(s.references.cgal);
   auto msg = [&](const std::string& k, const std::string& v) {

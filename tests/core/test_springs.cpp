@@ -1,5 +1,5 @@
 // Spring laws: force equals the derivative of energy, by central finite differences.
-#include "core/effects.hpp"
+#include "core/spring_forces.hpp"
 #include "core/simulation.hpp"
 #include "core/springs.hpp"
 
@@ -85,7 +85,7 @@ TEST_CASE("assembled spring forces are minus the gradient of the spring potentia
       "bodies":[{"name":"b","shape":{"type":"box","min":[0,0,0],"max":[0.02,0.01,0.01],"cells":[2,1,1]},
       "material":{"stiffness":40,"law":")") + law + R"(","nonlinearity":2.0}}]})";
     Simulation sim(parse_scene(text, "fd.json"));
-    World& w = sim.world;
+    World& w = sim.world();
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-0.002, 0.002);
     for (Vec3& p : w.x) p += Vec3(u(rng), u(rng), u(rng));

@@ -65,7 +65,7 @@ bool within_budget(const Scene& sc) {
 
 // Voxels of each contact grid, as Initializer::build counts them (the full box, an upper bound).
 bool grids_within_budget(const Simulation& sim) {
-  const World& w = sim.world;
+  const World& w = sim.world();
   for (const ContactPairSpec& cp : sim.scene().contacts) {
     ContactSpec spec = cp.spec;
     spec.host = w.find_body(cp.host);
@@ -89,7 +89,7 @@ bool grids_within_budget(const Simulation& sim) {
 }
 
 void check_simulation(const Simulation& sim) {
-  const World& w = sim.world;
+  const World& w = sim.world();
   const std::size_t n = w.x.size();
   FUZZ_CHECK(w.v.size() == n && w.m.size() == n && w.inv_m.size() == n && w.f.size() == n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -98,9 +98,9 @@ void check_simulation(const Simulation& sim) {
   }
   for (const Edge& e : w.springs.ends)
     FUZZ_CHECK(e[0] >= 0 && e[1] >= 0 && e[0] < static_cast<int>(n) && e[1] < static_cast<int>(n));
-  FUZZ_CHECK(sim.substeps >= 1);
-  FUZZ_CHECK(sim.dt_crit > 0.0);
-  FUZZ_CHECK(sim.pairs.size() == sim.scene().contacts.size());
+  FUZZ_CHECK(sim.stats().stability.substeps >= 1);
+  FUZZ_CHECK(sim.stats().stability.dt_crit > 0.0);
+  FUZZ_CHECK(sim.pairs().size() == sim.scene().contacts.size());
 }
 
 }  // namespace
@@ -154,8 +154,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     const Simulation sim(scene);
     check_simulation(sim);
-    fuzz_note("built: " + std::to_string(sim.world.num_nodes()) + " nodes, " +
-              std::to_string(sim.world.springs.ends.size()) + " springs");
+    fuzz_note("built: " + std::to_string(sim.world().num_nodes()) + " nodes, " +
+              std::to_string(sim.world().springs.ends.size()) + " springs");
   } catch (const InputError& e) {
     fuzz_note(e.what());
     return 0;

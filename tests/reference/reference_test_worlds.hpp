@@ -2,6 +2,7 @@
 // icospheres, subdivided box surfaces, random rigid motions.
 #pragma once
 
+#include "core/geometry.hpp"
 #include "core/world.hpp"
 
 #include <Eigen/Geometry>
@@ -119,7 +120,7 @@ inline int add_body(World& w, const std::string& name, const Surface& s) {
     w.f.push_back(Vec3::Zero());
     w.m.push_back(1.0);
     w.inv_m.push_back(1.0);
-    w.kinematic.push_back(0);
+    w.kinematic.push_back(Kinematic::free);
     w.kin_v.push_back(Vec3::Zero());
     b.rest_min = b.rest_min.cwiseMin(p);
     b.rest_max = b.rest_max.cwiseMax(p);
@@ -172,34 +173,7 @@ inline double min_plane_distance(const Surface& s, const Vec3& c) {
 
 namespace harness::reftest {
 
-// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5); for
-// a collapsed triangle use the edges instead.
-inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-inline Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double l2 = ab.squaredNorm();
-  if (!(l2 > 0.0)) return a;
-  return a + std::min(1.0, std::max(0.0, (p - a).dot(ab) / l2)) * ab;
-}
+using harness::closest_on_segment;
+using harness::closest_on_triangle;
 
 }  // namespace harness::reftest

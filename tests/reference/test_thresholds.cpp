@@ -31,7 +31,6 @@ struct Figures {
 
 // Runs a bundled scene through the same path as `harness run` and reads its summary.
 Figures run(const std::string& scene, int steps, int every, std::vector<std::pair<std::string, std::string>> extra) {
-  register_reference_detectors();
   std::vector<std::pair<std::string, std::string>> ov = {
       {"time.steps", std::to_string(steps)}, {"output.frames_every", "0"},
       {"references.solvers", R"(["cgal"])"}, {"references.every", std::to_string(every)}};
@@ -41,6 +40,7 @@ Figures run(const std::string& scene, int steps, int every, std::vector<std::pai
   RunOptions opt;
   opt.out_dir = dir.string();
   opt.measurer = make_reference_measurer;
+  opt.exact_detectors = make_exact_detector;
   REQUIRE(run_scene(sc, opt) == 0);
   std::ifstream in(dir / "summary.json");
   const json s = json::parse(in);

@@ -41,7 +41,7 @@ inline int add_body(World& w, const std::string& name, const NodeSet& s) {
     w.f.push_back(Vec3::Zero());
     w.m.push_back(1.0);
     w.inv_m.push_back(1.0);
-    w.kinematic.push_back(0);
+    w.kinematic.push_back(Kinematic::free);
     w.kin_v.push_back(Vec3::Zero());
     b.rest_min = b.rest_min.cwiseMin(p);
     b.rest_max = b.rest_max.cwiseMax(p);

@@ -1,6 +1,9 @@
 #include "core/collision/collision.hpp"
-#include "core/collision/eliminators.hpp"
-#include "core/collision/voxel_detector.hpp"
+#include "core/collision/responses/directions.hpp"
+#include "core/collision/responses/force_rules.hpp"
+#include "core/collision/responses/line.hpp"
+#include "core/collision/responses/plane.hpp"
+#include "core/collision/detectors/voxel.hpp"
 #include "tests/core/collision/collision_test_worlds.hpp"
 
 #include <catch2/catch.hpp>
@@ -94,7 +97,7 @@ TEST_CASE("every elimination has zero net force", "[collision][eliminator]") {
       }
       // And all contacts together, through Collision::step.
       std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
-      const PairStepStats st = col.step(w, 1e-3);
+      const PairStep st = col.step(w, 1e-3);
       Vec3 net = Vec3::Zero();
       for (const Vec3& f : w.f) net += f;
       CHECK(net.norm() <= 1e-12 * st.force * std::max(1, st.contacts));
@@ -110,11 +113,11 @@ TEST_CASE("the line rule pushes the guest away from the nearest host node", "[co
   ContactSpec s = pair_spec(EliminatorKind::line, 0.5);
   s.force = 2.0;
   Collision col(w, s);
-  const PairStepStats st = col.step(w, 1e-3);
+  const PairStep st = col.step(w, 1e-3);
   REQUIRE(st.contacts == 1);
   CHECK(st.force == 2.0);
-  CHECK(st.t_detect_us >= 0.0);
-  CHECK(st.t_eliminate_us >= 0.0);
+  CHECK(st.detect_us >= 0.0);
+  CHECK(st.eliminate_us >= 0.0);
   // Nearest host node in the voxel is node 0 (node 1 is farther).
   const Vec3 dir = (w.x[4] - w.x[0]).normalized();
   CHECK((w.f[4] - 2.0 * dir).norm() < 1e-15);
@@ -326,9 +329,9 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
   std::mt19937 rng(23);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   const double dt = 1e-3, vsep = 0.01;
-  auto vel = [](const World& x, int i) { return x.kinematic[i] ? x.kin_v[i] : x.v[i]; };
-  auto acc = [](const World& x, int i) { return x.kinematic[i] ? Vec3(Vec3::Zero()) : Vec3(x.f[i] / x.m[i]); };
-  auto inv = [](const World& x, int i) { return x.kinematic[i] ? 0.0 : 1.0 / x.m[i]; };
+  auto vel = [](const World& x, int i) { return !x.is_free(i) ? x.kin_v[i] : x.v[i]; };
+  auto acc = [](const World& x, int i) { return !x.is_free(i) ? Vec3(Vec3::Zero()) : Vec3(x.f[i] / x.m[i]); };
+  auto inv = [](const World& x, int i) { return !x.is_free(i) ? 0.0 : 1.0 / x.m[i]; };
   for (int t = 0; t < 100; ++t) {
     Points host(30), guest(30);
     for (auto& p : host) p = Vec3(U(rng), U(rng), U(rng));
@@ -342,12 +345,12 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
       w.m[i] = 0.01 * (2.0 + U(rng));
       w.inv_m[i] = 1.0 / w.m[i];
     }
-    w.kinematic[3] = 1;
+    w.kinematic[3] = Kinematic::pinned;
     w.kin_v[3] = Vec3(0, 0, -1);
     for (EliminatorKind e : {EliminatorKind::line, EliminatorKind::plane}) {
       World x = w;
       ContactSpec s = pair_spec(e, 0.5);
-      s.force_auto = true;
+      s.force_rule = ForceRule::automatic;
       Collision col(x, s);
       col.detect(x);
       REQUIRE(!col.contacts().empty());
@@ -397,9 +400,9 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
   add_body(w, "host", cloud({Vec3(0, 0, 0), Vec3(1, 1, 1)}));
   add_body(w, "guest", cloud({Vec3(0.1, 0.1, 0.1), Vec3(9, 9, 9)}));
   ContactSpec s = pair_spec(EliminatorKind::line, 0.5);
-  s.force_auto = true;
+  s.force_rule = ForceRule::automatic;
   Collision col(w, s);
-  PairStepStats st = col.step(w, dt);
+  PairStep st = col.step(w, dt);
   CHECK(st.contacts == 1);
   const double mu = w.m[0] * w.m[2] / (w.m[0] + w.m[2]);
   CHECK(st.force == Approx(mu * col.voxel_size() / (Collision::kSeparationSteps * dt) / dt));

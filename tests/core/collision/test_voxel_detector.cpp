@@ -2,7 +2,7 @@
 // formulas documented in initializer.hpp / voxel_data.hpp and checks every guest node against
 // every host node.
 #include "core/collision/collision.hpp"
-#include "core/collision/voxel_detector.hpp"
+#include "core/collision/detectors/voxel.hpp"
 #include "tests/core/collision/collision_test_worlds.hpp"
 
 #include <catch2/catch.hpp>
@@ -540,18 +540,15 @@ TEST_CASE("bad pairs and the detector registry", "[collision][voxel]") {
   s.force = std::numeric_limits<double>::infinity();
   CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);
   s.force = 1.0;
-  s.detector = "nope";
-  CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);
-
-  CHECK(detector_known("voxel"));
-  CHECK(std::string(make_detector("voxel")->name()) == "voxel");
-  CHECK_FALSE(detector_known("test-dummy"));
-  CHECK_THROWS_AS(make_detector("test-dummy"), std::invalid_argument);
-  CHECK_THROWS_AS(register_detector("voxel", [] { return std::make_unique<VoxelDetector>(); }),
-                  std::invalid_argument);
-  register_detector("test-dummy", [] { return std::make_unique<VoxelDetector>(); });
-  CHECK(detector_known("test-dummy"));
-  s.detector = "test-dummy";
+  // An exact detector without the reference library's maker: refused, naming the library.
+  s.detector = DetectorKind::cgal;
+  CHECK_THROWS_WITH(Collision(w, s), Catch::Contains("reference library"));
+  CHECK(std::string(make_detector(DetectorKind::voxel, nullptr)->name()) == "voxel");
+  for (const DetectorName& d : detector_names()) {
+    CHECK(std::string(to_string(d.kind)) == d.name);
+    if (d.exact) CHECK_THROWS_AS(make_detector(d.kind, nullptr), std::invalid_argument);
+  }
+  s.detector = DetectorKind::voxel;
   Collision col(w, s);
   CHECK(col.detect(w) == 1);
 }
@@ -593,7 +590,7 @@ TEST_CASE("the per-step path reuses its buffers", "[collision][voxel]") {
       s.voxel_size = 0.3;
       s.region = r;
       s.eliminator = e;
-      s.force_auto = true;
+      s.force_rule = ForceRule::automatic;
       Collision col(w, s);
       col.step(w, 1e-3);
       const Contact* contacts = col.contacts().data();
@@ -603,7 +600,7 @@ TEST_CASE("the per-step path reuses its buffers", "[collision][voxel]") {
       for (int step = 0; step < 200; ++step) {
         for (int i = w.bodies[1].begin; i < w.bodies[1].end; ++i) w.x[i].z() -= 0.02;
         std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
-        const PairStepStats st = col.step(w, 1e-3);
+        const PairStep st = col.step(w, 1e-3);
         total += st.contacts;
         CHECK(col.contacts().data() == contacts);
         CHECK(det.grid().bytes() == grid_bytes);

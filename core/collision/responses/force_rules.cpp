@@ -1,6 +1,4 @@
-#include "core/collision/collision_eliminator.hpp"
-
-#include "core/collision/eliminators.hpp"
+#include "core/collision/responses/force_rules.hpp"
 
 #include "core/parallel.hpp"
 
@@ -9,21 +7,6 @@
 #include <stdexcept>
 
 namespace harness {
-
-std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind) {
-  switch (kind) {
-    case EliminatorKind::line: return std::make_unique<LineEliminator>();
-    case EliminatorKind::plane: return std::make_unique<PlaneEliminator>();
-  }
-  throw std::invalid_argument("unknown eliminator kind");
-}
-
-void CollisionEliminator::eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
-                                    const std::vector<Contact>& contacts, double force) const {
-  std::vector<Push> p;
-  pushes(w, spec, det, contacts, p);
-  apply_pushes(w, p, std::vector<double>(p.size(), force));
-}
 
 void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<double>& magnitude) {
   // With threads, thread t owns the nodes of every T-th block of 4096 (blocks interleave, so the
@@ -49,7 +32,7 @@ void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<d
 
 namespace {
 bool is_kinematic(const World& w, int i) {
-  return i < static_cast<int>(w.kinematic.size()) && w.kinematic[i];
+  return i < static_cast<int>(w.kinematic.size()) && !w.is_free(i);
 }
 const Vec3& velocity(const World& w, int i) { return is_kinematic(w, i) ? w.kin_v[i] : w.v[i]; }
 Vec3 acceleration(const World& w, int i) {

@@ -1,39 +1,13 @@
-// CollisionEliminator: the paper's interface for eliminating collisions with penalty forces.
-// An eliminator decides, per contact, the direction of the push and which host nodes take the
-// reaction (the swap point: line or plane); the magnitude is the pair's constant F or the
-// automatic rule, applied the same way for every eliminator. Every contact's forces sum to
-// zero (Newton's third law): +F n on the guest node, -w_k F n on host node k, sum w_k = 1.
+// Force rules: the magnitude of each contact's push (the direction and the host nodes that take
+// the reaction come from the eliminator, collision_eliminator.hpp).
+//   constant   the paper's: one F (N) for every contact, tuned by hand so that it beats the
+//              deformation forces;
+//   automatic  `"force": "auto"`: that rule applied per contact and per step (below).
 #pragma once
 
-#include "core/collision/collision_detector.hpp"
-
-#include <memory>
+#include "core/collision/responses/collision_eliminator.hpp"
 
 namespace harness {
-
-// One contact's push: direction n (unit) on the guest node, reactions on up to three host
-// nodes with weights summing to one. count == 0: the contact gets no force.
-struct Push {
-  int guest = -1;
-  Vec3 n = Vec3::Zero();
-  int hosts[3] = {-1, -1, -1};
-  double weight[3] = {0.0, 0.0, 0.0};
-  int count = 0;
-};
-
-class CollisionEliminator {
- public:
-  virtual ~CollisionEliminator() = default;
-  virtual const char* name() const = 0;
-  // One Push per contact, in order (`out` resized, reused across steps).
-  virtual void pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
-                      const std::vector<Contact>& contacts, std::vector<Push>& out) const = 0;
-  // The paper's constant force F for every contact (allocates: tests and tools, not the step).
-  void eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
-                 const std::vector<Contact>& contacts, double force) const;
-};
-
-std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind);
 
 // Adds magnitude[i] * pushes[i] into w.f.
 void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<double>& magnitude);

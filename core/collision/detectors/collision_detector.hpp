@@ -1,12 +1,12 @@
-// CollisionDetector: the paper's interface for collision detection. The voxel detector
-// (the paper's) lives here in core; exact detectors (CGAL, FCL) live in reference/ and are
-// made available through register_detector().
+// CollisionDetector: the paper's interface for collision detection, and the one factory that
+// makes a detector of a DetectorKind (contact_spec.hpp names them). The voxel detector (the
+// paper's, voxel.hpp) lives here in core; the exact detectors (CGAL, FCL) live in reference/,
+// and a program that links the reference library passes its maker (ExactDetectorMaker).
 #pragma once
 
 #include "core/collision/contact_spec.hpp"
 #include "core/world.hpp"
 
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,11 +51,12 @@ class CollisionDetector {
   virtual int rebuilds() const { return 0; }
 };
 
-using DetectorFactory = std::function<std::unique_ptr<CollisionDetector>()>;
-// Registers a detector by name ("cgal", "fcl"); the harness program does this at start-up.
-void register_detector(const std::string& name, DetectorFactory factory);
-bool detector_known(const std::string& name);
-// Creates the named detector; "voxel" is always known. Throws std::invalid_argument otherwise.
-std::unique_ptr<CollisionDetector> make_detector(const std::string& name);
+// Makes the exact detectors (reference/: reference::make_exact_detector); null in a program
+// without the reference library.
+using ExactDetectorMaker = std::unique_ptr<CollisionDetector> (*)(DetectorKind);
+
+// The detector of a kind. An exact kind without a maker throws std::invalid_argument saying
+// that this program has no reference library.
+std::unique_ptr<CollisionDetector> make_detector(DetectorKind kind, ExactDetectorMaker exact);
 
 }  // namespace harness

@@ -1,4 +1,4 @@
-#include "core/collision/voxel_detector.hpp"
+#include "core/collision/detectors/voxel.hpp"
 
 #include "core/parallel.hpp"
 

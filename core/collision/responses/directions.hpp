@@ -1,6 +1,6 @@
-// The two collision eliminators (penalty forces, Newton's third law: every contact's forces sum
-// to zero) and the geometric rules they share. F is the force magnitude in N; forces are added
-// into World::f. F is given per contact (constant, or `auto`: collision_eliminator.hpp).
+// The direction rules of the paper's two penalty eliminators (line.hpp, plane.hpp; Newton's third
+// law: every contact's forces sum to zero). F is the force magnitude in N, given per contact by
+// the force rule (force_rules.hpp); forces are added into World::f.
 //
 // Host outward hint at a host node (host_outward_hint): for a host surface vertex (body-local
 // index < n_surface, with faces) the area-weighted vertex normal; for an interior node, or a
@@ -32,9 +32,14 @@
 // whenever F is.
 #pragma once
 
-#include "core/collision/collision_eliminator.hpp"
+#include "core/world.hpp"
 
 namespace harness {
+
+// a / |a| when that is a finite unit vector (|a| rescaled first when it overflows), else zero.
+Vec3 unit_or_zero(const Vec3& a);
+// Centre of the host's current bounding box.
+Vec3 host_center_of(const World& w, int host);
 
 // Normalised outward hint of global host node `node` of body `host` (see above); may be zero.
 Vec3 host_outward_hint(const World& w, int host, int node, const Vec3& host_center);
@@ -48,19 +53,5 @@ Vec3 line_direction(const World& w, int host, int guest_node, int host_node,
 // (near-)collinear as defined above.
 bool plane_normal(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& hint,
                   const Vec3& second_hint, Vec3& n);
-
-class LineEliminator final : public CollisionEliminator {
- public:
-  const char* name() const override { return "line"; }
-  void pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
-              const std::vector<Contact>& contacts, std::vector<Push>& out) const override;
-};
-
-class PlaneEliminator final : public CollisionEliminator {
- public:
-  const char* name() const override { return "plane"; }
-  void pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
-              const std::vector<Contact>& contacts, std::vector<Push>& out) const override;
-};
 
 }  // namespace harness

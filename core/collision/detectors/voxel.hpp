@@ -15,7 +15,7 @@
 // count.
 #pragma once
 
-#include "core/collision/collision_detector.hpp"
+#include "core/collision/detectors/collision_detector.hpp"
 #include "core/collision/initializer.hpp"
 #include "core/collision/voxel_data.hpp"
 

@@ -1,0 +1,34 @@
+#include "core/collision/contact_spec.hpp"
+
+namespace harness {
+
+const std::vector<DetectorName>& detector_names() {
+  static const std::vector<DetectorName> names = {
+      {DetectorKind::voxel, "voxel", false},
+      {DetectorKind::cgal, "cgal", true},
+      {DetectorKind::fcl, "fcl", true},
+  };
+  return names;
+}
+
+const std::vector<std::pair<EliminatorKind, const char*>>& eliminator_names() {
+  static const std::vector<std::pair<EliminatorKind, const char*>> names = {
+      {EliminatorKind::line, "line"},
+      {EliminatorKind::plane, "plane"},
+  };
+  return names;
+}
+
+const char* to_string(DetectorKind k) {
+  for (const DetectorName& d : detector_names())
+    if (d.kind == k) return d.name;
+  return "?";
+}
+
+const char* to_string(EliminatorKind k) {
+  for (const auto& [kind, name] : eliminator_names())
+    if (kind == k) return name;
+  return "?";
+}
+
+}  // namespace harness

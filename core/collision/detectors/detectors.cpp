@@ -1,0 +1,22 @@
+#include "core/collision/detectors/collision_detector.hpp"
+
+#include "core/collision/detectors/voxel.hpp"
+
+#include <stdexcept>
+
+namespace harness {
+
+std::unique_ptr<CollisionDetector> make_detector(DetectorKind kind, ExactDetectorMaker exact) {
+  switch (kind) {
+    case DetectorKind::voxel: return std::make_unique<VoxelDetector>();
+    case DetectorKind::cgal:
+    case DetectorKind::fcl: break;
+  }
+  if (!exact)
+    throw std::invalid_argument(std::string("detector \"") + to_string(kind) +
+                                "\" needs the reference library (FCL, CGAL), which this program was built without "
+                                "(cmake -DHARNESS_BUILD_REFERENCE=ON)");
+  return exact(kind);
+}
+
+}  // namespace harness

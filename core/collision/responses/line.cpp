@@ -1,0 +1,59 @@
+#include "core/collision/responses/line.hpp"
+
+#include "core/collision/responses/directions.hpp"
+#include "core/parallel.hpp"
+
+#include <algorithm>
+
+namespace harness {
+
+void LineEliminator::pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
+                            const std::vector<Contact>& contacts, std::vector<Push>& out) const {
+  out.resize(contacts.size());
+  // Contacts are independent: parallel chunks, each push written in its own slot. A contact whose
+  // guest and host nodes coincide needs the host centre: its chunk is flagged and the contact is
+  // finished afterwards, on one thread (the centre computed once, and only then).
+  const std::size_t n = contacts.size();
+  const int T = threads_for(n, 4096);
+  const int C = T == 1 ? 1 : std::min(64, 4 * T);
+  bool degenerate[64] = {};
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(dynamic, 1)
+  for (int part = 0; part < C; ++part) {
+    std::size_t b, e;
+    split_range(n, C, part, b, e);
+    bool any = false;  // local: the flags share a cache line
+    for (std::size_t i = b; i < e; ++i) {
+      const Contact& c = contacts[i];
+      Push& p = out[i];
+      p = Push{};
+      p.guest = c.guest;
+      int h = -1;
+      if (det.nearest_hosts(w, c, 1, &h) < 1) continue;
+      p.count = 1;
+      p.hosts[0] = h;
+      p.weight[0] = 1.0;
+      if (det.contact_direction(w, c, p.n)) continue;  // exact detectors: their outward direction
+      p.n = unit_or_zero(w.x[c.guest] - w.x[h]);
+      any = any || p.n.squaredNorm() == 0.0;
+    }
+    degenerate[part] = any;
+  }
+  bool have_center = false;
+  Vec3 center = Vec3::Zero();
+  for (int part = 0; part < C; ++part) {
+    if (!degenerate[part]) continue;
+    if (!have_center) {
+      center = host_center_of(w, spec.host);
+      have_center = true;
+    }
+    std::size_t b, e;
+    split_range(n, C, part, b, e);
+    for (std::size_t i = b; i < e; ++i) {
+      Push& p = out[i];
+      if (p.count == 1 && p.n.squaredNorm() == 0.0)
+        p.n = line_direction(w, spec.host, contacts[i].guest, p.hosts[0], center);
+    }
+  }
+}
+
+}  // namespace harness

@@ -1,0 +1,44 @@
+#include "core/collision/responses/plane.hpp"
+
+#include "core/collision/responses/directions.hpp"
+#include "core/parallel.hpp"
+
+namespace harness {
+
+void PlaneEliminator::pushes(const World& w, const ContactSpec& spec, const CollisionDetector& det,
+                             const std::vector<Contact>& contacts, std::vector<Push>& out) const {
+  out.resize(contacts.size());
+  if (contacts.empty()) return;
+  const Vec3 center = host_center_of(w, spec.host);
+  const std::size_t n = contacts.size();
+  const int T = threads_for(n, 2048);
+  // Contacts are independent: each push is written in its own slot, whatever the thread.
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(dynamic, 256)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Contact& c = contacts[i];
+    Push& p = out[i];
+    p = Push{};
+    p.guest = c.guest;
+    int h[3] = {-1, -1, -1};
+    const int k = det.nearest_hosts(w, c, 3, h);
+    if (k < 1) continue;
+    if (k == 3) {
+      const Vec3 hint = host_outward_hint(w, spec.host, h[0], center) +
+                        host_outward_hint(w, spec.host, h[1], center) +
+                        host_outward_hint(w, spec.host, h[2], center);
+      const Vec3 centroid = (w.x[h[0]] + w.x[h[1]] + w.x[h[2]]) / 3.0;
+      if (plane_normal(w.x[h[0]], w.x[h[1]], w.x[h[2]], hint, centroid - center, p.n)) {
+        p.count = 3;
+        for (int j = 0; j < 3; ++j) p.hosts[j] = h[j], p.weight[j] = 1.0 / 3.0;
+        continue;
+      }
+    }
+    // Too few or collinear neighbours: the line rule with the nearest node.
+    p.n = line_direction(w, spec.host, c.guest, h[0], center);
+    p.count = 1;
+    p.hosts[0] = h[0];
+    p.weight[0] = 1.0;
+  }
+}
+
+}  // namespace harness

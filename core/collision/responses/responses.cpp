@@ -1,0 +1,26 @@
+#include "core/collision/responses/collision_eliminator.hpp"
+
+#include "core/collision/responses/force_rules.hpp"
+#include "core/collision/responses/line.hpp"
+#include "core/collision/responses/plane.hpp"
+
+#include <stdexcept>
+
+namespace harness {
+
+std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind) {
+  switch (kind) {
+    case EliminatorKind::line: return std::make_unique<LineEliminator>();
+    case EliminatorKind::plane: return std::make_unique<PlaneEliminator>();
+  }
+  throw std::invalid_argument("unknown eliminator kind");
+}
+
+void CollisionEliminator::eliminate(World& w, const ContactSpec& spec, const CollisionDetector& det,
+                                    const std::vector<Contact>& contacts, double force) const {
+  std::vector<Push> p;
+  pushes(w, spec, det, contacts, p);
+  apply_pushes(w, p, std::vector<double>(p.size(), force));
+}
+
+}  // namespace harness

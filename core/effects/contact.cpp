@@ -1,0 +1,46 @@
+#include "core/effects/contact.hpp"
+
+#include "core/scene.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace harness {
+
+void ContactEffect::begin_step(World&, const StepContext&) {
+  for (Pair& p : pairs_) p.last = PairStep{};
+}
+
+void ContactEffect::add_forces(World& w, const StepContext& s) {
+  for (Pair& p : pairs_) {
+    const PairStep st = p.collision->step(w, s.h);
+    p.last.contacts += st.contacts;
+    p.last.detect_us += st.detect_us;
+    p.last.eliminate_us += st.eliminate_us;
+    p.last.force = std::max(p.last.force, st.force);
+  }
+}
+
+void ContactEffect::end_step(World&, const StepContext& s) {
+  if (s.substeps > 1)
+    for (Pair& p : pairs_) p.last.contacts = (p.last.contacts + s.substeps - 1) / s.substeps;
+}
+
+std::unique_ptr<Effect> make_contact_effect(EffectBuild& b) {
+  for (std::size_t i = 0; i < b.pairs.size(); ++i) {
+    Pair& p = b.pairs[i];
+    for (const DetectorName& d : detector_names())
+      if (d.kind == p.spec.detector && d.exact && !b.exact_detectors)
+        throw InputError(b.scene.file + ": " + b.scene.contacts[i].path + ".detector",
+                         std::string("detector \"") + d.name +
+                             "\" needs the reference library (FCL, CGAL), which this program was built without");
+    try {
+      p.collision = std::make_unique<Collision>(b.world, p.spec, b.exact_detectors);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(b.scene.file + ": " + b.scene.contacts[i].path, e.what());
+    }
+  }
+  return std::make_unique<ContactEffect>(b.pairs);
+}
+
+}  // namespace harness

@@ -1,0 +1,26 @@
+// Effect "contact": every contact pair's Collision (detect, then eliminate with penalty forces),
+// after every other force of the step. The pairs themselves belong to the simulation (they are
+// measured whether or not contact is simulated); this effect fills in their `collision` and
+// their per-step figures (Pair::last).
+#pragma once
+
+#include "core/collision/collision.hpp"
+#include "core/effects/effects.hpp"
+
+namespace harness {
+
+class ContactEffect final : public Effect {
+ public:
+  explicit ContactEffect(std::vector<Pair>& pairs) : pairs_(pairs) {}
+  const char* name() const override { return "contact"; }
+  void begin_step(World& w, const StepContext& s) override;
+  void add_forces(World& w, const StepContext& s) override;
+  void end_step(World& w, const StepContext& s) override;
+
+ private:
+  std::vector<Pair>& pairs_;
+};
+
+std::unique_ptr<Effect> make_contact_effect(EffectBuild& b);
+
+}  // namespace harness

@@ -1,0 +1,23 @@
+// Effect "damping": a dashpot along every spring (material.damping, N s/m: force
+// c ((v_j - v_i) . d / l^2) d on end i) and mass-proportional damping (material.mass_damping,
+// 1/s: force -alpha m v on every node of the body).
+#pragma once
+
+#include "core/effects/effects.hpp"
+#include "core/spring_forces.hpp"
+
+namespace harness {
+
+class DampingEffect final : public Effect {
+ public:
+  const char* name() const override { return "damping"; }
+  void add_forces(World& w, const StepContext&) override { add_damping_forces(gather_, w, w.f); }
+  void add_jacobian(const World& w, LinearSystem& sys) const override;
+
+ private:
+  SpringGather gather_;
+};
+
+std::unique_ptr<Effect> make_damping_effect(EffectBuild& b);
+
+}  // namespace harness

@@ -1,0 +1,71 @@
+// Effects: everything a scene can list under "effects" (springs, damping, gravity, pins,
+// drivers, pressure, contact) is one Effect, made by the one factory (effects.hpp) from the
+// table of effects, and only when the scene lists it. The simulation evaluates the effects it
+// built, in table order, through this interface alone:
+//   begin_step   once per step, before any force: kinematic constraints (pins, drivers);
+//   add_forces   once per (sub)step: adds the effect's forces into World::f;
+//   end_step     once per step, after the last position update;
+//   add_jacobian the linearisation the implicit integrator assembles (LinearSystem);
+//   add_stiffness_rows  Gershgorin row sums of |df/dx|, for the explicit stability guard;
+//   energy       stored energy of conservative effects (J), for energy balances.
+// An effect that has no stiffness, Jacobian or energy simply keeps the default.
+#pragma once
+
+#include "core/world.hpp"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace harness {
+
+struct StepContext {
+  int step = 0;     // 1-based number of the step being taken
+  double dt = 0.0;  // s, the step
+  double h = 0.0;   // s, the substep (dt / substeps)
+  int substeps = 1;
+};
+
+// The linearised backward-Euler system (implicit.hpp) as the effects describe it:
+//   per spring k  a stiffness block K_k = df_i/dx_j (3x3, coupling its two ends with
+//                 f_i = +K_k (x_j - x_i), f_j = -f_i) and a dashpot coefficient c_k along the
+//                 spring (N s/m);
+//   per node i    a mass-proportional damping coefficient d_i (kg/s: force -d_i v_i).
+// The slots start at zero and effects add to them; spring_used says whether any spring slot was
+// written (otherwise the integrator skips the springs entirely).
+struct LinearSystem {
+  std::vector<Eigen::Matrix3d> spring_stiffness;
+  std::vector<double> spring_dashpot;
+  std::vector<double> node_damping;
+  bool spring_used = false;
+
+  void reset(const World& w) {
+    spring_stiffness.assign(w.springs.size(), Eigen::Matrix3d::Zero());
+    spring_dashpot.assign(w.springs.size(), 0.0);
+    node_damping.assign(static_cast<std::size_t>(w.num_nodes()), 0.0);
+    spring_used = false;
+  }
+};
+
+class Effect {
+ public:
+  virtual ~Effect() = default;
+  virtual const char* name() const = 0;
+  virtual void begin_step(World& w, const StepContext& s) { (void)w, (void)s; }
+  virtual void add_forces(World& w, const StepContext& s) { (void)w, (void)s; }
+  virtual void end_step(World& w, const StepContext& s) { (void)w, (void)s; }
+  virtual void add_jacobian(const World& w, LinearSystem& sys) const { (void)w, (void)sys; }
+  // Adds |df/dx| row sums into rows (one per node); returns false when the effect has no
+  // stiffness at all (then it adds nothing).
+  virtual bool add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const {
+    (void)w, (void)rows;
+    return false;
+  }
+  virtual bool has_stiffness() const { return false; }
+  virtual double energy(const World& w) const {
+    (void)w;
+    return 0.0;
+  }
+};
+
+}  // namespace harness

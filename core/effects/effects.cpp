@@ -1,0 +1,35 @@
+#include "core/effects/effects.hpp"
+
+#include "core/effects/contact.hpp"
+#include "core/effects/damping.hpp"
+#include "core/effects/drivers.hpp"
+#include "core/effects/gravity.hpp"
+#include "core/effects/pins.hpp"
+#include "core/effects/pressure.hpp"
+#include "core/effects/springs.hpp"
+#include "core/scene.hpp"
+
+namespace harness {
+
+const std::vector<EffectEntry>& effect_table() {
+  static const std::vector<EffectEntry> table = {
+      {kSprings, "springs", make_springs_effect},
+      {kDamping, "damping", make_damping_effect},
+      {kGravity, "gravity", make_gravity_effect},
+      {kPins, "pins", make_pins_effect},
+      {kDrivers, "drivers", make_drivers_effect},
+      {kPressure, "pressure", make_pressure_effect},
+      {kContact, "contact", make_contact_effect},
+  };
+  return table;
+}
+
+std::vector<std::unique_ptr<Effect>> make_effects(EffectBuild& b) {
+  std::vector<std::unique_ptr<Effect>> out;
+  for (const EffectEntry& e : effect_table())
+    if (b.scene.effects & e.flag)
+      if (auto made = e.make(b)) out.push_back(std::move(made));
+  return out;
+}
+
+}  // namespace harness

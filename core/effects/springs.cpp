@@ -1,0 +1,34 @@
+#include "core/effects/springs.hpp"
+
+#include "core/springs.hpp"
+
+#include <algorithm>
+
+namespace harness {
+
+void SpringsEffect::add_jacobian(const World& w, LinearSystem& sys) const {
+  sys.spring_used = true;
+  for (std::size_t k = 0; k < w.springs.size(); ++k) {
+    const int i = w.springs.ends[k][0], j = w.springs.ends[k][1];
+    if (!w.is_free(i) && !w.is_free(j)) continue;
+    const Vec3 d = w.x[j] - w.x[i];
+    const double l = d.norm();
+    if (l <= 0.0) continue;
+    const Vec3 u = d / l;
+    const Eigen::Matrix3d uu = u * u.transpose();
+    const SpringLaw& law = w.body_law[w.springs.body[k]];
+    const double kt = spring_tangent(law, w.springs.rest[k], l);
+    const double t = spring_tension(law, w.springs.rest[k], l);
+    sys.spring_stiffness[k] = kt * uu + std::max(t / l, 0.0) * (Eigen::Matrix3d::Identity() - uu);
+  }
+}
+
+bool SpringsEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const {
+  if (!has_springs_) return false;
+  add_spring_stiffness_rows(w, rows);
+  return true;
+}
+
+std::unique_ptr<Effect> make_springs_effect(EffectBuild& b) { return std::make_unique<SpringsEffect>(b.world); }
+
+}  // namespace harness

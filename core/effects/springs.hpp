@@ -1,0 +1,30 @@
+// Effect "springs": every body's springs with its material's law (springs.hpp), evaluated by the
+// kernels of spring_forces.hpp; elastic energy; tangent stiffness for the implicit integrator
+// and the stability guard.
+#pragma once
+
+#include "core/effects/effects.hpp"
+#include "core/spring_forces.hpp"
+
+namespace harness {
+
+class SpringsEffect final : public Effect {
+ public:
+  explicit SpringsEffect(const World& w) : has_springs_(w.springs.size() > 0) {}
+  const char* name() const override { return "springs"; }
+  void add_forces(World& w, const StepContext&) override { add_spring_forces(gather_, w, w.f); }
+  // K_k = k_t u u^T + max(T / l, 0) (I - u u^T): the compressive geometric term is dropped so
+  // that the implicit system stays symmetric positive definite.
+  void add_jacobian(const World& w, LinearSystem& sys) const override;
+  bool add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const override;
+  bool has_stiffness() const override { return has_springs_; }
+  double energy(const World& w) const override { return spring_potential(w); }
+
+ private:
+  SpringGather gather_;  // kept between steps (spring topology is fixed once built)
+  bool has_springs_;
+};
+
+std::unique_ptr<Effect> make_springs_effect(EffectBuild& b);
+
+}  // namespace harness

@@ -1,0 +1,90 @@
+// The record of a run: the exact references measured on their steps (core/measure.hpp), and
+// everything accumulated over the run that summary.json and the test runners read: per pair
+// totals, penetration episodes, timings, the kinetic-energy peak. `harness run` (run.cpp) and
+// the scene-level tests (tests/reference/scene_runner.hpp) both record through it.
+#pragma once
+
+#include "core/measure.hpp"
+#include "core/simulation.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace harness {
+
+// Running totals of one pair over the run.
+struct PairTotals {
+  long long contacts_total = 0;
+  long long tp = 0, fp = 0, fn = 0;
+  bool measured = false;  // CGAL measured at least once
+  int true_pen_final = 0;  // at the last measured step, guest + host
+  double max_depth_final = 0.0, max_depth_peak = 0.0;
+};
+
+// One episode of true penetration: a node found penetrating on consecutive measured steps.
+struct Episode {
+  int pair, body, node, first, last;
+  bool open;  // still penetrating when the run ended (censored)
+};
+
+// Per-step wall times (microseconds) over the run, for medians.
+struct RunTimings {
+  std::vector<double> step, physics, detect, eliminate, cgal, fcl;
+};
+
+struct RecorderOptions {
+  MeasurerFactory measurer;  // empty: no references in this program
+  bool measure_last = false;  // also measure the last step when it is not a multiple of `every`
+  int last_step = -1;         // the step measure_last refers to
+};
+
+class Recorder {
+ public:
+  // Makes one measurer per pair when the scene asks for references. Throws InputError
+  // (references.solvers) when it asks for them and the program has none.
+  Recorder(const Simulation& sim, const RecorderOptions& options);
+
+  // After each completed step: measures when due and accumulates.
+  void record(const Simulation& sim);
+
+  // This step's measurement of pair p, or null when the references did not run.
+  const Measurement* measurement(std::size_t p) const { return measured_now_ ? &meas_[p] : nullptr; }
+  // Truly penetrating nodes of a body (body-local flags) when `step` is the last measured step
+  // with CGAL, else null (frames carry them only on measured steps).
+  const std::vector<std::uint8_t>* penetration(int body, int step) const;
+  const std::vector<PairTotals>& totals() const { return totals_; }
+  const std::vector<Episode>& episodes() const { return episodes_; }
+  const RunTimings& timings() const { return timings_; }
+  double kinetic_energy() const { return ke_; }
+  double kinetic_energy_peak() const { return ke_peak_; }
+  double potential_energy() const { return pe_; }
+  // Guest nodes beyond the host's far side along the pair's approach axis at rest.
+  int tunnelled(const Simulation& sim, std::size_t p) const;
+  bool references() const { return !measurers_.empty(); }
+
+ private:
+  void track(std::size_t p, int role, const std::vector<std::uint8_t>& flags, int step, const Simulation& sim);
+
+  RecorderOptions opt_;
+  std::vector<std::unique_ptr<Measurer>> measurers_;
+  std::vector<Measurement> meas_;
+  bool measured_now_ = false;
+  std::vector<PairTotals> totals_;
+  std::vector<Episode> episodes_;
+  std::vector<std::vector<int>> open_;  // per pair and role (guest, host): open episode per node or -1
+  std::vector<std::vector<std::uint8_t>> pen_flags_;  // per body
+  int pen_step_ = -1;
+  std::vector<Vec3> axes_;  // per pair: approach axis at rest
+  RunTimings timings_;
+  double ke_ = 0.0, ke_peak_ = 0.0, pe_ = 0.0;
+};
+
+// Unit vector from the host's to the guest's bounding-box centre (the approach side).
+Vec3 approach_axis(const World& w, const ContactSpec& pair);
+// Guest nodes that lie beyond the host's far side along `axis` (the approach axis at rest):
+// nodes that tunnelled through the host. summary.json: pairs[].tunnelled.
+int tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis);
+
+}  // namespace harness

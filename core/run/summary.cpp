@@ -1,0 +1,141 @@
+#include "core/run/summary.hpp"
+
+#include "harness_git.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace harness {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string compiler_version() {
+#if defined(__clang__)
+  return std::string("clang ") + __clang_version__;
+#elif defined(__GNUC__)
+  return std::string("gcc ") + __VERSION__;
+#else
+  return "unknown";
+#endif
+}
+
+std::string eigen_version() {
+  return std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+         std::to_string(EIGEN_MINOR_VERSION);
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  const auto mid = v.begin() + static_cast<long>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  double m = *mid;
+  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), mid));
+  return m;
+}
+
+json num_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json stability_json(const Simulation& sim) {
+  const Scene& sc = sim.scene();
+  const SimulationStats& st = sim.stats();
+  json j = {{"integrator", sc.integrator == Integrator::symplectic_euler ? "symplectic_euler" : "implicit_euler"},
+            {"dt", sc.dt},
+            {"dt_crit", num_or_null(st.stability.dt_crit)},
+            {"dt_crit_min", num_or_null(st.stability.dt_crit_min)},
+            {"guard", sc.guard == Guard::refuse ? "refuse" : "substep"},
+            {"guard_every_steps", StabilityGuard::kEvery},
+            {"substeps", st.stability.substeps},
+            {"max_substeps", st.stability.max_substeps},
+            {"guard_violations", st.stability.guard_violations}};
+  if (sc.integrator == Integrator::implicit_euler)
+    j["implicit"] = {{"cg_max_iterations", st.implicit_max_iterations},
+                     {"cg_unconverged_solves", st.implicit_unconverged}};
+  return j;
+}
+
+json pair_json(const Simulation& sim, const Recorder& rec, std::size_t pi) {
+  const Pair& p = sim.pairs()[pi];
+  const PairTotals& t = rec.totals()[pi];
+  auto measured = [&](json v) { return t.measured ? v : json(nullptr); };
+  json pj;
+  pj["pair"] = p.label;
+  pj["detector"] = p.collision ? json(to_string(p.spec.detector)) : json(nullptr);
+  pj["voxel_size_used"] =
+      p.collision && p.collision->voxel_size() > 0.0 ? json(p.collision->voxel_size()) : json(nullptr);
+  pj["region_rebuilds"] = p.collision ? json(p.collision->rebuilds()) : json(nullptr);
+  pj["contacts_total"] = t.contacts_total;
+  pj["tunnelled"] = rec.tunnelled(sim, pi);
+  pj["true_pen_final"] = measured(t.true_pen_final);
+  pj["max_depth_final"] = measured(t.max_depth_final);
+  pj["max_depth_peak"] = measured(t.max_depth_peak);
+  pj["recall"] = t.measured && t.tp + t.fn > 0 ? json(double(t.tp) / double(t.tp + t.fn)) : json(nullptr);
+  pj["precision"] = t.measured && t.tp + t.fp > 0 ? json(double(t.tp) / double(t.tp + t.fp)) : json(nullptr);
+  return pj;
+}
+
+}  // namespace
+
+json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& status,
+                  const std::map<std::string, std::string>& versions) {
+  const Scene& sc = sim.scene();
+  const World& w = sim.world();
+  const RunTimings& t = rec.timings();
+  json sum;
+  sum["scene"] = sc.name;
+  sum["scene_file"] = sc.file;
+  sum["status"] = status.status;
+  sum["error"] = status.error.empty() ? json(nullptr) : json(status.error);
+  sum["steps_run"] = sim.step_index();
+  sum["finite"] = status.finite;
+  sum["effects"] = sim.effects_simulated();
+  sum["git_commit"] = HARNESS_GIT_COMMIT;
+  json ver = {{"compiler", compiler_version()}, {"Eigen", eigen_version()}};
+  for (const auto& [k, v] : versions) ver[k] = v;
+  sum["versions"] = ver;
+  sum["resolved_scene"] = sc.resolved;
+  sum["state_hash"] = state_hash(w);
+  sum["timing_us"] = {{"step", num_or_null(median(t.step))},       {"physics", num_or_null(median(t.physics))},
+                      {"detect", num_or_null(median(t.detect))},   {"eliminate", num_or_null(median(t.eliminate))},
+                      {"cgal", num_or_null(median(t.cgal))},       {"fcl", num_or_null(median(t.fcl))}};
+  sum["stability"] = stability_json(sim);
+  sum["nodes"] = w.num_nodes();
+  sum["springs"] = w.springs.size();
+  sum["kinetic_energy_final"] = sim.kinetic_energy();
+  sum["kinetic_energy_peak"] = rec.kinetic_energy_peak();
+  json pairs = json::array();
+  for (std::size_t pi = 0; pi < sim.pairs().size(); ++pi) pairs.push_back(pair_json(sim, rec, pi));
+  sum["pairs"] = pairs;
+  return sum;
+}
+
+void write_summary(const std::string& dir, const json& summary) {
+  const fs::path path = fs::path(dir) / "summary.json";
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream o(tmp);
+    o << summary.dump(2) << "\n";
+    if (!o) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, path);
+}
+
+void write_episodes(const std::string& dir, const Simulation& sim, const Recorder& rec) {
+  // `steps` counts simulation steps from the first to the last measured step the node was found
+  // penetrating, plus `every` (the resolution of the measurement); `open` = still penetrating
+  // when the run ended (a censored episode).
+  const int every = sim.scene().references.every;
+  std::ofstream ep(fs::path(dir) / "penetration_episodes.csv");
+  ep << "pair,body,node,first_step,last_step,steps,open\n";
+  for (const Episode& e : rec.episodes())
+    ep << sim.pairs()[e.pair].label << "," << sim.world().bodies[e.body].name << "," << e.node << "," << e.first
+       << "," << e.last << "," << (e.last - e.first + every) << "," << (e.open ? 1 : 0) << "\n";
+  if (!ep) throw std::runtime_error("cannot write penetration_episodes.csv");
+}
+
+}  // namespace harness

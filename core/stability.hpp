@@ -1,0 +1,54 @@
+// The stability guard of the explicit integrator. Symplectic Euler is stable for
+// dt < dt_crit = 2 / sqrt(lambda_max(M^-1 K)); lambda_max is bounded by Gershgorin: the largest
+// row sum of |K| (from the stiffness the built effects report, effect.hpp) over the node's mass.
+// Only effects the scene lists count: a scene without springs is never refused or substepped
+// for springs. At build, a dt above 0.9 dt_crit is refused (guard "refuse", InputError) or split
+// into substeps (guard "substep"). During the run dt_crit is re-evaluated at the current strain
+// every kEvery steps, and every step once dt per substep is within a factor 2 of the limit
+// (stiffening laws can halve dt_crit within ten steps).
+#pragma once
+
+#include "core/effects/effect.hpp"
+#include "core/scene.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace harness {
+
+using Effects = std::vector<std::unique_ptr<Effect>>;
+
+// dt_crit (s) of the effects at the current state; infinity without stiffness. Kinematic nodes
+// are skipped (they are not integrated). `rows` is scratch (pass the same vector every time).
+double critical_dt(const World& w, const Effects& effects, std::vector<Vec3>& rows);
+
+struct StabilityStats {
+  double dt_crit = 0.0;      // s, at rest
+  double dt_crit_min = 0.0;  // smallest seen (extrapolated), s
+  int substeps = 1;          // explicit substeps per step now
+  int max_substeps = 1;
+  int guard_violations = 0;  // checks with dt > 0.9 dt_crit under guard "refuse"
+};
+
+class StabilityGuard {
+ public:
+  static constexpr int kEvery = 10;
+  // Evaluates dt_crit at rest; throws InputError (time.dt) when the guard refuses dt.
+  StabilityGuard(const Scene& scene, const World& w, const Effects& effects);
+  // Before step `step` (1-based): re-evaluates dt_crit when due and adapts the substeps.
+  void before_step(const World& w, const Effects& effects, int step);
+  int substeps() const { return stats_.substeps; }
+  const StabilityStats& stats() const { return stats_; }
+
+ private:
+  void check(const World& w, const Effects& effects);
+
+  double dt_;
+  bool explicit_, substep_;
+  bool active_ = false;       // some built effect has stiffness
+  double dt_crit_last_ = 0.0;  // at the last check
+  std::vector<Vec3> rows_;
+  StabilityStats stats_;
+};
+
+}  // namespace harness
