@@ -50,117 +50,147 @@ std::string fname(const Labels& l, int f) {
 }
 
 // All checks of check_surface; messages are ranked so the most basic problem is reported.
-SurfaceReport analyze(const Points& V, const std::vector<Tri>& F, const Labels& lab) {
-  SurfaceReport r;
-  const int nv = isize(V), nf = isize(F);
+class SurfaceAnalysis {
+ public:
+  SurfaceAnalysis(const Points& V, const std::vector<Tri>& F, const Labels& lab)
+      : V_(V), F_(F), lab_(lab), nv_(isize(V)), nf_(isize(F)), corners_(3 * F.size()),
+        verts_(static_cast<std::size_t>(nv_)) {}
+
+  SurfaceReport run() {
+    if (F_.empty()) {
+      r_.problem = "the surface has no faces";
+      return r_;
+    }
+    if (!check_faces()) return finish();
+    check_edges();
+    check_fans();
+    for (int v = 0; v < nv_; ++v)
+      if (verts_.find(v) == v) ++r_.components;
+    r_.euler = nv_ - n_edges_ + nf_;
+    r_.signed_volume = signed_volume(V_, F_);
+    if (!(r_.signed_volume > 0.0))
+      note(kVolume, "signed volume " + std::to_string(r_.signed_volume) +
+                        " is not positive (inward orientation or empty)");
+    return finish();
+  }
+
+ private:
   enum { kRange, kDegenerate, kEdgeMany, kOpen, kPinched, kUnused, kOrient, kVolume, kCount };
-  std::string problem[kCount];
-  auto note = [&](int kind, const std::string& msg) {
-    if (problem[kind].empty()) problem[kind] = msg;
-  };
-  auto finish = [&]() {
-    for (const auto& p : problem)
-      if (!p.empty()) {
-        r.problem = p;
-        break;
-      }
-    return r;
-  };
-
-  if (F.empty()) {
-    r.problem = "the surface has no faces";
-    return r;
-  }
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k)
-      if (F[f][k] < 0 || F[f][k] >= nv)
-        note(kRange, fname(lab, f) + " has vertex index " + std::to_string(F[f][k]) +
-                         " out of range [0, " + std::to_string(nv) + ")");
-    if (F[f][0] == F[f][1] || F[f][1] == F[f][2] || F[f][2] == F[f][0])
-      note(kDegenerate, fname(lab, f) + " repeats a vertex (degenerate)");
-  }
-  if (!problem[kRange].empty() || !problem[kDegenerate].empty()) return finish();
-
   // Every directed half-edge, grouped by its undirected edge.
   struct Half {
     std::uint64_t key;
     int face;
     int corner;  // the half-edge runs from corner to corner+1 of the face
   };
-  std::vector<Half> half(static_cast<std::size_t>(nf) * 3);
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) half[3 * f + k] = {edge_key(F[f][k], F[f][(k + 1) % 3]), f, k};
-  std::sort(half.begin(), half.end(), [](const Half& a, const Half& b) {
-    return a.key != b.key ? a.key < b.key : a.face < b.face;
-  });
 
-  r.closed = true;
-  bool edges_manifold = true;
-  r.oriented = true;
-  UnionFind corners(half.size());  // corner 3f+k = vertex F[f][k] inside face f
-  UnionFind verts(static_cast<std::size_t>(nv));
-  int n_edges = 0;
-  for (std::size_t i = 0; i < half.size();) {
-    std::size_t j = i;
-    while (j < half.size() && half[j].key == half[i].key) ++j;
-    ++n_edges;
-    const Half& h0 = half[i];
-    const int u = F[h0.face][h0.corner], w = F[h0.face][(h0.corner + 1) % 3];
-    verts.unite(u, w);
-    const std::string edge = "edge (" + vname(lab, u) + ", " + vname(lab, w) + ")";
-    if (j - i == 1) {
-      r.closed = false;
-      note(kOpen, edge + " belongs only to " + fname(lab, h0.face) + ": the surface is not closed");
-    } else if (j - i > 2) {
-      r.closed = false;
-      edges_manifold = false;
-      note(kEdgeMany, edge + " is shared by " + std::to_string(j - i) + " faces (" +
-                          fname(lab, h0.face) + " and others): not 2-manifold");
-    } else {
-      const Half& h1 = half[i + 1];
-      const int u1 = F[h1.face][h1.corner];
-      if (u1 == u) {
-        r.oriented = false;
-        note(kOrient, fname(lab, h0.face) + " and " + fname(lab, h1.face) + " traverse " + edge +
-                          " in the same direction: inconsistent orientation");
+  void note(int kind, const std::string& msg) {
+    if (problem_[kind].empty()) problem_[kind] = msg;
+  }
+  SurfaceReport finish() {
+    for (const auto& p : problem_)
+      if (!p.empty()) {
+        r_.problem = p;
+        break;
       }
-      // The two faces are neighbours in the fans around both end vertices.
-      auto corner_of = [&](int f, int v) {
-        for (int k = 0; k < 3; ++k)
-          if (F[f][k] == v) return 3 * f + k;
-        return 3 * f;  // unreachable: v is a vertex of f
-      };
-      corners.unite(corner_of(h0.face, u), corner_of(h1.face, u));
-      corners.unite(corner_of(h0.face, w), corner_of(h1.face, w));
+    return r_;
+  }
+
+  // Indices in range, no repeated vertex in a face; false when either fails.
+  bool check_faces() {
+    for (int f = 0; f < nf_; ++f) {
+      for (int k = 0; k < 3; ++k)
+        if (F_[f][k] < 0 || F_[f][k] >= nv_)
+          note(kRange, fname(lab_, f) + " has vertex index " + std::to_string(F_[f][k]) + " out of range [0, " +
+                           std::to_string(nv_) + ")");
+      if (F_[f][0] == F_[f][1] || F_[f][1] == F_[f][2] || F_[f][2] == F_[f][0])
+        note(kDegenerate, fname(lab_, f) + " repeats a vertex (degenerate)");
     }
-    i = j;
+    return problem_[kRange].empty() && problem_[kDegenerate].empty();
+  }
+
+  // Closed (two faces per edge), edge-manifold, consistently oriented; joins the corners of the
+  // two faces of every edge into fans around its end vertices, and the vertices into components.
+  void check_edges() {
+    std::vector<Half> half(3 * F_.size());
+    for (int f = 0; f < nf_; ++f)
+      for (int k = 0; k < 3; ++k) half[3 * f + k] = {edge_key(F_[f][k], F_[f][(k + 1) % 3]), f, k};
+    std::sort(half.begin(), half.end(),
+              [](const Half& a, const Half& b) { return a.key != b.key ? a.key < b.key : a.face < b.face; });
+    r_.closed = true;
+    r_.oriented = true;
+    for (std::size_t i = 0; i < half.size();) {
+      std::size_t j = i;
+      while (j < half.size() && half[j].key == half[i].key) ++j;
+      edge(half[i], j - i, j - i == 2 ? &half[i + 1] : nullptr);
+      i = j;
+    }
+  }
+
+  void edge(const Half& h0, std::size_t count, const Half* h1) {
+    ++n_edges_;
+    const int u = F_[h0.face][h0.corner], w = F_[h0.face][(h0.corner + 1) % 3];
+    verts_.unite(u, w);
+    const std::string name = "edge (" + vname(lab_, u) + ", " + vname(lab_, w) + ")";
+    if (count == 1) {
+      r_.closed = false;
+      note(kOpen, name + " belongs only to " + fname(lab_, h0.face) + ": the surface is not closed");
+      return;
+    }
+    if (count > 2) {
+      r_.closed = false;
+      edges_manifold_ = false;
+      note(kEdgeMany, name + " is shared by " + std::to_string(count) + " faces (" + fname(lab_, h0.face) +
+                          " and others): not 2-manifold");
+      return;
+    }
+    if (F_[h1->face][h1->corner] == u) {
+      r_.oriented = false;
+      note(kOrient, fname(lab_, h0.face) + " and " + fname(lab_, h1->face) + " traverse " + name +
+                        " in the same direction: inconsistent orientation");
+    }
+    // The two faces are neighbours in the fans around both end vertices.
+    corners_.unite(corner_of(h0.face, u), corner_of(h1->face, u));
+    corners_.unite(corner_of(h0.face, w), corner_of(h1->face, w));
+  }
+
+  int corner_of(int f, int v) const {  // corner 3f+k = vertex F[f][k] inside face f
+    for (int k = 0; k < 3; ++k)
+      if (F_[f][k] == v) return 3 * f + k;
+    return 3 * f;  // unreachable: v is a vertex of f
   }
 
   // Fans per vertex: the corner sets left after joining neighbours across shared edges.
-  std::vector<int> fans(static_cast<std::size_t>(nv), 0);
-  for (int c = 0; c < 3 * nf; ++c)
-    if (corners.find(c) == c) ++fans[F[c / 3][c % 3]];
-  bool fans_ok = true;
-  for (int v = 0; v < nv; ++v) {
-    if (fans[v] == 0) {
-      fans_ok = false;
-      note(kUnused, vname(lab, v) + " is referenced by no face");
-    } else if (fans[v] > 1 && edges_manifold) {
-      fans_ok = false;
-      note(kPinched, "the faces around " + vname(lab, v) + " form " + std::to_string(fans[v]) +
-                         " separate fans: not 2-manifold");
+  void check_fans() {
+    std::vector<int> fans(static_cast<std::size_t>(nv_), 0);
+    for (int c = 0; c < 3 * nf_; ++c)
+      if (corners_.find(c) == c) ++fans[F_[c / 3][c % 3]];
+    bool fans_ok = true;
+    for (int v = 0; v < nv_; ++v) {
+      if (fans[v] == 0) {
+        fans_ok = false;
+        note(kUnused, vname(lab_, v) + " is referenced by no face");
+      } else if (fans[v] > 1 && edges_manifold_) {
+        fans_ok = false;
+        note(kPinched, "the faces around " + vname(lab_, v) + " form " + std::to_string(fans[v]) +
+                           " separate fans: not 2-manifold");
+      }
     }
+    r_.manifold = r_.closed && edges_manifold_ && fans_ok;
   }
-  r.manifold = r.closed && edges_manifold && fans_ok;
 
-  for (int v = 0; v < nv; ++v)
-    if (verts.find(v) == v) ++r.components;
-  r.euler = nv - n_edges + nf;
-  r.signed_volume = signed_volume(V, F);
-  if (!(r.signed_volume > 0.0))
-    note(kVolume, "signed volume " + std::to_string(r.signed_volume) +
-                      " is not positive (inward orientation or empty)");
-  return finish();
+  const Points& V_;
+  const std::vector<Tri>& F_;
+  const Labels& lab_;
+  int nv_, nf_;
+  SurfaceReport r_;
+  std::string problem_[kCount];
+  UnionFind corners_, verts_;
+  int n_edges_ = 0;
+  bool edges_manifold_ = true;
+};
+
+SurfaceReport analyze(const Points& V, const std::vector<Tri>& F, const Labels& lab) {
+  return SurfaceAnalysis(V, F, lab).run();
 }
 
 // ---- tokenising --------------------------------------------------------------------------
@@ -286,8 +316,8 @@ class Parser {
   LineReader reader_;
 };
 
-void read_off(const std::string& path, std::string_view buf, RawSurface& raw) {
-  Parser p(path, buf);
+// The OFF header (optional) and counts line: returns the vertex and face counts.
+std::pair<long long, long long> read_off_counts(Parser& p, const std::string& path, std::size_t bytes) {
   if (!p.next()) throw InputError(path, "empty file (no data)");
   std::size_t first = 0;
   // Optional header: OFF, or a variant with colours / normals / texture coordinates whose
@@ -303,13 +333,11 @@ void read_off(const std::string& path, std::string_view buf, RawSurface& raw) {
   } else {
     long long dummy = 0;
     if (!parse_int(p.tokens[0].text, dummy))
-      p.fail(p.tokens[0],
-             "expected an 'OFF' header or the counts line, got " + quote(p.tokens[0].text));
+      p.fail(p.tokens[0], "expected an 'OFF' header or the counts line, got " + quote(p.tokens[0].text));
   }
   long long counts[3] = {0, 0, 0};
   const std::size_t n_counts = p.tokens.size() - first;
-  if (n_counts < 2 || n_counts > 3)
-    p.fail(p.tokens[first].col, "expected the counts line 'vertices faces [edges]'");
+  if (n_counts < 2 || n_counts > 3) p.fail(p.tokens[first].col, "expected the counts line 'vertices faces [edges]'");
   for (std::size_t i = 0; i < n_counts; ++i) {
     const Token& t = p.tokens[first + i];
     if (!parse_int(t.text, counts[i])) p.fail(t, "bad count " + quote(t.text));
@@ -318,56 +346,59 @@ void read_off(const std::string& path, std::string_view buf, RawSurface& raw) {
   }
   const long long nv = counts[0], nf = counts[1];
   // The shortest records are "0 0 0\n" and "3 0 1 2\n": larger counts cannot be in the file.
-  if (nv * 6 + nf * 8 > static_cast<long long>(buf.size()) + 2)
-    p.fail(p.tokens[first].col, "absurd counts: " + std::to_string(nv) + " vertices and " +
-                                    std::to_string(nf) + " faces cannot fit in " +
-                                    std::to_string(buf.size()) + " bytes");
+  if (nv * 6 + nf * 8 > static_cast<long long>(bytes) + 2)
+    p.fail(p.tokens[first].col, "absurd counts: " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                                    " faces cannot fit in " + std::to_string(bytes) + " bytes");
   if (nv == 0) throw InputError(path, "no vertices");
   if (nf == 0) throw InputError(path, "no faces");
+  return {nv, nf};
+}
 
+// One OFF face record "n i1 ... in"; n_tris counts the triangles of all faces so far.
+void read_off_face(Parser& p, long long nv, long long& n_tris, RawSurface& raw) {
+  const Token& t = p.tokens[0];
+  long long n = 0;
+  if (!parse_int(t.text, n)) p.fail(t, "bad vertex count " + quote(t.text) + " of a face");
+  if (n < 3) p.fail(t, "a face needs at least 3 vertices, got " + quote(t.text));
+  if (n > static_cast<long long>(p.tokens.size()) - 1)
+    p.fail(t, "the face declares " + std::to_string(n) + " vertices but only " +
+                  std::to_string(p.tokens.size() - 1) + " values follow");
+  if (n > nv) p.fail(t, "the face has more vertices than the file (" + std::to_string(nv) + ")");
+  n_tris += n - 2;
+  if (n_tris > kMaxCount) p.fail(t, "absurd number of triangles (limit 50 million)");
+  raw.polys.push_back({p.line(), t.col, raw.corners.size(), static_cast<int>(n)});
+  for (long long k = 1; k <= n; ++k) {
+    const Token& c = p.tokens[static_cast<std::size_t>(k)];
+    long long idx = 0;
+    if (!parse_int(c.text, idx)) p.fail(c, "bad vertex index " + quote(c.text));
+    if (idx < 0 || idx >= nv) p.fail(c, "vertex index " + quote(c.text) + " out of range [0, " + std::to_string(nv) + ")");
+    raw.corners.push_back({idx, c.col});
+  }
+  p.trailing_numbers(static_cast<std::size_t>(n) + 1);
+}
+
+void read_off(const std::string& path, std::string_view buf, RawSurface& raw) {
+  Parser p(path, buf);
+  const auto [nv, nf] = read_off_counts(p, path, buf.size());
   raw.base = 0;
   raw.V.reserve(static_cast<std::size_t>(nv));
   for (long long i = 0; i < nv; ++i) {
     if (!p.next())
-      throw InputError(
-          path + ":" + std::to_string(p.line()),
-          "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
+      throw InputError(path + ":" + std::to_string(p.line()),
+                       "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
     if (p.tokens.size() < 3) p.fail(p.tokens[0], "expected a vertex 'x y z'");
-    raw.V.emplace_back(p.coordinate(p.tokens[0]), p.coordinate(p.tokens[1]),
-                       p.coordinate(p.tokens[2]));
+    raw.V.emplace_back(p.coordinate(p.tokens[0]), p.coordinate(p.tokens[1]), p.coordinate(p.tokens[2]));
     p.trailing_numbers(3);
   }
   raw.polys.reserve(static_cast<std::size_t>(nf));
   long long n_tris = 0;
   for (long long i = 0; i < nf; ++i) {
     if (!p.next())
-      throw InputError(
-          path + ":" + std::to_string(p.line()),
-          "file ends after " + std::to_string(i) + " of " + std::to_string(nf) + " faces");
-    const Token& t = p.tokens[0];
-    long long n = 0;
-    if (!parse_int(t.text, n)) p.fail(t, "bad vertex count " + quote(t.text) + " of a face");
-    if (n < 3) p.fail(t, "a face needs at least 3 vertices, got " + quote(t.text));
-    if (n > static_cast<long long>(p.tokens.size()) - 1)
-      p.fail(t, "the face declares " + std::to_string(n) + " vertices but only " +
-                    std::to_string(p.tokens.size() - 1) + " values follow");
-    if (n > nv) p.fail(t, "the face has more vertices than the file (" + std::to_string(nv) + ")");
-    n_tris += n - 2;
-    if (n_tris > kMaxCount) p.fail(t, "absurd number of triangles (limit 50 million)");
-    raw.polys.push_back({p.line(), t.col, raw.corners.size(), static_cast<int>(n)});
-    for (long long k = 1; k <= n; ++k) {
-      const Token& c = p.tokens[static_cast<std::size_t>(k)];
-      long long idx = 0;
-      if (!parse_int(c.text, idx)) p.fail(c, "bad vertex index " + quote(c.text));
-      if (idx < 0 || idx >= nv)
-        p.fail(c,
-               "vertex index " + quote(c.text) + " out of range [0, " + std::to_string(nv) + ")");
-      raw.corners.push_back({idx, c.col});
-    }
-    p.trailing_numbers(static_cast<std::size_t>(n) + 1);
+      throw InputError(path + ":" + std::to_string(p.line()),
+                       "file ends after " + std::to_string(i) + " of " + std::to_string(nf) + " faces");
+    read_off_face(p, nv, n_tris, raw);
   }
-  if (p.next())
-    p.fail(p.tokens[0], "unexpected content after the last of " + std::to_string(nf) + " faces");
+  if (p.next()) p.fail(p.tokens[0], "unexpected content after the last of " + std::to_string(nf) + " faces");
 }
 
 void read_obj(const std::string& path, std::string_view buf, RawSurface& raw) {

@@ -2,9 +2,6 @@
 
 #include <cstdlib>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace harness {
 
@@ -38,21 +35,5 @@ void set_threads(int n) { setting() = n < 1 ? 1 : n; }
 void set_parallel_grain(std::size_t items_per_thread) { grain() = items_per_thread; }
 
 std::size_t parallel_grain() { return grain(); }
-
-bool openmp_enabled() {
-#ifdef _OPENMP
-  return true;
-#else
-  return false;
-#endif
-}
-
-int hardware_threads() {
-#ifdef _OPENMP
-  return omp_get_num_procs();
-#else
-  return 1;
-#endif
-}
 
 }  // namespace harness

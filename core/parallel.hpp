@@ -17,10 +17,6 @@ namespace harness {
 int threads();
 // Sets it; n < 1 is taken as 1. Not meant to be called while a parallel loop runs.
 void set_threads(int n);
-// Whether the build has OpenMP (without it every loop runs on the calling thread).
-bool openmp_enabled();
-// Processors OpenMP sees (1 without OpenMP).
-int hardware_threads();
 
 // Testing aid: when > 0, replaces every loop's `min_items` below, so that tests can run the
 // parallel code paths on small worlds (set_parallel_grain(1)); 0 restores the defaults.

@@ -34,9 +34,8 @@ class ReferenceMeasurer final : public Measurer {
   void measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected,
                Measurement& out) override;
 
-  // The surfaces as last updated (tests, diagnostics).
+  // The CGAL surfaces as last updated (tests, diagnostics).
   const CgalSurface& cgal_surface(bool host) const { return host ? cg_host_ : cg_guest_; }
-  const FclSurface& fcl_surface(bool host) const { return host ? fc_host_ : fc_guest_; }
   // Per guest node (body-local index): truly penetrating at the last CGAL measurement.
   const std::vector<std::uint8_t>& guest_penetrating() const { return pen_guest_; }
 

@@ -58,6 +58,7 @@ const std::vector<Column>& steps_columns() {
       {"region_hi_x", region<3>},
       {"region_hi_y", region<4>},
       {"region_hi_z", region<5>},
+      {"t_volume_us", [](O o, R r) { if (r.m && r.m->has_volume) o.us(r.m->t_volume_us); }},
   };
   return columns;
 }

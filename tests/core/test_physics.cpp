@@ -147,3 +147,20 @@ TEST_CASE("an inactive driver does not release nodes another driver moves", "[ph
   // Moved for five steps, then held.
   CHECK(sim.world().x[driven[0]].z() == Approx(z0 + 5 * 1e-4 * 0.1).epsilon(1e-12));
 }
+
+TEST_CASE("stability comes from the built effects only: no springs, no refusal and no substeps",
+          "[physics][guard]") {
+  Simulation probe(parse_scene(box_scene(R"("springs")"), "g.json"));
+  const double dtc = probe.critical_dt();
+  REQUIRE(std::isfinite(dtc));
+  // A dt 20 times above the springs' limit is refused when springs are simulated ...
+  CHECK_THROWS_AS(Simulation(parse_scene(box_scene(R"("springs")", "", 20.0 * dtc), "g.json")), InputError);
+  // ... and taken in one step when they are not: the springs exist but are never simulated.
+  for (const char* effects : {R"("gravity")", R"("damping","gravity")", ""}) {
+    Simulation sim(parse_scene(box_scene(effects, "", 20.0 * dtc), "g.json"));
+    CHECK(sim.stats().stability.substeps == 1);
+    CHECK(std::isinf(sim.critical_dt()));
+    sim.step();
+    CHECK(sim.stats().stability.max_substeps == 1);
+  }
+}

@@ -23,15 +23,13 @@ void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<d
 //       ...; contact runs after them)
 //   c = 1/m_g + sum_k w_k^2 n_k / m_k   change of that speed per unit impulse, with n_k the
 //       number of this step's pushes that lean on host node k: in a large voxel many guest
-//       nodes lean on one host node, and without this their reactions add up n_k times (that
-//       diverged with 8 and 16 mm voxels).
+//       nodes lean on one host node, and their reactions add up n_k times.
 // A kinematic node counts as infinitely heavy (1/m = 0, no acceleration, velocity kin_v).
 // So F beats the deformation forces that press the pair together and stops the approach, and a
 // pair resting in contact is pushed apart slowly. Collision uses v_sep = L / (kSeparationSteps
-// dt), L the voxel size (or the host's mean spring length for detectors without a grid). A
-// larger gain (2x the load) was tried first: it feeds back through the deformation it causes
-// and diverged in cylinder_press. Non-finite terms are ignored. `share` is scratch (one int
-// per node, left all zero). Returns the largest F (0 without contacts).
+// dt), L the voxel size (or the host's mean spring length for detectors without a grid).
+// Non-finite terms are ignored. `share` is scratch (one int per node, left all zero). Returns the
+// largest F (0 without contacts).
 double auto_contact_forces(const World& w, const std::vector<Push>& pushes, double dt,
                            double separation_speed, std::vector<double>& out, std::vector<int>& share);
 
