@@ -111,10 +111,6 @@ def shortened_runs(runs):
     return out
 
 
-def tex_escape(s):
-    return s.replace("%", "\\%").replace("_", "\\_").replace("&", "\\&")
-
-
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else "results"
     runs = rl.existing_runs(root)
@@ -234,7 +230,7 @@ def main():
         f.write(" & & line & plane & line & plane & line & plane & line & plane & \\\\\n\\midrule\n")
         for key, title, force, l, p, res in a_rows:
             f.write("%s & %s & %d & %d & %d & %d & %d & %d & %.3f & %.3f & %s \\\\\n" % (
-                tex_escape(title), force, l["final"], p["final"], l["peak"], p["peak"], l["sum"], p["sum"],
+                rl.tex_escape(title), force, l["final"], p["final"], l["peak"], p["peak"], l["sum"], p["sum"],
                 l["depth_peak"] * 1000, p["depth_peak"] * 1000, res))
         f.write("\\bottomrule\n\\end{tabular}\n")
     with open(os.path.join(d, "claims_b.tex"), "w") as f:
@@ -247,7 +243,7 @@ def main():
             if prev is not None and prev != title:
                 f.write("\\addlinespace\n")
             f.write("%s & %s & %d & %s & %s & %s & %.1f & %s & %s \\\\\n" % (
-                tex_escape(title) if title != prev else "", elim, st["episodes"], rl.fmt(st["median"], "d"),
+                rl.tex_escape(title) if title != prev else "", elim, st["episodes"], rl.fmt(st["median"], "d"),
                 rl.fmt(st["p90"], "d"), rl.fmt(st["max"], "d"), 100 * st["open_frac"],
                 rl.fmt(None if st["peak_frac"] is None else 100 * st["peak_frac"], ".2f"),
                 "yes" if st["holds"] else "no"))
@@ -264,10 +260,10 @@ def main():
         f.write("\\newcommand{\\ClaimBVerdict}{%s}\n" % verdict_b)
         f.write("\\newcommand{\\ClaimBHolds}{%d}\n" % holds)
         f.write("\\newcommand{\\ClaimBRuns}{%d}\n" % len(b_rows))
-        f.write("\\newcommand{\\ClaimBHoldRuns}{%s}\n" % (tex_escape(", ".join(
+        f.write("\\newcommand{\\ClaimBHoldRuns}{%s}\n" % (rl.tex_escape(", ".join(
             "%s/%s" % (t, e) for _k, t, e, st in b_rows if st["holds"])) or "none"))
         f.write("\\newcommand{\\ClaimRunSteps}{%s}\n" % "; ".join(
-            "%s: %s steps" % (tex_escape(t), "/".join(str(steps_run[(k, e)]) for e in rl.ELIMINATORS if (k, e) in steps_run))
+            "%s: %s steps" % (rl.tex_escape(t), "/".join(str(steps_run[(k, e)]) for e in rl.ELIMINATORS if (k, e) in steps_run))
             for k, _s, t, _f in rl.SCENES if any((k, e) in steps_run for e in rl.ELIMINATORS)))
         f.write("\\newcommand{\\ClaimBSepMax}{%g}\n" % (100 * SEPARATE_MAX_FRACTION))
         f.write("\\newcommand{\\ClaimBPninetyMax}{%d}\n" % P90_MAX_STEPS)

@@ -1,4 +1,4 @@
-"""Shared helpers of the result scripts (figures.py, tables.py, claims.py, prune_frames.py).
+"""Shared helpers of the result scripts (figures.py, tables.py, claims.py, study.py, prune_frames.py).
 
 Reads the outputs of `harness run` (steps.csv, summary.json, penetration_episodes.csv,
 frames/*.vtk) under results/runs/<run>/. Everything here is deterministic: fixed run order,
@@ -197,6 +197,12 @@ def nearest_rank(sorted_vals, q):
         return None
     k = max(1, int(math.ceil(q / 100.0 * len(sorted_vals))))
     return sorted_vals[k - 1]
+
+
+def tex_escape(v):
+    """A value as LaTeX text: the characters LaTeX treats specially are escaped."""
+    return (str(v).replace("\\", "\\textbackslash{}").replace("_", "\\_").replace("%", "\\%")
+            .replace("&", "\\&").replace("#", "\\#"))
 
 
 def fmt(v, spec):

@@ -19,6 +19,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import resultslib as rl  # noqa: E402
+
 SCENES = ["sphere_collision", "cylinder_press", "implant_expansion"]
 VOXELS = [0.002, 0.004, 0.008, 0.016]
 FORCES = ["0.01", "0.03", "0.1", "0.3", "1", "3", "auto"]
@@ -73,10 +76,6 @@ def md_table(rows, cols, heads):
     return "\n".join(out) + "\n"
 
 
-def tex_escape(v):
-    return str(v).replace("_", "\\_").replace("%", "\\%").replace("&", "\\&")
-
-
 def tex_num(v):
     if isinstance(v, float):
         return "--" if math.isnan(v) else "%.3g" % v
@@ -87,7 +86,7 @@ def tex_table(rows, cols, heads, caption):
     out = ["\\begin{tabular}{" + "l" * 2 + "r" * (len(cols) - 2) + "}", "\\toprule",
            " & ".join(heads) + " \\\\", "\\midrule"]
     for r in rows:
-        out.append(" & ".join(tex_escape(tex_num(r.get(c, ""))) for c in cols) + " \\\\")
+        out.append(" & ".join(rl.tex_escape(tex_num(r.get(c, ""))) for c in cols) + " \\\\")
     out += ["\\bottomrule", "\\end{tabular}"]
     return "% " + caption + " (made by scripts/study.py)\n" + "\n".join(out) + "\n"
 
@@ -248,7 +247,7 @@ def ablation(a):
                             "recall", "precision", "detect+elim (µs)"]))
         reason = default_reason(scene, sr, best, pen0)
         md.append(reason)
-        reasons.append("\\paragraph{Default of \\code{%s}.}" % tex_escape(scene) + md_to_tex(re.sub(r"\*\*Default\.\*\* Rule:[^\n]*\n", "", reason)))
+        reasons.append("\\paragraph{Default of \\code{%s}.}" % rl.tex_escape(scene) + md_to_tex(re.sub(r"\*\*Default\.\*\* Rule:[^\n]*\n", "", reason)))
     best_rows = []
     for scene in ["cylinder_press", "implant_expansion"]:
         b = choose_default([r for r in rows if r["scene"] == scene])
