@@ -1,5 +1,6 @@
 #include "core/run.hpp"
 
+#include "core/clock.hpp"
 #include "core/run/columns.hpp"
 #include "core/run/frames.hpp"
 #include "core/run/recorder.hpp"
@@ -53,7 +54,7 @@ class ProgressLine {
   explicit ProgressLine(bool on) : on_(on && isatty(2)) {}
   void update(const Simulation& sim) {
     if (!on_) return;
-    const auto now = std::chrono::steady_clock::now();
+    const auto now = Clock::now();
     const int s = sim.step_index(), n = sim.scene().steps;
     if (now - last_ > std::chrono::milliseconds(200) || s == n) {
       last_ = now;
@@ -66,7 +67,7 @@ class ProgressLine {
 
  private:
   bool on_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+  Clock::time_point last_ = Clock::now();
 };
 
 }  // namespace

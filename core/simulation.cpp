@@ -1,5 +1,6 @@
 #include "core/simulation.hpp"
 
+#include "core/clock.hpp"
 #include "core/mesh.hpp"
 #include "core/integrator.hpp"
 #include "core/shapes.hpp"
@@ -15,10 +16,6 @@ namespace harness {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double us_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-}
 
 ShapeModel generate(const Scene& sc, const BodySpec& b) {
   const ShapeSpec& s = b.shape;

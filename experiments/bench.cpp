@@ -1,5 +1,6 @@
 #include "experiments/bench.hpp"
 
+#include "core/clock.hpp"
 #include "core/collision/detectors/voxel.hpp"
 #include "core/parallel.hpp"
 #include "core/scene.hpp"
@@ -32,7 +33,6 @@ namespace harness {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 
 double seconds_since(Clock::time_point t0) {

@@ -2,6 +2,8 @@
 
 #include "reference/cgal_constructions.hpp"
 
+#include "core/clock.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,11 +12,6 @@
 namespace harness {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double us_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-}
 
 void check_pair(const World& w, const ContactSpec& pair) {
   const int n = static_cast<int>(w.bodies.size());

@@ -1,20 +1,13 @@
 #include "core/collision/collision.hpp"
 
+#include "core/clock.hpp"
 #include "core/collision/responses/force_rules.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
 
 namespace harness {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double micros(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::micro>(b - a).count();
-}
-}  // namespace
 
 Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact) : spec_(std::move(spec)) {
   const int nb = static_cast<int>(w.bodies.size());
@@ -55,8 +48,8 @@ PairStep Collision::step(World& w, double dt) {
   apply_pushes(w, pushes_, magnitude_);
   const auto t2 = Clock::now();
   s.contacts = static_cast<int>(contacts_.size());
-  s.detect_us = micros(t0, t1);
-  s.eliminate_us = micros(t1, t2);
+  s.detect_us = us_between(t0, t1);
+  s.eliminate_us = us_between(t1, t2);
   return s;
 }
 

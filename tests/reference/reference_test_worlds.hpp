@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/geometry.hpp"
+#include "tests/core/collision/collision_test_worlds.hpp"
 #include "core/world.hpp"
 
 #include <Eigen/Geometry>
@@ -106,29 +107,7 @@ inline Surface box_surface(const Vec3& lo, const Vec3& hi, const Vec3i& n) {
 
 // Appends a body (unit masses, at rest) holding s.V; returns its index.
 inline int add_body(World& w, const std::string& name, const Surface& s) {
-  Body b;
-  b.name = name;
-  b.begin = w.num_nodes();
-  b.end = b.begin + static_cast<int>(s.V.size());
-  b.n_surface = s.n_surface;
-  b.faces = s.F;
-  b.rest_min = Vec3::Constant(1e300);
-  b.rest_max = Vec3::Constant(-1e300);
-  for (const Vec3& p : s.V) {
-    w.x.push_back(p);
-    w.v.push_back(Vec3::Zero());
-    w.f.push_back(Vec3::Zero());
-    w.m.push_back(1.0);
-    w.inv_m.push_back(1.0);
-    w.kinematic.push_back(Kinematic::free);
-    w.kin_v.push_back(Vec3::Zero());
-    b.rest_min = b.rest_min.cwiseMin(p);
-    b.rest_max = b.rest_max.cwiseMax(p);
-  }
-  b.spring_begin = b.spring_end = static_cast<int>(w.springs.size());
-  w.bodies.push_back(b);
-  w.body_law.push_back(SpringLaw{});
-  return static_cast<int>(w.bodies.size()) - 1;
+  return harness::test::add_body(w, name, harness::test::NodeSet{s.V, s.n_surface, s.F});
 }
 
 inline void translate_body(World& w, int body, const Vec3& d) {
