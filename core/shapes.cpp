@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <queue>
+#include <unordered_map>
 #include <utility>
 
 namespace harness {
@@ -353,6 +355,65 @@ Vec3 volume_centroid(const Points& V, const std::vector<Tri>& F) {
   return o + sum / six_v;
 }
 
+// The interior lattice of a volume fill, kept for the springs' stiffness shares (per unit E):
+// a lattice spring takes its share from every complete cell (all eight corners are nodes) it
+// borders, as in the box lattice (elastic_map.hpp).
+struct LatticeShares {
+  Lattice L;
+  std::vector<int> node_at;           // lattice index -> node, -1 none
+  std::vector<long long> cell_of;     // interior node (node - n_surface) -> lattice index
+  int n_surface = 0;
+  long long complete_cells = 0;
+  CellSprings cell{};
+
+  bool complete(int i, int j, int k) const {
+    if (i < 0 || j < 0 || k < 0 || i + 1 >= L.m[0] || j + 1 >= L.m[1] || k + 1 >= L.m[2]) return false;
+    for (int c = 0; c < 8; ++c)
+      if (node_at[L.index(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))] < 0) return false;
+    return true;
+  }
+  void count_cells() {
+    cell = isotropic_cell(Vec3::Constant(L.h));
+    for (int k = 0; k + 1 < L.m[2]; ++k)
+      for (int j = 0; j + 1 < L.m[1]; ++j)
+        for (int i = 0; i + 1 < L.m[0]; ++i) complete_cells += complete(i, j, k);
+  }
+  Vec3i ijk(int node) const {
+    const long long c = cell_of[node - n_surface];
+    const long long i = c % L.m[0], j = (c / L.m[0]) % L.m[1], k = c / (static_cast<long long>(L.m[0]) * L.m[1]);
+    return Vec3i(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
+  }
+  // kappa of the spring between nodes a and b from the complete cells it borders (0: none, or
+  // not a lattice spring).
+  double kappa(int a, int b) const {
+    if (a < n_surface || b < n_surface || cell_of.empty()) return 0.0;
+    const Vec3i p = ijk(a), q = ijk(b), d = q - p;
+    if (d.cwiseAbs().maxCoeff() != 1) return 0.0;
+    const int axes = static_cast<int>((d.array() != 0).count());
+    // Cells holding both ends: fixed (the lower one) along the axes the spring spans, either
+    // side along the others.
+    double share = axes == 1 ? 0.25 * cell.edge[d[0] ? 0 : d[1] ? 1 : 2]
+                   : axes == 2 ? 0.5 * cell.face[d[0] == 0 ? 0 : d[1] == 0 ? 1 : 2]
+                               : cell.body;
+    double sum = 0.0;
+    for (int c = 0; c < 8; ++c) {
+      int lo[3];
+      bool valid = true;
+      for (int ax = 0; ax < 3; ++ax) {
+        const int bit = (c >> ax) & 1;
+        if (d[ax] != 0) {
+          if (bit) valid = false;  // one choice only along spanned axes
+          lo[ax] = std::min(p[ax], q[ax]);
+        } else {
+          lo[ax] = p[ax] - 1 + bit;
+        }
+      }
+      if (valid && complete(lo[0], lo[1], lo[2])) sum += share;
+    }
+    return sum;
+  }
+};
+
 // Volume fill. Interior nodes are the points of a lattice of spacing h = mean surface edge
 // length (coarsened to at most kMaxLattice points over the bounding box), kept when
 //   - their winding number is >= 1 (exact crossing count, see inside_points), and
@@ -363,7 +424,7 @@ Vec3 volume_centroid(const Points& V, const std::vector<Tri>& F) {
 // any lattice point gets one node at its volume centroid, tied to every surface node.
 // Appends the nodes, adds the spring keys, and returns the interior count and h used.
 void fill_volume(ShapeModel& out, double mean_edge, std::vector<std::uint64_t>& keys,
-                 int& n_interior, double& h_used) {
+                 int& n_interior, double& h_used, LatticeShares& shares) {
   const Points& V = out.nodes;  // surface only at this point
   const int ns = out.n_surface;
   Vec3 lo = V[0], hi = V[0];
@@ -384,6 +445,7 @@ void fill_volume(ShapeModel& out, double mean_edge, std::vector<std::uint64_t>& 
       for (int i = 0; i < L.m[0]; ++i)
         if (inside[L.index(i, j, k)]) {
           node_at[L.index(i, j, k)] = ns + isize(interior);
+          shares.cell_of.push_back(L.index(i, j, k));
           interior.push_back(L.point(i, j, k));
         }
   inside.clear();
@@ -418,8 +480,10 @@ void fill_volume(ShapeModel& out, double mean_edge, std::vector<std::uint64_t>& 
           if (b >= 0) add(a, b);
         }
       }
-  node_at.clear();
-  node_at.shrink_to_fit();
+  shares.L = L;
+  shares.n_surface = ns;
+  shares.node_at = std::move(node_at);
+  shares.count_cells();
 
   // Surface to interior: the 4 nearest interior nodes and every one within 1.5 h.
   std::vector<int> ids(interior.size());
@@ -428,6 +492,48 @@ void fill_volume(ShapeModel& out, double mean_edge, std::vector<std::uint64_t>& 
   for (int s = 0; s < ns; ++s) {
     for (int b : inner.nearest(out.nodes[s], 4)) add(s, b);
     for (int b : inner.within(out.nodes[s], 1.5 * h)) add(s, b);
+  }
+}
+
+// Volume fill: lattice springs their shares, every other spring the surface layer's kappa.
+void volume_kappa(ShapeModel& out, const LatticeShares& shares) {
+  const std::size_t n = out.springs.size();
+  out.spring_kappa.assign(n, 0.0);
+  out.spring_role.assign(n, SpringRole::volume);
+  double layer_l2 = 0.0;
+  for (std::size_t s = 0; s < n; ++s) {
+    const Edge e = out.springs[s];
+    out.spring_kappa[s] = shares.kappa(e[0], e[1]);
+    if (out.spring_kappa[s] == 0.0) layer_l2 += (out.nodes[e[0]] - out.nodes[e[1]]).squaredNorm();
+  }
+  const double h3 = shares.L.h * shares.L.h * shares.L.h;
+  const double layer_volume = std::max(0.0, out.volume - static_cast<double>(shares.complete_cells) * h3);
+  const double layer = layer_l2 > 0.0 ? 6.0 * layer_volume / layer_l2 : 0.0;
+  for (std::size_t s = 0; s < n; ++s)
+    if (out.spring_kappa[s] == 0.0) out.spring_kappa[s] = layer;
+}
+
+// Shell: edge springs E t sum A_T / |e|^2 (van Gelder 1998), bending springs E t^3 / (4 l^2).
+void shell_kappa(ShapeModel& out) {
+  std::unordered_map<std::uint64_t, double> area;  // edge -> area of its triangles
+  for (const Tri& t : out.faces) {
+    const Points& V = out.nodes;
+    const double a = 0.5 * (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).norm();
+    for (int k = 0; k < 3; ++k) area[edge_key(t[k], t[(k + 1) % 3])] += a;
+  }
+  out.spring_kappa.resize(out.springs.size());
+  out.spring_role.resize(out.springs.size());
+  for (std::size_t s = 0; s < out.springs.size(); ++s) {
+    const Edge e = out.springs[s];
+    const double l2 = (out.nodes[e[0]] - out.nodes[e[1]]).squaredNorm();
+    const auto it = area.find(edge_key(e[0], e[1]));
+    if (it != area.end()) {
+      out.spring_role[s] = SpringRole::membrane;
+      out.spring_kappa[s] = it->second / l2;
+    } else {
+      out.spring_role[s] = SpringRole::bending;
+      out.spring_kappa[s] = 1.0 / (4.0 * l2);
+    }
   }
 }
 
@@ -507,8 +613,19 @@ struct BoxLattice {
   std::vector<int> id;  // lattice index -> node index (boundary nodes first)
   ShapeModel out;
 
+  CellSprings cell{};  // per unit E (elastic_map.hpp)
+
   BoxLattice(const Vec3& lo, const Vec3& hi, const Vec3i& cells)
-      : min(lo), max(hi), nx(cells.x()), ny(cells.y()), nz(cells.z()), dims{nx, ny, nz} {}
+      : min(lo), max(hi), nx(cells.x()), ny(cells.y()), nz(cells.z()), dims{nx, ny, nz} {
+    cell = isotropic_cell((hi - lo).cwiseQuotient(cells.cast<double>()), &out.kappa_anisotropy);
+  }
+  // Cells of index c - 1 and c along an axis of n cells that exist (1 or 2).
+  static int around(int c, int n) { return (c > 0 ? 1 : 0) + (c < n ? 1 : 0); }
+  void spring(int a, int b, double kappa) {
+    out.springs.push_back({a, b});
+    out.spring_kappa.push_back(kappa);
+    out.spring_role.push_back(SpringRole::volume);
+  }
   int lid(int i, int j, int k) const { return (k * (ny + 1) + j) * (nx + 1) + i; }
   bool boundary(int i, int j, int k) const { return i == 0 || j == 0 || k == 0 || i == nx || j == ny || k == nz; }
   int at(int i, int j, int k) const { return id[lid(i, j, k)]; }
@@ -542,25 +659,27 @@ struct BoxLattice {
       for (int j = 0; j <= ny; ++j)
         for (int i = 0; i <= nx; ++i) {
           const int p[3] = {i, j, k};
-          for (int a = 0; a < 3; ++a) {
+          for (int a = 0; a < 3; ++a) {  // edge along a: a quarter from each cell around it
             int q[3] = {i, j, k};
             if (p[a] >= dims[a]) continue;
             ++q[a];
-            out.springs.push_back({at(p), at(q)});
+            const int u = (a + 1) % 3, w = (a + 2) % 3;
+            spring(at(p), at(q), around(p[u], dims[u]) * around(p[w], dims[w]) * cell.edge[a] / 4.0);
           }
           for (int a = 0; a < 3; ++a) {  // face of the lattice spanned by axes u, w (normal a)
             const int u = (a + 1) % 3, w = (a + 2) % 3;
             if (p[u] >= dims[u] || p[w] >= dims[w]) continue;
             int c11[3] = {i, j, k}, c10[3] = {i, j, k}, c01[3] = {i, j, k};
             ++c11[u], ++c11[w], ++c10[u], ++c01[w];
-            out.springs.push_back({at(p), at(c11)});
-            out.springs.push_back({at(c10), at(c01)});
+            const double kappa = around(p[a], dims[a]) * cell.face[a] / 2.0;  // half from each cell
+            spring(at(p), at(c11), kappa);
+            spring(at(c10), at(c01), kappa);
           }
           if (i < nx && j < ny && k < nz) {
-            out.springs.push_back({at(i, j, k), at(i + 1, j + 1, k + 1)});
-            out.springs.push_back({at(i + 1, j, k), at(i, j + 1, k + 1)});
-            out.springs.push_back({at(i, j + 1, k), at(i + 1, j, k + 1)});
-            out.springs.push_back({at(i, j, k + 1), at(i + 1, j + 1, k)});
+            spring(at(i, j, k), at(i + 1, j + 1, k + 1), cell.body);
+            spring(at(i + 1, j, k), at(i, j + 1, k + 1), cell.body);
+            spring(at(i, j + 1, k), at(i + 1, j, k + 1), cell.body);
+            spring(at(i, j, k + 1), at(i + 1, j + 1, k), cell.body);
           }
         }
   }
@@ -742,10 +861,11 @@ ShapeModel finish_model(Points surface_nodes, std::vector<Tri> faces, Fill fill)
   }
 
   double surface_share = out.volume;
+  LatticeShares shares;
   if (fill == Fill::volume) {
     int n_interior = 0;
     double h = mean_edge;
-    fill_volume(out, mean_edge, keys, n_interior, h);
+    fill_volume(out, mean_edge, keys, n_interior, h, shares);
     anchor_interior(out, keys);
     const double v_in = std::min(h * h * h, 0.8 * out.volume / n_interior);
     out.node_volume.assign(out.nodes.size(), v_in);
@@ -758,6 +878,8 @@ ShapeModel finish_model(Points surface_nodes, std::vector<Tri> faces, Fill fill)
   sort_unique(keys);
   out.springs.reserve(keys.size());
   for (std::uint64_t k : keys) out.springs.push_back(key_edge(k));
+  if (fill == Fill::volume) volume_kappa(out, shares);
+  else shell_kappa(out);
   return out;
 }
 

@@ -3,6 +3,7 @@
 // 2-manifold triangle surface; volumetric models add interior nodes after them.
 #pragma once
 
+#include "core/elastic_map.hpp"
 #include "core/mesh.hpp"
 #include "core/types.hpp"
 
@@ -17,6 +18,12 @@ struct ShapeModel {
   int n_surface = 0;         // nodes[0..n_surface) are the surface vertices
   std::vector<Tri> faces;    // outward triangles over 0..n_surface-1
   std::vector<Edge> springs; // node index pairs, no duplicates, no self-springs
+  // Per spring: its stiffness per unit Young's modulus and role (elastic_map.hpp).
+  std::vector<double> spring_kappa;
+  std::vector<SpringRole> spring_role;
+  // Largest deviation of the lattice's elastic constants from isotropy, in units of the shear
+  // modulus (0: isotropic; box cells longer than about 1.2 : 1 cannot be).
+  double kappa_anisotropy = 0.0;
   std::vector<double> node_volume;  // lumped volume per node, m^3; sums to the enclosed volume
   double volume = 0.0;       // enclosed volume, m^3
 };
