@@ -8,6 +8,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -111,9 +112,11 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   Points good_x(n), good_v(n);
   RunStatus status;
   int exit_code = 0;
+  int below = 0;  // consecutive steps with the residual within time.settle's tolerance
+  const SettleSpec& settle = scene.settle;
   {
     ProgressLine progress(opt.progress);
-    for (int s = 1; s <= scene.steps; ++s) {
+    for (int s = 1; s <= scene.steps || (settle.present && !status.settled && s <= scene.steps + settle.max_steps); ++s) {
       const std::string failure = checked_step(sim, good_x, good_v);
       if (!failure.empty()) {
         status.error = "step " + std::to_string(s) + ": " + failure + "; last good state is step " + std::to_string(s - 1);
@@ -124,10 +127,14 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
         break;
       }
       rec.record(sim);
+      below = sim.residual() <= settle.tolerance ? below + 1 : 0;
+      if (settle.present && s >= scene.steps && below >= kSettleWindow) status.settled = true;
+      status.settle_steps = std::max(0, s - scene.steps);
       if (sim.pairs().empty()) steps.row({sim, nullptr, nullptr, rec.kinetic_energy(), rec.potential_energy()});
       for (std::size_t p = 0; p < sim.pairs().size(); ++p)
         steps.row({sim, &sim.pairs()[p], rec.measurement(p), rec.kinetic_energy(), rec.potential_energy()});
-      if (scene.frames_every > 0 && s % scene.frames_every == 0 && s != scene.steps) write_frames(dir, sim, rec, s);
+      const bool last = s >= scene.steps && (!settle.present || status.settled || s >= scene.steps + settle.max_steps);
+      if (scene.frames_every > 0 && s % scene.frames_every == 0 && !last) write_frames(dir, sim, rec, s);
       progress.update(sim);
     }
   }

@@ -298,12 +298,21 @@ ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json&
   return s;
 }
 
-Material read_material(const Ctx& c, const json* j, const std::string& path, json& out) {
+Material read_material(const Ctx& c, const json* j, const std::string& path, json& out, bool shell) {
   static const json empty = json::object();
   Obj o(c, j ? *j : empty, path, out);
   Material m;
   m.density = o.number("density", 1000.0, 0.0, kBig, true);
-  m.stiffness = o.number("stiffness", 100.0, 0.0, kBig, true);
+  if (o.has("stiffness") && o.has("youngs_modulus"))
+    c.fail(path, "both \"stiffness\" (N/m per spring) and \"youngs_modulus\" (Pa) are given: choose one");
+  if (o.has("youngs_modulus")) {
+    m.youngs_modulus = o.number("youngs_modulus", std::nullopt, 0.0, kBig, true);
+    if (shell) m.thickness = o.number("thickness", std::nullopt, 0.0, kBig, true);
+  } else {
+    m.stiffness = o.number("stiffness", 100.0, 0.0, kBig, true);
+  }
+  if (o.has("thickness") && !(shell && m.youngs_modulus > 0.0))
+    c.fail(o.at("thickness"), shell ? "a thickness goes with \"youngs_modulus\"" : "only a shell (fill \"shell\") has a thickness");
   const std::string law = o.choice("law", std::string("linear"), {"linear", "cubic", "exponential"});
   m.law = law == "linear" ? SpringLawKind::linear
                           : law == "cubic" ? SpringLawKind::cubic : SpringLawKind::exponential;
@@ -322,7 +331,7 @@ BodySpec read_body(const Ctx& c, const json& j, const std::string& path, json& o
   b.name = o.string("name", std::nullopt);
   if (b.name.empty()) c.fail(o.at("name"), "empty name");
   b.shape = read_shape(c, o.require("shape"), o.at("shape"), o.out()["shape"], dir);
-  b.material = read_material(c, o.get("material"), o.at("material"), o.out()["material"]);
+  b.material = read_material(c, o.get("material"), o.at("material"), o.out()["material"], !b.shape.volume_fill);
   b.velocity = o.vec3("velocity", Vec3::Zero());
   o.out()["pins"] = json::array();
   if (const json* pins = o.get("pins")) {
@@ -351,6 +360,23 @@ BodySpec read_body(const Ctx& c, const json& j, const std::string& path, json& o
       d.finish();
       b.drivers.push_back(ds);
       o.out()["drivers"].push_back(r);
+    }
+  }
+  o.out()["loads"] = json::array();
+  if (const json* loads = o.get("loads")) {
+    as_list(c, o.at("loads"), *loads);
+    for (std::size_t i = 0; i < loads->size(); ++i) {
+      json r;
+      Obj l(c, (*loads)[i], join(o.at("loads"), i), r);
+      LoadSpec ls;
+      json sel;
+      ls.select = read_selection(c, l.require("select"), l.at("select"), sel);
+      l.out()["select"] = sel;
+      ls.force = l.vec3("force", std::nullopt);
+      ls.ramp_steps = static_cast<int>(l.integer("ramp_steps", 0, 0, 2000000000));
+      l.finish();
+      b.loads.push_back(ls);
+      o.out()["loads"].push_back(r);
     }
   }
   if (const json* p = o.get("pressure")) {
@@ -388,6 +414,13 @@ void read_time(const Ctx& c, Obj& top, Scene& s) {
                                   {{Integrator::symplectic_euler, "symplectic_euler"},
                                    {Integrator::implicit_euler, "implicit_euler"}});
   s.guard = pick<Guard>(t, "guard", "refuse", {{Guard::refuse, "refuse"}, {Guard::substep, "substep"}});
+  if (const json* st = t.get("settle")) {
+    Obj o(c, *st, t.at("settle"), t.out()["settle"]);
+    s.settle.present = true;
+    s.settle.tolerance = o.number("tolerance", 1e-3, 0.0, 1.0, true);
+    s.settle.max_steps = static_cast<int>(o.integer("max_steps", std::nullopt, 1, 2000000000));
+    o.finish();
+  }
   t.finish();
 }
 

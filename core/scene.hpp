@@ -31,6 +31,7 @@ enum EffectFlag : unsigned {
   kDrivers = 1u << 4,
   kPressure = 1u << 5,
   kContact = 1u << 6,
+  kLoads = 1u << 7,
 };
 // (flag, name) of every effect, in table order.
 std::vector<std::pair<EffectFlag, const char*>> effect_names();
@@ -54,6 +55,23 @@ struct PressureSpec {
   bool present = false;
   double from = 0.0, to = 0.0;  // Pa
   int ramp_steps = 0;           // linear ramp from `from` to `to` over this many steps
+};
+
+// A force applied to a selection of a body's nodes (effect "loads"): `force` is the total in N,
+// shared equally among the selected nodes, ramped linearly from zero over ramp_steps steps.
+struct LoadSpec {
+  Selection select;
+  Vec3 force = Vec3::Zero();
+  int ramp_steps = 0;
+};
+
+// Equilibrium (time.settle): after time.steps, the run goes on until the relative force
+// residual is at most `tolerance` for kSettleWindow steps in a row, or max_steps more steps.
+constexpr int kSettleWindow = 100;
+struct SettleSpec {
+  bool present = false;
+  double tolerance = 1e-3;
+  int max_steps = 0;
 };
 
 struct ShapeSpec {
@@ -81,6 +99,7 @@ struct BodySpec {
   std::vector<Selection> pins;
   std::vector<DriverSpec> drivers;
   PressureSpec pressure;
+  std::vector<LoadSpec> loads;
   std::string path;  // "bodies.N"
 };
 
@@ -99,6 +118,7 @@ struct Scene {
   int steps = 0;
   Integrator integrator = Integrator::symplectic_euler;
   Guard guard = Guard::refuse;
+  SettleSpec settle;
   unsigned effects = 0;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   std::vector<BodySpec> bodies;

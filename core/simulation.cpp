@@ -110,13 +110,25 @@ void append_body(World& w, const BodySpec& bs, ShapeModel&& model) {
 
 }  // namespace
 
-Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : scene_(scene) {
+Simulation::Simulation(const Scene& scene, const SimulationOptions& options)
+    : scene_(scene), audit_(options.audit) {
   build_world();
   build_kinematics();
   build_pairs();
   build_effects(options);
   guard_ = std::make_unique<StabilityGuard>(scene_, world_, effects_);
   stats_.stability = guard_->stats();
+  if (audit_) {
+    category_force_.assign(kCategories, Points());
+    for (const auto& e : effects_)  // sized once: only the categories that are built
+      if (e->category() != EffectCategory::none)
+        category_force_[static_cast<int>(e->category())].assign(world_.x.size(), Vec3::Zero());
+    ledger_.kinetic = kinetic_energy();
+    ledger_.elastic = elastic_energy();
+    ledger_.initial = ledger_.kinetic + ledger_.elastic;
+  } else {
+    residual_ = std::numeric_limits<double>::quiet_NaN();
+  }
 }
 
 void Simulation::build_world() {
@@ -152,6 +164,14 @@ void Simulation::build_kinematics() {
                          "selection selects no node");
       drivers_.push_back({std::move(nodes), ds.velocity, ds.from_step, ds.to_step});
     }
+    for (std::size_t l = 0; l < bs.loads.size(); ++l) {
+      const LoadSpec& ls = bs.loads[l];
+      auto nodes = select_nodes(world_, static_cast<int>(bi), ls.select);
+      if (nodes.empty())
+        throw InputError(scene_.file + ": " + bs.path + ".loads." + std::to_string(l) + ".select",
+                         "selection selects no node");
+      loads_.push_back({std::move(nodes), ls.force, ls.ramp_steps});
+    }
   }
 }
 
@@ -167,7 +187,7 @@ void Simulation::build_pairs() {
 }
 
 void Simulation::build_effects(const SimulationOptions& options) {
-  EffectBuild b{scene_, world_, pairs_, pinned_nodes_, drivers_, options.exact_detectors};
+  EffectBuild b{scene_, world_, pairs_, pinned_nodes_, drivers_, loads_, options.exact_detectors};
   effects_ = make_effects(b);
 }
 
@@ -194,21 +214,89 @@ void Simulation::step() {
   guard_->before_step(w, effects_, step_index_);
   const int substeps = guard_->substeps();
   const StepContext ctx{step_index_, scene_.dt, scene_.dt / substeps, substeps};
+  const double ke_before = audit_ ? kinetic_energy() : 0.0;
   for (const auto& e : effects_) e->begin_step(w, ctx);
+  if (audit_) ledger_.work_external += kinetic_energy() - ke_before;  // drivers starting their nodes
   double total = 0.0;
   for (int s = 0; s < substeps; ++s) {
     const auto ts = Clock::now();
     std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
-    for (const auto& e : effects_) e->add_forces(w, ctx);
+    add_forces(ctx);
+    if (audit_) v_before_ = w.v;
     integrate(ctx);
+    if (audit_) book_work(ctx.h);
     total += us_since(ts);
   }
   for (const auto& e : effects_) e->end_step(w, ctx);
+  if (audit_) {
+    ledger_.kinetic = kinetic_energy();
+    ledger_.elastic = elastic_energy();
+    ledger_.work_contact_peak = std::max(ledger_.work_contact_peak, ledger_.work_contact);
+    update_residual();
+  }
   last_.detect_us = last_.eliminate_us = 0.0;
   for (const Pair& p : pairs_) last_.detect_us += p.last.detect_us, last_.eliminate_us += p.last.eliminate_us;
   last_.physics_us = total - last_.detect_us - last_.eliminate_us;
   stats_.stability = guard_->stats();
   last_.step_us = us_since(t0);
+}
+
+// Forces of every effect in table order; with the audit, each category's share is kept by
+// snapshots of w.f around the run of effects of that category.
+void Simulation::add_forces(const StepContext& s) {
+  World& w = world_;
+  if (!audit_) {
+    for (const auto& e : effects_) e->add_forces(w, s);
+    return;
+  }
+  for (Points& f : category_force_) std::fill(f.begin(), f.end(), Vec3::Zero());
+  EffectCategory open = EffectCategory::none;
+  for (const auto& e : effects_) {
+    if (e->category() != open) {
+      close_category(open);
+      open = e->category();
+      if (open != EffectCategory::none) mark_ = w.f;
+    }
+    e->add_forces(w, s);
+  }
+  close_category(open);
+}
+
+void Simulation::close_category(EffectCategory c) {
+  if (c == EffectCategory::none) return;
+  Points& f = category_force_[static_cast<int>(c)];
+  for (std::size_t i = 0; i < f.size(); ++i) f[i] += world_.f[i] - mark_[i];
+}
+
+void Simulation::book_work(double h) {
+  const World& w = world_;
+  double work[kCategories] = {};
+  double drivers = 0.0;
+  for (int i = 0; i < w.num_nodes(); ++i) {
+    if (w.kinematic[i] == Kinematic::pinned) continue;
+    const Vec3 vm = 0.5 * (v_before_[i] + w.v[i]);
+    for (int c = 0; c < kCategories; ++c)
+      if (!category_force_[c].empty()) work[c] += h * category_force_[c][i].dot(vm);
+    if (w.kinematic[i] == Kinematic::driven) drivers -= h * w.f[i].dot(w.kin_v[i]);
+  }
+  ledger_.work_external += work[static_cast<int>(EffectCategory::external)] + drivers;
+  ledger_.dissipated -= work[static_cast<int>(EffectCategory::dissipative)];
+  ledger_.work_contact += work[static_cast<int>(EffectCategory::contact)];
+}
+
+void Simulation::update_residual() {
+  const World& w = world_;
+  const Points& ext = category_force_[static_cast<int>(EffectCategory::external)];
+  const Points& el = category_force_[static_cast<int>(EffectCategory::elastic)];
+  double net = 0.0, applied = 0.0, springs = 0.0;
+  for (int i = 0; i < w.num_nodes(); ++i) {
+    if (!w.is_free(i)) continue;
+    net += w.f[i].squaredNorm();
+    if (!ext.empty()) applied += ext[i].squaredNorm();
+    if (!el.empty()) springs += el[i].squaredNorm();
+  }
+  const double scale = applied > 0.0 ? applied : springs;
+  residual_ = scale > 0.0 ? std::sqrt(net / scale) : 0.0;
 }
 
 void Simulation::restore(const Points& x, const Points& v, int step) {
@@ -226,6 +314,13 @@ double Simulation::kinetic_energy() const {
 double Simulation::potential_energy() const {
   double e = 0.0;
   for (const auto& f : effects_) e += f->energy(world_);
+  return e;
+}
+
+double Simulation::elastic_energy() const {
+  double e = 0.0;
+  for (const auto& f : effects_)
+    if (f->category() == EffectCategory::elastic) e += f->energy(world_);
   return e;
 }
 

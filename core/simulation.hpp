@@ -19,6 +19,9 @@ namespace harness {
 
 struct SimulationOptions {
   ExactDetectorMaker exact_detectors = nullptr;  // reference::make_exact_detector where linked
+  // The energy audit and the force residual (energy.hpp): a few passes over the nodes per step;
+  // they only read the state, whose bits never depend on this.
+  bool audit = true;
 };
 
 // Wall time of the last step, microseconds (steady_clock). physics: everything but the contact
@@ -57,6 +60,13 @@ class Simulation {
   std::vector<std::string> effects_simulated() const;
   double kinetic_energy() const;
   double potential_energy() const;  // stored energy of the built effects (springs, gravity)
+  double elastic_energy() const;    // stored in the springs
+  // The energy audit so far (audit on); zeros otherwise.
+  const EnergyLedger& energy() const { return ledger_; }
+  // |net force on the free nodes| / |applied forces on them| (gravity, pressure, loads), or
+  // over |spring forces| where nothing is applied, at the start of the last substep; 0 without
+  // either, NaN with the audit off.
+  double residual() const { return residual_; }
   double critical_dt() const;       // of the built effects at the current state, s
 
  private:
@@ -65,17 +75,27 @@ class Simulation {
   void build_pairs();
   void build_effects(const SimulationOptions& options);
   void integrate(const StepContext& s);
+  void add_forces(const StepContext& s);
+  void close_category(EffectCategory c);
+  void book_work(double h);
+  void update_residual();
 
   Scene scene_;
   World world_;
   std::vector<int> pinned_nodes_;
   std::vector<DriverNodes> drivers_;
+  std::vector<LoadNodes> loads_;
   std::vector<Pair> pairs_;
   Effects effects_;
   std::unique_ptr<StabilityGuard> guard_;
   ImplicitEuler implicit_;
   LinearSystem system_;
   int step_index_ = 0;
+  bool audit_ = true;
+  std::vector<Points> category_force_;  // per EffectCategory, this substep (audit)
+  Points mark_, v_before_;              // audit scratch
+  EnergyLedger ledger_;
+  double residual_ = 0.0;
   StepTimes last_;
   SimulationStats stats_;
 };

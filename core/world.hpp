@@ -13,7 +13,9 @@ namespace harness {
 
 struct Material {
   double density = 1000.0;   // kg/m^3
-  double stiffness = 100.0;  // N/m, per spring
+  double stiffness = 100.0;  // N/m, per spring (when youngs_modulus is 0)
+  double youngs_modulus = 0.0;  // Pa; > 0: every spring's stiffness from it (elastic_map.hpp)
+  double thickness = 0.0;       // m, of a shell (with youngs_modulus)
   SpringLawKind law = SpringLawKind::linear;
   double nonlinearity = 0.0;  // beta >= 0
   double damping = 0.0;       // N s/m, dashpot along each spring (effect "damping")

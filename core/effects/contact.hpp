@@ -13,6 +13,7 @@ class ContactEffect final : public Effect {
  public:
   explicit ContactEffect(std::vector<Pair>& pairs) : pairs_(pairs) {}
   const char* name() const override { return "contact"; }
+  EffectCategory category() const override { return EffectCategory::contact; }
   void begin_step(World& w, const StepContext& s) override;
   void add_forces(World& w, const StepContext& s) override;
   void end_step(World& w, const StepContext& s) override;

@@ -11,6 +11,7 @@ namespace harness {
 class DampingEffect final : public Effect {
  public:
   const char* name() const override { return "damping"; }
+  EffectCategory category() const override { return EffectCategory::dissipative; }
   void add_forces(World& w, const StepContext&) override { add_damping_forces(gather_, w, w.f); }
   void add_jacobian(const World& w, LinearSystem& sys) const override;
 

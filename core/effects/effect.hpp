@@ -7,10 +7,12 @@
 //   end_step     once per step, after the last position update;
 //   add_jacobian the linearisation the implicit integrator assembles (LinearSystem);
 //   add_stiffness_rows  Gershgorin row sums of |df/dx|, for the explicit stability guard;
-//   energy       stored energy of conservative effects (J), for energy balances.
+//   energy       stored energy of conservative effects (J), for energy balances;
+//   category     the energy audit's account its forces work for (energy.hpp).
 // An effect that has no stiffness, Jacobian or energy simply keeps the default.
 #pragma once
 
+#include "core/energy.hpp"
 #include "core/world.hpp"
 
 #include <Eigen/Core>
@@ -51,6 +53,8 @@ class Effect {
  public:
   virtual ~Effect() = default;
   virtual const char* name() const = 0;
+  // Which account of the energy audit this effect's forces work for (energy.hpp).
+  virtual EffectCategory category() const { return EffectCategory::none; }
   virtual void begin_step(World& w, const StepContext& s) { (void)w, (void)s; }
   virtual void add_forces(World& w, const StepContext& s) { (void)w, (void)s; }
   virtual void end_step(World& w, const StepContext& s) { (void)w, (void)s; }

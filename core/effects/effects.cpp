@@ -4,6 +4,7 @@
 #include "core/effects/damping.hpp"
 #include "core/effects/drivers.hpp"
 #include "core/effects/gravity.hpp"
+#include "core/effects/loads.hpp"
 #include "core/effects/pins.hpp"
 #include "core/effects/pressure.hpp"
 #include "core/effects/springs.hpp"
@@ -19,6 +20,7 @@ const std::vector<EffectEntry>& effect_table() {
       {kPins, "pins", make_pins_effect},
       {kDrivers, "drivers", make_drivers_effect},
       {kPressure, "pressure", make_pressure_effect},
+      {kLoads, "loads", make_loads_effect},
       {kContact, "contact", make_contact_effect},
   };
   return table;

@@ -22,6 +22,13 @@ struct DriverNodes {
   int from_step = 0, to_step = -1;
 };
 
+// Nodes of one load, resolved from its selection at rest.
+struct LoadNodes {
+  std::vector<int> nodes;
+  Vec3 force = Vec3::Zero();  // N, total over the nodes
+  int ramp_steps = 0;
+};
+
 // What a maker may read or initialise. Selections are resolved before the effects are made.
 struct EffectBuild {
   const Scene& scene;
@@ -29,6 +36,7 @@ struct EffectBuild {
   std::vector<Pair>& pairs;
   const std::vector<int>& pinned_nodes;
   const std::vector<DriverNodes>& drivers;
+  const std::vector<LoadNodes>& loads;
   ExactDetectorMaker exact_detectors = nullptr;
 };
 

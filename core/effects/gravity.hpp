@@ -11,6 +11,7 @@ class GravityEffect final : public Effect {
  public:
   explicit GravityEffect(const Vec3& g) : g_(g) {}
   const char* name() const override { return "gravity"; }
+  EffectCategory category() const override { return EffectCategory::external; }
   void add_forces(World& w, const StepContext&) override { add_gravity_forces(w, g_, w.f); }
   double energy(const World& w) const override;
 

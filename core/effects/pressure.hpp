@@ -18,6 +18,7 @@ class PressureEffect final : public Effect {
  public:
   explicit PressureEffect(std::vector<std::pair<int, PressureSpec>> bodies) : bodies_(std::move(bodies)) {}
   const char* name() const override { return "pressure"; }
+  EffectCategory category() const override { return EffectCategory::external; }
   void add_forces(World& w, const StepContext& s) override;
 
  private:

@@ -12,6 +12,7 @@ class SpringsEffect final : public Effect {
  public:
   explicit SpringsEffect(const World& w) : has_springs_(w.springs.size() > 0) {}
   const char* name() const override { return "springs"; }
+  EffectCategory category() const override { return EffectCategory::elastic; }
   void add_forces(World& w, const StepContext&) override { add_spring_forces(gather_, w, w.f); }
   // K_k = k_t u u^T + max(T / l, 0) (I - u u^T): the compressive geometric term is dropped so
   // that the implicit system stays symmetric positive definite.

@@ -59,6 +59,14 @@ const std::vector<Column>& steps_columns() {
       {"region_hi_y", region<4>},
       {"region_hi_z", region<5>},
       {"t_volume_us", [](O o, R r) { if (r.m && r.m->has_volume) o.us(r.m->t_volume_us); }},
+      // The energy audit (energy.hpp), J, cumulative where it is work; the force residual.
+      {"energy_kinetic", [](O o, R r) { o.g9(r.sim.energy().kinetic); }},
+      {"energy_elastic", [](O o, R r) { o.g9(r.sim.energy().elastic); }},
+      {"work_external", [](O o, R r) { o.g9(r.sim.energy().work_external); }},
+      {"energy_dissipated", [](O o, R r) { o.g9(r.sim.energy().dissipated); }},
+      {"work_contact", [](O o, R r) { o.g9(r.sim.energy().work_contact); }},
+      {"energy_balance_error", [](O o, R r) { o.g9(r.sim.energy().balance_error()); }},
+      {"residual", [](O o, R r) { o.g9(r.sim.residual()); }},
   };
   return columns;
 }

@@ -108,6 +108,14 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& s
   sum["springs"] = w.springs.size();
   sum["kinetic_energy_final"] = sim.kinetic_energy();
   sum["kinetic_energy_peak"] = rec.kinetic_energy_peak();
+  const EnergyLedger& e = sim.energy();
+  sum["energy"] = {{"energy_kinetic", e.kinetic},         {"energy_elastic", e.elastic},
+                   {"work_external", e.work_external},    {"energy_dissipated", e.dissipated},
+                   {"work_contact", e.work_contact},      {"energy_balance_error", e.balance_error()},
+                   {"work_contact_peak", e.work_contact_peak}, {"energy_initial", e.initial}};
+  sum["settled"] = sc.settle.present ? json(status.settled) : json(nullptr);
+  sum["residual"] = num_or_null(sim.residual());
+  sum["settle_steps"] = status.settle_steps;
   json pairs = json::array();
   for (std::size_t pi = 0; pi < sim.pairs().size(); ++pi) pairs.push_back(pair_json(sim, rec, pi));
   sum["pairs"] = pairs;

@@ -16,6 +16,8 @@ struct RunStatus {
   std::string status = "ok";  // "ok" | "error"
   std::string error;          // empty when ok
   bool finite = true;
+  bool settled = false;       // time.settle reached (meaningful with time.settle only)
+  int settle_steps = 0;       // steps taken after time.steps
 };
 
 nlohmann::json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& status,

@@ -1,0 +1,16 @@
+#include "core/energy.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace harness {
+
+double EnergyLedger::balance_error() const {
+  const double lhs = kinetic + elastic - initial;
+  const double rhs = work_external - dissipated + work_contact;
+  const double scale = std::max({std::fabs(initial), std::fabs(kinetic + elastic), std::fabs(work_external),
+                                 std::fabs(dissipated), std::fabs(work_contact)});
+  return scale > 0.0 ? (lhs - rhs) / scale : 0.0;
+}
+
+}  // namespace harness
