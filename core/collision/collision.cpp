@@ -39,7 +39,7 @@ PairStep Collision::step(World& w, double dt) {
   eliminator_->pushes(w, spec_, *detector_, contacts_, pushes_);
   if (spec_.force_rule == ForceRule::automatic) {
     const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
-    s.force = auto_contact_forces(w, pushes_, dt, dt > 0.0 ? L / (kSeparationSteps * dt) : 0.0,
+    s.force = auto_contact_forces(w, pushes_, dt, L / kSeparationTime,
                                   magnitude_, share_);
   } else {
     magnitude_.assign(pushes_.size(), spec_.force);  // capacity reserved: no allocation

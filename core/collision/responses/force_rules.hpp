@@ -26,8 +26,8 @@ void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<d
 //       nodes lean on one host node, and their reactions add up n_k times.
 // A kinematic node counts as infinitely heavy (1/m = 0, no acceleration, velocity kin_v).
 // So F beats the deformation forces that press the pair together and stops the approach, and a
-// pair resting in contact is pushed apart slowly. Collision uses v_sep = L / (kSeparationSteps
-// dt), L the voxel size (or the host's mean spring length for detectors without a grid).
+// pair resting in contact is pushed apart slowly. Collision uses v_sep = L / kSeparationTime,
+// L the voxel size (or the host's mean spring length for detectors without a grid).
 // Non-finite terms are ignored. `share` is scratch (one int per node, left all zero). Returns the
 // largest F (0 without contacts).
 double auto_contact_forces(const World& w, const std::vector<Push>& pushes, double dt,
