@@ -1,19 +1,17 @@
 #include "core/spring_forces.hpp"
 
+#include "core/cpu.hpp"
 #include "core/parallel.hpp"
+#include "core/simd/kernels.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define HARNESS_X86_AVX 1
-#endif
-
 namespace harness {
 namespace {
 
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "the kernels take points as three packed doubles");
 
 // The law of a body, chosen at compile time (springs.hpp: the expressions every path shares).
 template <SpringLawKind K>
@@ -26,27 +24,13 @@ inline double per_length_of(const SpringLaw& law, double L0, double l) {
   }
 }
 
-constexpr int kChunk = 64;  // half-edges of one node evaluated at a time (stack buffers)
-constexpr int kGroup = 4;    // nodes whose sums are interleaved (spring_group_avx)
-
-// Node i's spring force added to acc, one half-edge after the other in spring order; a
-// half-edge of zero length adds nothing (the scatter's `if (l <= 0) continue`).
-template <SpringLawKind K>
-void spring_node(const SpringGather& g, const SpringLaw& law, const Points& x, int i, Vec3& acc) {
-  const Vec3 xi = x[i];
-  for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
-    const Vec3 d = x[g.other[h]] - xi;
-    const double l = d.norm();
-    if (l <= 0.0) continue;
-    acc += per_length_of<K>(law, g.rest[h], l) * d;
-  }
-}
-
-// The same, evaluating each spring once, for laws whose evaluation dwarfs the rest (the
-// exponential: one expm1 per spring). The lower end of a spring whose ends both lie in this
-// thread's node range [i0, i1) leaves c in the spring's mailbox slot, and the higher end, which
-// comes later in the same thread, reads it; other springs are evaluated at both ends. c is the
-// same number either way, so the thread count still changes nothing.
+// Node i's spring force added to acc, one half-edge after the other in spring order (a
+// half-edge of zero length adds nothing: the scatter's `if (l <= 0) continue`), evaluating each
+// spring once, for laws whose evaluation dwarfs the rest (the exponential: one expm1 per
+// spring). The lower end of a spring whose ends both lie in this thread's node range [i0, i1)
+// leaves c in the spring's mailbox slot, and the higher end, which comes later in the same
+// thread, reads it; other springs are evaluated at both ends. c is the same number either way,
+// so the thread count still changes nothing.
 template <SpringLawKind K>
 void spring_node_once(const SpringGather& g, const SpringLaw& law, const Points& x, int i, int i0, int i1,
                       double* box, Vec3& acc) {
@@ -67,114 +51,6 @@ void spring_node_once(const SpringGather& g, const SpringLaw& law, const Points&
     acc += c * d;
   }
 }
-
-#if defined(HARNESS_X86_AVX)
-bool cpu_has_avx() {
-  static const bool has = __builtin_cpu_supports("avx");
-  return has;
-}
-
-// c * (x_j - x_i) of the m half-edges [a, a + m) of node i (m <= kChunk) into FX, FY, FZ;
-// returns the mask of those of zero length (they add nothing). Four half-edges per instruction.
-template <SpringLawKind K>
-__attribute__((target("avx"))) inline std::uint64_t spring_chunk_avx(const SpringGather& g, const SpringLaw& law,
-                                                                      const Points& x, const Vec3& xi, int a, int m,
-                                                                      double* FX, double* FY, double* FZ) {
-  const __m256d x0 = _mm256_set1_pd(xi[0]), x1 = _mm256_set1_pd(xi[1]), x2 = _mm256_set1_pd(xi[2]);
-  const __m256d kk = _mm256_set1_pd(law.k), bb = _mm256_set1_pd(law.beta), zero = _mm256_setzero_pd();
-  const int* oth = g.other.data() + a;
-  const double* L = g.rest.data() + a;
-  std::uint64_t skip = 0;  // bit q: half-edge q has zero length
-  int q = 0;
-  for (; q + 4 <= m; q += 4) {
-    const double* p0 = x[oth[q]].data();
-    const double* p1 = x[oth[q + 1]].data();
-    const double* p2 = x[oth[q + 2]].data();
-    const double* p3 = x[oth[q + 3]].data();
-    const __m256d dx = _mm256_sub_pd(_mm256_set_pd(p3[0], p2[0], p1[0], p0[0]), x0);
-    const __m256d dy = _mm256_sub_pd(_mm256_set_pd(p3[1], p2[1], p1[1], p0[1]), x1);
-    const __m256d dz = _mm256_sub_pd(_mm256_set_pd(p3[2], p2[2], p1[2], p0[2]), x2);
-    const __m256d l2 =
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-    const __m256d l = _mm256_sqrt_pd(l2);
-    const __m256d L0 = _mm256_loadu_pd(L + q);
-    const __m256d s = _mm256_sub_pd(l, L0);
-    __m256d c;  // per_length_of, operation for operation
-    if constexpr (K == SpringLawKind::linear) {
-      c = _mm256_div_pd(_mm256_mul_pd(kk, s), l);
-    } else if constexpr (K == SpringLawKind::cubic) {
-      const __m256d L2 = _mm256_mul_pd(L0, L0);
-      const __m256d num = _mm256_mul_pd(_mm256_mul_pd(kk, s), _mm256_add_pd(L2, _mm256_mul_pd(_mm256_mul_pd(bb, s), s)));
-      c = _mm256_div_pd(num, _mm256_mul_pd(L2, l));
-    } else {
-      static_assert(K != SpringLawKind::exponential, "evaluated once per spring instead");
-    }
-    _mm256_store_pd(FX + q, _mm256_mul_pd(c, dx));
-    _mm256_store_pd(FY + q, _mm256_mul_pd(c, dy));
-    _mm256_store_pd(FZ + q, _mm256_mul_pd(c, dz));
-    skip |= static_cast<std::uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(l, zero, _CMP_LE_OQ))) << q;
-  }
-  for (; q < m; ++q) {  // the remainder, in this (VEX-encoded) function
-    const Vec3 d = x[oth[q]] - xi;
-    const double l = d.norm();
-    if (l <= 0.0) {
-      skip |= std::uint64_t{1} << q;
-      continue;
-    }
-    const double c = per_length_of<K>(law, L[q], l);
-    FX[q] = c * d[0], FY[q] = c * d[1], FZ[q] = c * d[2];
-  }
-  return skip;
-}
-
-// The same with AVX where the processor has it (chosen at run time; linear and cubic laws):
-// first the force c * (x_other - x_i) of every half-edge of a chunk (spring_chunk_avx); then
-// their sum in spring order. Every lane does the scalar operations (d.norm() is
-// sqrt((dx^2 + dy^2) + dz^2) in Eigen; no FMA), so the result is the same to the bit.
-template <SpringLawKind K>
-__attribute__((target("avx"))) void spring_node_avx(const SpringGather& g, const SpringLaw& law, const Points& x,
-                                                    int i, Vec3& acc) {
-  const Vec3 xi = x[i];
-  alignas(32) double FX[kChunk], FY[kChunk], FZ[kChunk];
-  double ax = acc[0], ay = acc[1], az = acc[2];
-  for (int a = g.start[i]; a < g.start[i + 1]; a += kChunk) {
-    const int m = std::min(kChunk, g.start[i + 1] - a);
-    const std::uint64_t skip = spring_chunk_avx<K>(g, law, x, xi, a, m, FX, FY, FZ);
-    for (int q = 0; q < m; ++q) {
-      if ((skip >> q) & 1) continue;
-      ax += FX[q], ay += FY[q], az += FZ[q];
-    }
-  }
-  acc = Vec3(ax, ay, az);
-  _mm256_zeroupper();
-}
-
-// G consecutive nodes i .. i + G - 1 of one body, each with at most kChunk half-edges: their sums
-// in spring order interleaved, 3 G independent chains of additions instead of three (the sum,
-// not the arithmetic, bounds spring_node_avx: one addition's latency per half-edge). Each
-// node's result is spring_node_avx's to the bit.
-template <SpringLawKind K, int G>
-__attribute__((target("avx"))) void spring_group_avx(const SpringGather& g, const SpringLaw& law, const Points& x,
-                                                     int i, Vec3* acc) {
-  alignas(32) double F[G][3][kChunk];
-  std::uint64_t skip[G];
-  int m[G];
-  double a[G][3];
-  int most = 0;
-  for (int n = 0; n < G; ++n) {
-    const int first = g.start[i + n];
-    m[n] = g.start[i + n + 1] - first;
-    most = std::max(most, m[n]);
-    skip[n] = spring_chunk_avx<K>(g, law, x, x[i + n], first, m[n], F[n][0], F[n][1], F[n][2]);
-    a[n][0] = acc[n][0], a[n][1] = acc[n][1], a[n][2] = acc[n][2];
-  }
-  for (int q = 0; q < most; ++q)
-    for (int n = 0; n < G; ++n)
-      if (q < m[n] && !((skip[n] >> q) & 1)) a[n][0] += F[n][0][q], a[n][1] += F[n][1][q], a[n][2] += F[n][2][q];
-  for (int n = 0; n < G; ++n) acc[n] = Vec3(a[n][0], a[n][1], a[n][2]);
-  _mm256_zeroupper();
-}
-#endif
 
 // The serial scatter itself (f[i] += F, f[j] -= F in spring order), for the springs of the
 // bodies `only` selects (all when null): with one thread it is the fastest form for the
@@ -260,25 +136,27 @@ void scatter_damping_forces(const World& w, Points& f) {
   }
 }
 
+// The kernels' view of a Points array: three doubles per node (null when empty).
+const double* coords(const Points& p) { return p.empty() ? nullptr : p[0].data(); }
+double* coords(Points& p) { return p.empty() ? nullptr : p[0].data(); }
+
 void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
   const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
-#if defined(HARNESS_X86_AVX)
-  const bool avx = cpu_has_avx();
-#else
-  const bool avx = false;
-#endif
+  const Isa level = isa();
+  const simd::Kernels& kern = simd::kernels(level);
   double* box = g.box.data();
   // One thread: exponential bodies by the scatter, the others by the (vectorised) gather. Both
   // give the scatter's bits, and no node has springs of both kinds unless some node is mixed.
-  // (Without AVX the gather has nothing to repay its double evaluation on one thread.)
+  // (Without SIMD the gather has nothing to repay its double evaluation on one thread.)
   bool scatter_exp = false;
   if (T == 1) {
-    if (!avx || g.mixed_nodes) return scatter_spring_forces(w, f, nullptr);
+    if (level == Isa::scalar || g.mixed_nodes) return scatter_spring_forces(w, f, nullptr);
     if (g.exponential_bodies) {
       scatter_spring_forces(w, f, &g.is_exponential);
       scatter_exp = true;
     }
   }
+  const simd::SpringRun all{g.start.data(), g.other.data(), g.rest.data(), coords(w.x), coords(f), 0.0, 0.0, 0, 0};
   // Parts handed out dynamically, several per thread: a thread that the system deschedules
   // (the machine is shared) delays one small part, not half the work. The parts only share the
   // work: the forces are the same for any partition.
@@ -291,41 +169,20 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
       const int b = g.node_body[i];
       if (b == -2) continue;
       if (scatter_exp && b >= 0 && g.is_exponential[b]) continue;
-      Vec3 acc = f[i];
-#if defined(HARNESS_X86_AVX)
-      if (avx && b >= 0 && i + kGroup <= i1 && !(scatter_exp && g.is_exponential[b]) &&
-          (w.body_law[b].kind == SpringLawKind::linear || w.body_law[b].kind == SpringLawKind::cubic)) {
-        bool group = true;
-        for (int n = 0; n < kGroup && group; ++n)
-          group = g.node_body[i + n] == b && g.start[i + n + 1] - g.start[i + n] <= kChunk;
-        if (group) {
-          const SpringLaw& law = w.body_law[b];
-          Vec3 accs[kGroup];
-          for (int n = 0; n < kGroup; ++n) accs[n] = f[i + n];
-          if (law.kind == SpringLawKind::linear) spring_group_avx<SpringLawKind::linear, kGroup>(g, law, w.x, i, accs);
-          else spring_group_avx<SpringLawKind::cubic, kGroup>(g, law, w.x, i, accs);
-          for (int n = 0; n < kGroup; ++n) f[i + n] = accs[n];
-          i += kGroup - 1;
-          continue;
-        }
-      }
-#endif
-      if (b >= 0) {
+      if (b >= 0 && w.body_law[b].kind != SpringLawKind::exponential) {
+        // The run of nodes of this body (a linear or cubic law) from i on: the SIMD kernel.
         const SpringLaw& law = w.body_law[b];
-        switch (law.kind) {
-#if defined(HARNESS_X86_AVX)
-#define HARNESS_SPRING_NODE(K) \
-  avx ? spring_node_avx<K>(g, law, w.x, i, acc) : spring_node<K>(g, law, w.x, i, acc)
-#else
-#define HARNESS_SPRING_NODE(K) spring_node<K>(g, law, w.x, i, acc)
-#endif
-          case SpringLawKind::linear: HARNESS_SPRING_NODE(SpringLawKind::linear); break;
-          case SpringLawKind::cubic: HARNESS_SPRING_NODE(SpringLawKind::cubic); break;
-          case SpringLawKind::exponential:
-            spring_node_once<SpringLawKind::exponential>(g, law, w.x, i, i0, i1, box, acc);
-            break;
-#undef HARNESS_SPRING_NODE
-        }
+        int e = i + 1;
+        while (e < i1 && g.node_body[e] == b) ++e;
+        simd::SpringRun run = all;
+        run.k = law.k, run.beta = law.beta, run.i0 = i, run.i1 = e;
+        (law.kind == SpringLawKind::linear ? kern.springs_linear : kern.springs_cubic)(run);
+        i = e - 1;
+        continue;
+      }
+      Vec3 acc = f[i];
+      if (b >= 0) {
+        spring_node_once<SpringLawKind::exponential>(g, w.body_law[b], w.x, i, i0, i1, box, acc);
       } else {  // springs of several bodies meet here (hand-built worlds): the law per spring
         const Vec3 xi = w.x[i];
         for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
@@ -341,100 +198,42 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
       f[i] = acc;
     }
   }
-  (void)avx;
 }
-
-// Dashpot forces (c (v_j - v_i).d / l2) d of node i, all springs of damping c (a node of one
-// body), four half-edges per AVX instruction and summed in spring order as in spring_node_avx.
-// (v_j - v_i).d is ((dvx dx + dvy dy) + dvz dz) in Eigen, as written here.
-#if defined(HARNESS_X86_AVX)
-__attribute__((target("avx"))) void damping_node_avx(const SpringGather& g, double c, const World& w, int i,
-                                                     Vec3& acc) {
-  const Vec3 xi = w.x[i], vi = w.v[i];
-  const __m256d x0 = _mm256_set1_pd(xi[0]), x1 = _mm256_set1_pd(xi[1]), x2 = _mm256_set1_pd(xi[2]);
-  const __m256d v0 = _mm256_set1_pd(vi[0]), v1 = _mm256_set1_pd(vi[1]), v2 = _mm256_set1_pd(vi[2]);
-  const __m256d cc = _mm256_set1_pd(c), zero = _mm256_setzero_pd();
-  alignas(32) double FX[kChunk], FY[kChunk], FZ[kChunk];
-  double ax = acc[0], ay = acc[1], az = acc[2];
-  for (int a = g.start[i]; a < g.start[i + 1]; a += kChunk) {
-    const int m = std::min(kChunk, g.start[i + 1] - a);
-    const int* oth = g.other.data() + a;
-    std::uint64_t skip = 0;
-    int q = 0;
-    for (; q + 4 <= m; q += 4) {
-      const double* p0 = w.x[oth[q]].data();
-      const double* p1 = w.x[oth[q + 1]].data();
-      const double* p2 = w.x[oth[q + 2]].data();
-      const double* p3 = w.x[oth[q + 3]].data();
-      const double* u0 = w.v[oth[q]].data();
-      const double* u1 = w.v[oth[q + 1]].data();
-      const double* u2 = w.v[oth[q + 2]].data();
-      const double* u3 = w.v[oth[q + 3]].data();
-      const __m256d dx = _mm256_sub_pd(_mm256_set_pd(p3[0], p2[0], p1[0], p0[0]), x0);
-      const __m256d dy = _mm256_sub_pd(_mm256_set_pd(p3[1], p2[1], p1[1], p0[1]), x1);
-      const __m256d dz = _mm256_sub_pd(_mm256_set_pd(p3[2], p2[2], p1[2], p0[2]), x2);
-      const __m256d ux = _mm256_sub_pd(_mm256_set_pd(u3[0], u2[0], u1[0], u0[0]), v0);
-      const __m256d uy = _mm256_sub_pd(_mm256_set_pd(u3[1], u2[1], u1[1], u0[1]), v1);
-      const __m256d uz = _mm256_sub_pd(_mm256_set_pd(u3[2], u2[2], u1[2], u0[2]), v2);
-      const __m256d l2 =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-      const __m256d dot =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ux, dx), _mm256_mul_pd(uy, dy)), _mm256_mul_pd(uz, dz));
-      const __m256d s = _mm256_div_pd(_mm256_mul_pd(cc, dot), l2);
-      _mm256_store_pd(FX + q, _mm256_mul_pd(s, dx));
-      _mm256_store_pd(FY + q, _mm256_mul_pd(s, dy));
-      _mm256_store_pd(FZ + q, _mm256_mul_pd(s, dz));
-      skip |= static_cast<std::uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(l2, zero, _CMP_LE_OQ))) << q;
-    }
-    for (; q < m; ++q) {
-      const int j = oth[q];
-      const Vec3 d = w.x[j] - xi;
-      const double l2 = d.squaredNorm();
-      if (l2 <= 0.0) {
-        skip |= std::uint64_t{1} << q;
-        continue;
-      }
-      const double sc = c * (w.v[j] - vi).dot(d) / l2;
-      FX[q] = sc * d[0], FY[q] = sc * d[1], FZ[q] = sc * d[2];
-    }
-    for (q = 0; q < m; ++q) {
-      if ((skip >> q) & 1) continue;
-      ax += FX[q], ay += FY[q], az += FZ[q];
-    }
-  }
-  acc = Vec3(ax, ay, az);
-  _mm256_zeroupper();
-}
-#endif
 
 void gather_damping_forces(const SpringGather& g, const World& w, Points& f) {
   const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
   if (T == 1) return scatter_damping_forces(w, f);  // the same bits; faster on one thread
-#if defined(HARNESS_X86_AVX)
-  const bool avx = cpu_has_avx();
-#endif
+  const simd::Kernels& kern = simd::kernels();
+  const simd::DashpotRun all{g.start.data(), g.other.data(), coords(w.x), coords(w.v), coords(f), 0.0, 0, 0};
+  // Mass-proportional damping of node i, after every dashpot, as in the serial order.
+  auto mass_damping = [&](int i, Vec3& acc) {
+    const int owner = g.node_owner[i];
+    const double a = owner >= 0 ? w.bodies[owner].material.mass_damping : 0.0;
+    if (a != 0.0) acc -= (a * w.m[i]) * w.v[i];
+  };
   const int P = T == 1 ? 1 : 4 * T;  // dynamic parts, as for the springs
 #pragma omp parallel for num_threads(T) schedule(dynamic, 1)
   for (int t = 0; t < P; ++t) {
     int i0, i1;
     g.part(P, t, i0, i1);
     for (int i = i0; i < i1; ++i) {
-      const int owner = g.node_owner[i];
-      const double a = owner >= 0 ? w.bodies[owner].material.mass_damping : 0.0;
       const int nb = g.node_body[i];
-      const bool dashpots = nb == -1 || (nb >= 0 && w.bodies[nb].material.damping != 0.0);
-      if (!dashpots && a == 0.0) continue;
+      if (nb >= 0 && w.bodies[nb].material.damping != 0.0) {
+        // The run of nodes of this body from i on: its dashpots by the SIMD kernel.
+        int e = i + 1;
+        while (e < i1 && g.node_body[e] == nb) ++e;
+        simd::DashpotRun run = all;
+        run.c = w.bodies[nb].material.damping, run.i0 = i, run.i1 = e;
+        kern.dashpots(run);
+        for (; i < e; ++i) mass_damping(i, f[i]);
+        --i;
+        continue;
+      }
       Vec3 acc = f[i];
-#if defined(HARNESS_X86_AVX)
-      if (dashpots && nb >= 0 && avx) {
-        damping_node_avx(g, w.bodies[nb].material.damping, w, i, acc);
-      } else
-#endif
-      if (dashpots) {
+      if (nb == -1) {  // springs of several bodies meet here: the damping per spring
         const Vec3 xi = w.x[i], vi = w.v[i];
         for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
-          const double c = nb >= 0 ? w.bodies[nb].material.damping
-                                   : w.bodies[w.springs.body[g.spring[h]]].material.damping;
+          const double c = w.bodies[w.springs.body[g.spring[h]]].material.damping;
           if (c == 0.0) continue;
           const int j = g.other[h];
           const Vec3 d = w.x[j] - xi;
@@ -443,8 +242,7 @@ void gather_damping_forces(const SpringGather& g, const World& w, Points& f) {
           acc += (c * (w.v[j] - vi).dot(d) / l2) * d;  // as the scatter: exactly -F at the other end
         }
       }
-      // Mass-proportional damping after every dashpot, as in the serial order.
-      if (a != 0.0) acc -= (a * w.m[i]) * w.v[i];
+      mass_damping(i, acc);
       f[i] = acc;
     }
   }

@@ -20,13 +20,13 @@ namespace harness {
 // that is exactly -F, since negation, squares and products are sign-symmetric in IEEE
 // arithmetic. So the forces are bit-identical to the serial scatter, for any thread count. The
 // price, evaluating each spring from both ends, is paid back by vectorising the evaluation
-// (four half-edges per AVX instruction) and by threads.
+// (several half-edges per instruction: the SIMD kernels of core/simd, at the level core/cpu.hpp
+// picks) and by threads.
 //
 // Which form runs (all give the same bits): with several threads, the gather; with one thread,
-// the gather for linear and cubic springs (vectorised, it beats the scatter by about 20%) and
+// the gather for linear and cubic springs when SIMD is on (vectorised, it beats the scatter) and
 // the scatter itself for exponential springs and dashpots (one expm1 or division per spring:
-// a gather cannot beat that on one thread), as measured on the bundled scenes and in
-// `harness bench`.
+// a gather cannot beat that on one thread), and for everything at the scalar level.
 struct SpringGather {
   int nodes = -1;
   std::size_t springs = 0;

@@ -21,7 +21,8 @@ struct SpringLaw {
 // expm1 as the force laws evaluate it: glibc's vector expm1 (libmvec, four lanes, within 1 ulp
 // or so of std::expm1) when the build has it and the processor has AVX2, else std::expm1. Every
 // lane is computed on its own, so one value and a batch give the same bits: the scatter (in
-// batches) and the gathers (one at a time) agree.
+// batches) and the gathers (one at a time) agree. The choice follows the processor, not the
+// kernels' level: HARNESS_ISA=scalar still uses libmvec (core/cpu.hpp).
 double spring_expm1(double x);
 // out[i] = spring_expm1(x[i]) for i < n.
 void spring_expm1_batch(const double* x, double* out, int n);
@@ -42,12 +43,22 @@ double spring_tension(const SpringLaw& law, double L0, double l);
 // k L0 eps expm1(x)/x = k L0 expm1(x) / beta).
 double spring_force_per_length(const SpringLaw& law, double L0, double l);
 
-// The laws of spring_force_per_length one by one, inline for the force loops (the scatter, the
-// gathers and spring_force_per_length itself all evaluate these, so they agree to the bit).
-inline double linear_per_length(const SpringLaw& law, double L0, double l) { return law.k * (l - L0) / l; }
+// The polynomial laws of spring_force_per_length over any number type T with IEEE + - * /: a
+// double, or a lane type of the SIMD kernels (core/simd), each of whose lanes then does these
+// operations. The scatter, the gathers, the kernels and spring_force_per_length all evaluate
+// these, so they agree to the bit.
+template <class T>
+inline T linear_law(const T& k, const T& L0, const T& l) {
+  return k * (l - L0) / l;
+}
+template <class T>
+inline T cubic_law(const T& k, const T& beta, const T& L0, const T& l) {
+  const T s = l - L0, L2 = L0 * L0;
+  return k * s * (L2 + beta * s * s) / (L2 * l);
+}
+inline double linear_per_length(const SpringLaw& law, double L0, double l) { return linear_law(law.k, L0, l); }
 inline double cubic_per_length(const SpringLaw& law, double L0, double l) {
-  const double s = l - L0, L2 = L0 * L0;
-  return law.k * s * (L2 + law.beta * s * s) / (L2 * l);
+  return cubic_law(law.k, law.beta, L0, l);
 }
 // The exponential law's argument x = beta (l - L0) / L0, and the law given x and
 // em1 = spring_expm1(x) (a loop may evaluate the expm1 of many springs at once).

@@ -2,6 +2,7 @@
 
 #include "core/clock.hpp"
 #include "core/collision/detectors/voxel.hpp"
+#include "core/cpu.hpp"
 #include "core/parallel.hpp"
 #include "core/scene.hpp"
 #include "core/simulation.hpp"
@@ -159,8 +160,7 @@ __attribute__((target("avx2"))) std::uint64_t sum_words_avx2(const word_t* p, st
 std::uint64_t sum_words(const void* data, std::size_t n) {
   const auto* p = static_cast<const word_t*>(data);
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) return sum_words_avx2(p, n);
+  if (isa() >= Isa::avx2) return sum_words_avx2(p, n);
 #endif
   return sum_words_scalar(p, n);
 }

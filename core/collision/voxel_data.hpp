@@ -74,10 +74,6 @@ class VoxelIndexer {
     }
     dx_ = g.dims.x();
     dxy_ = g.dims.x() * g.dims.y();
-    // batch_avx512_packed works in int32 lanes: exact while no axis reaches 2^30 cells from c.
-    packed_ok_ = g.num_voxels() <= (1LL << 30);
-    for (int a = 0; a < 3; ++a)
-      packed_ok_ = packed_ok_ && g.lo[a] > -(1 << 30) && static_cast<long long>(g.lo[a]) + g.dims[a] < (1 << 30);
   }
   int operator()(const Vec3& p) const {
     const double t0 = (p[0] - c_[0]) * inv_, t1 = (p[1] - c_[1]) * inv_, t2 = (p[2] - c_[2]) * inv_;
@@ -87,21 +83,18 @@ class VoxelIndexer {
     if (!in) return -1;
     return (ifloor(t0) - ilo_[0]) + dx_ * (ifloor(t1) - ilo_[1]) + dxy_ * (ifloor(t2) - ilo_[2]);
   }
-  // out[k] = (*this)(p[k]) for k < n; eight or four points at a time with AVX-512 or AVX where
-  // the processor has them (chosen at run time; exact operations only, so the same results).
+  // out[k] = (*this)(p[k]) for k < n, several points at a time by the SIMD kernel of the active
+  // instruction set (core/simd/kernels.hpp: the same operations, floor(t) - lo and the index
+  // formed exactly in double, so the same results).
   void operator()(const Vec3* p, std::size_t n, int* out) const;
 
  private:
-  void batch_avx(const Vec3* p, std::size_t n, int* out) const;
-  void batch_avx512(const Vec3* p, std::size_t n, int* out) const;
-  void batch_avx512_packed(const Vec3* p, std::size_t n, int* out) const;
   static int ifloor(double t) {
     const int i = static_cast<int>(t);  // truncation toward zero
     return i - (t < i);
   }
   double c_[3], lo_[3], hi_[3], inv_;
   int ilo_[3], dx_, dxy_;
-  bool packed_ok_ = false;
 };
 
 // Bounding box of x[begin, end) (as body_bounds: NaN coordinates are ignored), computed in
