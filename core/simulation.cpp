@@ -66,6 +66,19 @@ std::vector<int> select_nodes(const World& w, int body, const Selection& sel) {
 
 namespace {
 
+// Stiffness of spring s of a generated body (N/m): material.stiffness, or from
+// material.youngs_modulus through the generator's factor (elastic_map.hpp).
+double spring_stiffness(const Material& m, const ShapeModel& model, std::size_t s) {
+  if (!(m.youngs_modulus > 0.0)) return m.stiffness;
+  const double E = m.youngs_modulus, t = m.thickness, kappa = model.spring_kappa[s];
+  switch (model.spring_role[s]) {
+    case SpringRole::volume: return E * kappa;
+    case SpringRole::membrane: return E * t * kappa;
+    case SpringRole::bending: return E * t * t * t * kappa;
+  }
+  return E * kappa;
+}
+
 // Appends a generated body to the world's arrays (nodes, springs, masses) and its topology.
 void append_body(World& w, const BodySpec& bs, ShapeModel&& model) {
   Body b;
@@ -93,9 +106,11 @@ void append_body(World& w, const BodySpec& bs, ShapeModel&& model) {
   }
   const int body_index = static_cast<int>(w.bodies.size());
   b.spring_begin = static_cast<int>(w.springs.size());
-  for (const Edge& e : model.springs) {
+  for (std::size_t s = 0; s < model.springs.size(); ++s) {
+    const Edge& e = model.springs[s];
     w.springs.ends.push_back({b.begin + e[0], b.begin + e[1]});
     w.springs.rest.push_back((model.nodes[e[1]] - model.nodes[e[0]]).norm());
+    w.springs.k.push_back(spring_stiffness(bs.material, model, s));
     w.springs.body.push_back(body_index);
   }
   b.spring_end = static_cast<int>(w.springs.size());
@@ -104,7 +119,7 @@ void append_body(World& w, const BodySpec& bs, ShapeModel&& model) {
     w.v.push_back(bs.velocity);
     w.m.push_back(bs.material.density * model.node_volume[i]);
   }
-  w.body_law.push_back({bs.material.law, bs.material.stiffness, bs.material.nonlinearity});
+  w.body_law.push_back({bs.material.law, bs.material.nonlinearity});
   w.bodies.push_back(std::move(b));
 }
 

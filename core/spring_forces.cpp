@@ -15,7 +15,7 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "the kernels take points as th
 
 // The law of a body, chosen at compile time (springs.hpp: the expressions every path shares).
 template <SpringLawKind K>
-inline double per_length_of(const SpringLaw& law, double L0, double l) {
+inline double per_length_of(const SpringLaw& law, double L0, double l) {  // law: one spring's
   if constexpr (K == SpringLawKind::linear) return linear_per_length(law, L0, l);
   if constexpr (K == SpringLawKind::cubic) return cubic_per_length(law, L0, l);
   if constexpr (K == SpringLawKind::exponential) {
@@ -32,7 +32,7 @@ inline double per_length_of(const SpringLaw& law, double L0, double l) {
 // thread, reads it; other springs are evaluated at both ends. c is the same number either way,
 // so the thread count still changes nothing.
 template <SpringLawKind K>
-void spring_node_once(const SpringGather& g, const SpringLaw& law, const Points& x, int i, int i0, int i1,
+void spring_node_once(const SpringGather& g, const BodyLaw& law, const Points& x, int i, int i0, int i1,
                       double* box, Vec3& acc) {
   const Vec3 xi = x[i];
   for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
@@ -45,7 +45,7 @@ void spring_node_once(const SpringGather& g, const SpringLaw& law, const Points&
     } else {
       const double l = d.norm();
       if (l <= 0.0) continue;
-      c = per_length_of<K>(law, g.rest[h], l);
+      c = per_length_of<K>(law.with(g.stiff[h]), g.rest[h], l);
       if (j > i && j < i1) box[g.spring[h]] = c;
     }
     acc += c * d;
@@ -56,14 +56,14 @@ void spring_node_once(const SpringGather& g, const SpringLaw& law, const Points&
 // bodies `only` selects (all when null): with one thread it is the fastest form for the
 // exponential law, whose expm1 costs more than anything a gather saves.
 template <SpringLawKind K>
-void scatter_run(const World& w, const SpringLaw& law, std::size_t k0, std::size_t k1, Points& f) {
+void scatter_run(const World& w, const BodyLaw& law, std::size_t k0, std::size_t k1, Points& f) {
   const Springs& s = w.springs;
   for (std::size_t k = k0; k < k1; ++k) {
     const int i = s.ends[k][0], j = s.ends[k][1];
     const Vec3 d = w.x[j] - w.x[i];
     const double l = d.norm();
     if (l <= 0.0) continue;  // coincident ends: no defined direction, no force
-    const Vec3 fi = per_length_of<K>(law, s.rest[k], l) * d;  // pulls i toward j
+    const Vec3 fi = per_length_of<K>(law.with(s.k[k]), s.rest[k], l) * d;  // pulls i toward j
     f[i] += fi;
     f[j] -= fi;
   }
@@ -72,7 +72,7 @@ void scatter_run(const World& w, const SpringLaw& law, std::size_t k0, std::size
 // The exponential law in blocks: the expm1 of a block at once (spring_expm1_batch, the same bits
 // as one at a time), then per_length_of's remaining operations and the scatter in spring order.
 template <>
-void scatter_run<SpringLawKind::exponential>(const World& w, const SpringLaw& law, std::size_t k0, std::size_t k1,
+void scatter_run<SpringLawKind::exponential>(const World& w, const BodyLaw& law, std::size_t k0, std::size_t k1,
                                              Points& f) {
   const Springs& s = w.springs;
   constexpr int B = 64;
@@ -84,14 +84,14 @@ void scatter_run<SpringLawKind::exponential>(const World& w, const SpringLaw& la
       const std::size_t k = b + static_cast<std::size_t>(q);
       D[q] = w.x[s.ends[k][1]] - w.x[s.ends[k][0]];
       Lr[q] = D[q].norm();
-      X[q] = exponential_arg(law, s.rest[k], Lr[q]);
+      X[q] = exponential_arg(law.with(s.k[k]), s.rest[k], Lr[q]);
     }
     spring_expm1_batch(X, E, m);
     for (int q = 0; q < m; ++q) {
       const double l = Lr[q];
       if (l <= 0.0) continue;
       const std::size_t k = b + static_cast<std::size_t>(q);
-      const double c = exponential_per_length(law, s.rest[k], l, X[q], E[q]);
+      const double c = exponential_per_length(law.with(s.k[k]), s.rest[k], l, X[q], E[q]);
       const Vec3 fi = c * D[q];
       f[s.ends[k][0]] += fi;
       f[s.ends[k][1]] -= fi;
@@ -107,7 +107,7 @@ void scatter_spring_forces(const World& w, Points& f, const std::vector<std::uin
     const int b = s.body[k0];
     for (k1 = k0 + 1; k1 < n && s.body[k1] == b;) ++k1;
     if (only && !(*only)[b]) continue;
-    const SpringLaw& law = w.body_law[b];
+    const BodyLaw& law = w.body_law[b];
     switch (law.kind) {
       case SpringLawKind::linear: scatter_run<SpringLawKind::linear>(w, law, k0, k1, f); break;
       case SpringLawKind::cubic: scatter_run<SpringLawKind::cubic>(w, law, k0, k1, f); break;
@@ -156,7 +156,7 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
       scatter_exp = true;
     }
   }
-  const simd::SpringRun all{g.start.data(), g.other.data(), g.rest.data(), coords(w.x), coords(f), 0.0, 0.0, 0, 0};
+  const simd::SpringRun all{g.start.data(), g.other.data(), g.rest.data(), g.stiff.data(), coords(w.x), coords(f), 0.0, 0, 0};
   // Parts handed out dynamically, several per thread: a thread that the system deschedules
   // (the machine is shared) delays one small part, not half the work. The parts only share the
   // work: the forces are the same for any partition.
@@ -167,15 +167,15 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
     g.part(P, t, i0, i1);
     for (int i = i0; i < i1; ++i) {
       const int b = g.node_body[i];
-      if (b == -2) continue;
+      if (b == SpringGather::kNoSprings) continue;
       if (scatter_exp && b >= 0 && g.is_exponential[b]) continue;
       if (b >= 0 && w.body_law[b].kind != SpringLawKind::exponential) {
         // The run of nodes of this body (a linear or cubic law) from i on: the SIMD kernel.
-        const SpringLaw& law = w.body_law[b];
+        const BodyLaw& law = w.body_law[b];
         int e = i + 1;
         while (e < i1 && g.node_body[e] == b) ++e;
         simd::SpringRun run = all;
-        run.k = law.k, run.beta = law.beta, run.i0 = i, run.i1 = e;
+        run.beta = law.beta, run.i0 = i, run.i1 = e;
         (law.kind == SpringLawKind::linear ? kern.springs_linear : kern.springs_cubic)(run);
         i = e - 1;
         continue;
@@ -190,7 +190,7 @@ void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
           const Vec3 d = w.x[j] - xi;
           const double l = d.norm();
           if (l <= 0.0) continue;
-          const double c = spring_force_per_length(w.body_law[w.springs.body[g.spring[h]]], g.rest[h], l);
+          const double c = spring_force_per_length(w.body_law[w.springs.body[g.spring[h]]].with(g.stiff[h]), g.rest[h], l);
           if (j > i && j < i1) box[g.spring[h]] = c;  // for a higher end using spring_node_once
           acc += c * d;
         }
@@ -272,7 +272,7 @@ double spring_potential(const World& w) {
     double e = 0.0;
     for (std::size_t k = c * kChunk; k < std::min(n, (c + 1) * kChunk); ++k) {
       const double l = (w.x[s.ends[k][1]] - w.x[s.ends[k][0]]).norm();
-      e += spring_energy(w.body_law[s.body[k]], s.rest[k], l);
+      e += spring_energy(w.body_law[s.body[k]].with(s.k[k]), s.rest[k], l);
     }
     part[c] = e;
   }
@@ -307,7 +307,7 @@ inline double tangent_over_l2(const SpringLaw& law, double L0, double l2) {
 // Row sums of the springs [k0, k1), all of one law: the block k u u^T, u = d / l, adds
 // 2 k |u_a| |u|_1 = 2 (k / l^2) |d_a| |d|_1 to row a of both ends.
 template <SpringLawKind K>
-void gershgorin_run(const World& w, const SpringLaw& law, std::size_t k0, std::size_t k1, std::vector<Vec3>& rows) {
+void gershgorin_run(const World& w, const BodyLaw& law, std::size_t k0, std::size_t k1, std::vector<Vec3>& rows) {
   const Springs& s = w.springs;
   for (std::size_t k = k0; k < k1; ++k) {
     const int i = s.ends[k][0], j = s.ends[k][1];
@@ -315,7 +315,7 @@ void gershgorin_run(const World& w, const SpringLaw& law, std::size_t k0, std::s
     const double l2 = d.squaredNorm();
     if (!(l2 > 0.0)) continue;
     const Vec3 a = d.cwiseAbs();
-    const Vec3 r = (2.0 * tangent_over_l2<K>(law, s.rest[k], l2) * a.sum()) * a;
+    const Vec3 r = (2.0 * tangent_over_l2<K>(law.with(s.k[k]), s.rest[k], l2) * a.sum()) * a;
     rows[i] += r;
     rows[j] += r;
   }
@@ -323,7 +323,7 @@ void gershgorin_run(const World& w, const SpringLaw& law, std::size_t k0, std::s
 
 // The exponential law in blocks, its exp for a block at once (spring_exp_batch).
 template <>
-void gershgorin_run<SpringLawKind::exponential>(const World& w, const SpringLaw& law, std::size_t k0,
+void gershgorin_run<SpringLawKind::exponential>(const World& w, const BodyLaw& law, std::size_t k0,
                                                 std::size_t k1, std::vector<Vec3>& rows) {
   const Springs& s = w.springs;
   constexpr int B = 64;
@@ -335,7 +335,7 @@ void gershgorin_run<SpringLawKind::exponential>(const World& w, const SpringLaw&
       const Vec3 d = w.x[s.ends[k][1]] - w.x[s.ends[k][0]];
       L2[q] = d.squaredNorm();
       const double L0 = s.rest[k];
-      X[q] = L2[q] > 0.0 ? exponential_arg(law, L0, std::sqrt(L2[q])) : 0.0;
+      X[q] = L2[q] > 0.0 ? exponential_arg(law.with(s.k[k]), L0, std::sqrt(L2[q])) : 0.0;
     }
     spring_exp_batch(X, E, m);
     for (int q = 0; q < m; ++q) {
@@ -343,7 +343,7 @@ void gershgorin_run<SpringLawKind::exponential>(const World& w, const SpringLaw&
       const std::size_t k = b + static_cast<std::size_t>(q);
       const int i = s.ends[k][0], j = s.ends[k][1];
       const Vec3 a = (w.x[j] - w.x[i]).cwiseAbs();
-      const Vec3 r = (2.0 * (std::fabs(law.k * E[q]) / L2[q]) * a.sum()) * a;
+      const Vec3 r = (2.0 * (std::fabs(s.k[k] * E[q]) / L2[q]) * a.sum()) * a;
       rows[i] += r;
       rows[j] += r;
     }
@@ -358,7 +358,7 @@ void add_spring_stiffness_rows(const World& w, std::vector<Vec3>& rows) {
   for (std::size_t k0 = 0, k1; k0 < ns; k0 = k1) {  // runs of springs of one body
     const int b = s.body[k0];
     for (k1 = k0 + 1; k1 < ns && s.body[k1] == b;) ++k1;
-    const SpringLaw& law = w.body_law[b];
+    const BodyLaw& law = w.body_law[b];
     switch (law.kind) {
       case SpringLawKind::linear: gershgorin_run<SpringLawKind::linear>(w, law, k0, k1, rows); break;
       case SpringLawKind::cubic: gershgorin_run<SpringLawKind::cubic>(w, law, k0, k1, rows); break;

@@ -34,7 +34,11 @@ struct SpringGather {
   std::vector<int> other;        // the other end of each half-edge
   std::vector<int> spring;       // its spring's index in World::springs
   std::vector<double> rest;      // its spring's rest length, m (copied: sequential reads)
-  std::vector<int> node_body;    // body of every spring at the node; -1 mixed, -2 no springs
+  std::vector<double> stiff;     // its spring's stiffness, N/m (likewise)
+  // Body of every spring at the node, or kMixedBodies (springs of several bodies meet there: a
+  // hand-built world) or kNoSprings.
+  static constexpr int kMixedBodies = -1, kNoSprings = -2;
+  std::vector<int> node_body;
   std::vector<int> node_owner;   // body whose range holds the node, -1 none
   // Exponential law only (see spring_node_once): per spring, c from its lower end.
   std::vector<double> box;
@@ -55,6 +59,7 @@ struct SpringGather {
     other.assign(H, 0);
     spring.assign(H, 0);
     rest.assign(H, 0.0);
+    stiff.assign(H, 0.0);
     std::vector<int> cur(start.begin(), start.end() - 1);
     for (std::size_t k = 0; k < s.size(); ++k) {  // spring order: each node's list is sorted by k
       const int i = s.ends[k][0], j = s.ends[k][1];
@@ -63,8 +68,9 @@ struct SpringGather {
       other[b] = i;
       spring[a] = spring[b] = static_cast<int>(k);
       rest[a] = rest[b] = s.rest[k];
+      stiff[a] = stiff[b] = s.k[k];
     }
-    node_body.assign(static_cast<std::size_t>(n), -2);
+    node_body.assign(static_cast<std::size_t>(n), kNoSprings);
     for (int i = 0; i < n; ++i) {
       if (start[i] == start[i + 1]) continue;
       int b = s.body[spring[start[i]]];
@@ -80,7 +86,7 @@ struct SpringGather {
     for (std::size_t b = 0; b < w.body_law.size(); ++b)
       is_exponential[b] = w.body_law[b].kind == SpringLawKind::exponential;
     exponential_bodies = std::find(is_exponential.begin(), is_exponential.end(), 1) != is_exponential.end();
-    mixed_nodes = std::find(node_body.begin(), node_body.end(), -1) != node_body.end();
+    mixed_nodes = std::find(node_body.begin(), node_body.end(), kMixedBodies) != node_body.end();
     box.assign(s.size(), 0.0);
   }
 

@@ -12,6 +12,7 @@ namespace harness {
 
 enum class SpringLawKind { linear, cubic, exponential };
 
+// The law of one spring: its kind, stiffness k and nonlinearity.
 struct SpringLaw {
   SpringLawKind kind = SpringLawKind::linear;
   double k = 0.0;     // N/m

@@ -40,9 +40,17 @@ struct Body {
   int surface_node(int s) const { return begin + s; }  // global index of surface vertex s
 };
 
+// The law all springs of a body follow; each spring has its own stiffness (Springs::k).
+struct BodyLaw {
+  SpringLawKind kind = SpringLawKind::linear;
+  double beta = 0.0;  // nonlinearity, >= 0
+  SpringLaw with(double k) const { return SpringLaw{kind, k, beta}; }
+};
+
 struct Springs {
   std::vector<Edge> ends;      // global node indices
   std::vector<double> rest;    // rest length L0, m
+  std::vector<double> k;       // stiffness, N/m (from material.stiffness or youngs_modulus)
   std::vector<int> body;       // owning body index (law and damping come from its material)
   std::size_t size() const { return ends.size(); }
 };
@@ -62,7 +70,7 @@ struct World {
   std::vector<Kinematic> kinematic;
   Points kin_v;
   std::vector<Body> bodies;
-  std::vector<SpringLaw> body_law;  // per body
+  std::vector<BodyLaw> body_law;  // per body
   Springs springs;
 
   int num_nodes() const { return static_cast<int>(x.size()); }

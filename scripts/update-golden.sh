@@ -29,7 +29,10 @@ for n in names:
         s = json.load(f)
     scenes[n] = {"steps": s["steps_run"], "state_hash": s["state_hash"]}
 print(json.dumps({"comment": "Golden state hashes: written by scripts/update-golden.sh, checked by "
-                  "tests/cli/test_golden.sh. Change only on purpose, with the reason in the commit.",
+                  "tests/cli/test_golden.sh at every instruction set level (HARNESS_ISA). Change only on purpose, "
+                  "with the reason in the commit. They assume x86-64 with AVX2 and glibc's libmvec: the exponential "
+                  "spring law takes libmvec's expm1, whose last bits differ from std::expm1's, whenever the processor "
+                  "has AVX2, whatever the level (core/cpu.hpp).",
                   "steps": steps, "threads": 1, "scenes": scenes}, indent=2))
 PY
 echo "update-golden: $(( ${#names[@]} )) scenes written to tests/golden/state_hashes.json"

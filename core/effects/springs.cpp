@@ -16,7 +16,7 @@ void SpringsEffect::add_jacobian(const World& w, LinearSystem& sys) const {
     if (l <= 0.0) continue;
     const Vec3 u = d / l;
     const Eigen::Matrix3d uu = u * u.transpose();
-    const SpringLaw& law = w.body_law[w.springs.body[k]];
+    const SpringLaw law = w.body_law[w.springs.body[k]].with(w.springs.k[k]);
     const double kt = spring_tangent(law, w.springs.rest[k], l);
     const double t = spring_tension(law, w.springs.rest[k], l);
     sys.spring_stiffness[k] = kt * uu + std::max(t / l, 0.0) * (Eigen::Matrix3d::Identity() - uu);

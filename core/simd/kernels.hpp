@@ -55,9 +55,10 @@ struct SpringRun {
   const int* start;     // CSR over half-edges
   const int* other;     // the other end of each half-edge
   const double* rest;   // rest length of each half-edge
+  const double* stiff;  // stiffness of each half-edge's spring
   const double* x;
   double* f;
-  double k, beta;       // the body's law (SpringLaw)
+  double beta;          // the body's nonlinearity (BodyLaw)
   int i0, i1;
 };
 

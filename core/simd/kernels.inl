@@ -127,10 +127,11 @@ template <class D, SpringLawKind K>
   static_assert(K == SpringLawKind::linear || K == SpringLawKind::cubic,
                 "the exponential law is evaluated once per spring (spring_forces.cpp)");
   const D x0 = D::set1(xi[0]), x1 = D::set1(xi[1]), x2 = D::set1(xi[2]);
-  const D k = D::set1(r.k), beta = D::set1(r.beta), zero = D::set1(0.0);
+  const D beta = D::set1(r.beta), zero = D::set1(0.0);
   const double* x = r.x;  // (locals: the stores below could alias r's fields)
   const int* oth = r.other + a;
   const double* L0 = r.rest + a;
+  const double* K0 = r.stiff + a;
   std::uint64_t skip = 0, unit = 1;  // unit = 2^q (a product, not a variable shift, per iteration)
   int q = 0;
   for (; q + D::W <= m; q += D::W, unit <<= D::W) {
@@ -139,8 +140,8 @@ template <class D, SpringLawKind K>
     const D dx = px - x0, dy = py - x1, dz = pz - x2;
     const D l = sqrt(dx * dx + dy * dy + dz * dz);
     D c;
-    if constexpr (K == SpringLawKind::linear) c = linear_law(k, D::load(L0 + q), l);
-    else c = cubic_law(k, beta, D::load(L0 + q), l);
+    if constexpr (K == SpringLawKind::linear) c = linear_law(D::load(K0 + q), D::load(L0 + q), l);
+    else c = cubic_law(D::load(K0 + q), beta, D::load(L0 + q), l);
     store(FX + q, c * dx), store(FY + q, c * dy), store(FZ + q, c * dz);
     skip |= bits(le(l, zero)) * unit;
   }

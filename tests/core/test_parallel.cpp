@@ -41,7 +41,7 @@ void scatter_springs(const World& w, Points& f) {
     const Vec3 d = w.x[j] - w.x[i];
     const double l = d.norm();
     if (l <= 0.0) continue;
-    const Vec3 fi = spring_force_per_length(w.body_law[s.body[k]], s.rest[k], l) * d;
+    const Vec3 fi = spring_force_per_length(w.body_law[s.body[k]].with(s.k[k]), s.rest[k], l) * d;
     f[i] += fi;
     f[j] -= fi;
   }
@@ -136,10 +136,12 @@ TEST_CASE("spring and damping gathers equal the serial scatter bit for bit", "[p
   // A spring owned by body 0 reaching into body 1: nodes where laws of two bodies meet.
   w.springs.ends.push_back({w.bodies[0].begin + 1, w.bodies[1].begin + 2});
   w.springs.rest.push_back(0.015);
+  w.springs.k.push_back(50.0);
   w.springs.body.push_back(0);
   // And an exponential spring from the sphere into the cubic box (mailbox of spring_node_once).
   w.springs.ends.push_back({w.bodies[2].begin, w.bodies[1].end - 1});  // adjacent: same thread
   w.springs.rest.push_back(0.04);
+  w.springs.k.push_back(20.0);
   w.springs.body.push_back(2);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.003, 0.003);

@@ -48,7 +48,7 @@ inline int add_body(World& w, const std::string& name, const NodeSet& s) {
   }
   b.spring_begin = b.spring_end = static_cast<int>(w.springs.size());
   w.bodies.push_back(b);
-  w.body_law.push_back(SpringLaw{});
+  w.body_law.push_back(BodyLaw{});
   return static_cast<int>(w.bodies.size()) - 1;
 }
 
