@@ -138,9 +138,10 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options)
     for (const auto& e : effects_)  // sized once: only the categories that are built
       if (e->category() != EffectCategory::none)
         category_force_[static_cast<int>(e->category())].assign(world_.x.size(), Vec3::Zero());
-    ledger_.kinetic = kinetic_energy();
-    ledger_.elastic = elastic_energy();
-    ledger_.initial = ledger_.kinetic + ledger_.elastic;
+    category_prev_ = category_force_;
+    driver_force_.assign(world_.x.size(), Vec3::Zero());
+    driver_prev_ = disp_prev_ = driver_force_;
+    reset_energy();
   } else {
     residual_ = std::numeric_limits<double>::quiet_NaN();
   }
@@ -231,7 +232,8 @@ void Simulation::step() {
   const StepContext ctx{step_index_, scene_.dt, scene_.dt / substeps, substeps};
   const double ke_before = audit_ ? kinetic_energy() : 0.0;
   for (const auto& e : effects_) e->begin_step(w, ctx);
-  if (audit_) ledger_.work_external += kinetic_energy() - ke_before;  // drivers starting their nodes
+  // Drivers starting their nodes (before the first step E*_0 holds it already).
+  if (audit_ && ledger_.started) ledger_.work_external += kinetic_energy() - ke_before;
   double total = 0.0;
   for (int s = 0; s < substeps; ++s) {
     const auto ts = Clock::now();
@@ -245,7 +247,7 @@ void Simulation::step() {
   for (const auto& e : effects_) e->end_step(w, ctx);
   if (audit_) {
     ledger_.kinetic = kinetic_energy();
-    ledger_.elastic = elastic_energy();
+    ledger_.elastic = elastic_start_;
     ledger_.work_contact_peak = std::max(ledger_.work_contact_peak, ledger_.work_contact);
     update_residual();
   }
@@ -283,16 +285,39 @@ void Simulation::close_category(EffectCategory c) {
   for (std::size_t i = 0; i < f.size(); ++i) f[i] += world_.f[i] - mark_[i];
 }
 
+// After the substep from x_n: books the trapezoidal work of the interval x_{n-1} -> x_n (the
+// forces at both ends, the displacement of the substep before), then E*_n (energy.hpp); keeps
+// this substep's forces and displacement for the next.
 void Simulation::book_work(double h) {
+  const World& w = world_;
+  const int n = w.num_nodes();
+  double ke_staggered = 0.0;
+  for (int i = 0; i < n; ++i) {
+    ke_staggered += 0.5 * w.m[i] * v_before_[i].dot(w.v[i]);
+    driver_force_[i] = w.kinematic[i] == Kinematic::driven ? Vec3(-w.f[i]) : Vec3::Zero();
+  }
+  if (have_prev_) book_interval();
+  ledger_.staggered = ke_staggered + elastic_start_;
+  if (!ledger_.started) ledger_.staggered0 = ledger_.staggered, ledger_.started = true;
+  for (int i = 0; i < n; ++i)
+    disp_prev_[i] = w.kinematic[i] == Kinematic::pinned ? Vec3::Zero()
+                    : w.kinematic[i] == Kinematic::driven ? Vec3(h * w.kin_v[i])
+                                                          : Vec3(h * w.v[i]);
+  std::swap(category_force_, category_prev_);
+  std::swap(driver_force_, driver_prev_);
+  have_prev_ = true;
+  elastic_start_ = elastic_energy();
+}
+
+void Simulation::book_interval() {
   const World& w = world_;
   double work[kCategories] = {};
   double drivers = 0.0;
   for (int i = 0; i < w.num_nodes(); ++i) {
-    if (w.kinematic[i] == Kinematic::pinned) continue;
-    const Vec3 vm = 0.5 * (v_before_[i] + w.v[i]);
+    const Vec3& d = disp_prev_[i];
     for (int c = 0; c < kCategories; ++c)
-      if (!category_force_[c].empty()) work[c] += h * category_force_[c][i].dot(vm);
-    if (w.kinematic[i] == Kinematic::driven) drivers -= h * w.f[i].dot(w.kin_v[i]);
+      if (!category_force_[c].empty()) work[c] += 0.5 * (category_prev_[c][i] + category_force_[c][i]).dot(d);
+    drivers += 0.5 * (driver_prev_[i] + driver_force_[i]).dot(d);
   }
   ledger_.work_external += work[static_cast<int>(EffectCategory::external)] + drivers;
   ledger_.dissipated -= work[static_cast<int>(EffectCategory::dissipative)];
@@ -330,6 +355,14 @@ double Simulation::potential_energy() const {
   double e = 0.0;
   for (const auto& f : effects_) e += f->energy(world_);
   return e;
+}
+
+void Simulation::reset_energy() {
+  ledger_ = EnergyLedger{};
+  ledger_.kinetic = kinetic_energy();
+  ledger_.elastic = elastic_start_ = elastic_energy();
+  ledger_.initial = ledger_.kinetic + ledger_.elastic;
+  have_prev_ = false;
 }
 
 double Simulation::elastic_energy() const {

@@ -63,6 +63,8 @@ class Simulation {
   double elastic_energy() const;    // stored in the springs
   // The energy audit so far (audit on); zeros otherwise.
   const EnergyLedger& energy() const { return ledger_; }
+  // Restarts the audit from the current state (after a caller changed it by hand).
+  void reset_energy();
   // |net force on the free nodes| / |applied forces on them| (gravity, pressure, loads), or
   // over |spring forces| where nothing is applied, at the start of the last substep; 0 without
   // either, NaN with the audit off.
@@ -78,6 +80,7 @@ class Simulation {
   void add_forces(const StepContext& s);
   void close_category(EffectCategory c);
   void book_work(double h);
+  void book_interval();
   void update_residual();
 
   Scene scene_;
@@ -93,7 +96,12 @@ class Simulation {
   int step_index_ = 0;
   bool audit_ = true;
   std::vector<Points> category_force_;  // per EffectCategory, this substep (audit)
+  std::vector<Points> category_prev_;   // the same, of the substep before
+  Points driver_force_, driver_prev_;   // force of the drivers on their nodes, now and before
+  Points disp_prev_;                    // displacement of every node in the substep before
   Points mark_, v_before_;              // audit scratch
+  double elastic_start_ = 0.0;          // U at the start of the substep
+  bool have_prev_ = false;
   EnergyLedger ledger_;
   double residual_ = 0.0;
   StepTimes last_;
