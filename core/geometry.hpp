@@ -12,6 +12,9 @@ namespace harness {
 // A collapsed triangle gives a point of it, not necessarily the closest: callers that meet
 // degenerate triangles use closest_on_segment on its edges as well.
 Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+// Barycentric coordinates (summing to one) of a point q of triangle (a, b, c); for a collapsed
+// triangle, all weight on the vertex nearest to q.
+void barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, double w[3]);
 // Closest point to p on segment [a, b] (safe when a == b).
 Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b);
 

@@ -414,7 +414,7 @@ void read_time(const Ctx& c, Obj& top, Scene& s) {
                                   {{Integrator::symplectic_euler, "symplectic_euler"},
                                    {Integrator::implicit_euler, "implicit_euler"}});
   s.guard = pick<Guard>(t, "guard", "refuse", {{Guard::refuse, "refuse"}, {Guard::substep, "substep"}});
-  if (const json* st = t.get("settle")) {
+  if (const json* st = t.get("settle"); st && !st->is_null()) {  // null: no settling (--steps)
     Obj o(c, *st, t.at("settle"), t.out()["settle"]);
     s.settle.present = true;
     s.settle.tolerance = o.number("tolerance", 1e-3, 0.0, 1.0, true);
@@ -489,12 +489,18 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
   cs.margin = static_cast<int>(o.integer("margin", 1, 0, 64));
   cs.host_nodes = pick<HostNodes>(o, "host_nodes", "all", {{HostNodes::all, "all"}, {HostNodes::surface, "surface"}});
   cs.eliminator = pick(o, "eliminator", "line", eliminator_names());
+  cs.two_sided = o.boolean("two_sided", false);
   const json* f = o.get("force");
   if (!f || (f->is_string() && f->get<std::string>() == "auto")) {
     cs.force_rule = ForceRule::automatic;
     o.out()["force"] = "auto";
+  } else if (f->is_object()) {
+    Obj fo(c, *f, o.at("force"), o.out()["force"]);
+    cs.force_rule = ForceRule::penalty;
+    cs.stiffness = fo.number("stiffness", std::nullopt, 0.0, 1e12);
+    fo.finish();
   } else if (f->is_string()) {
-    c.fail(o.at("force"), "expected a number of newtons or \"auto\"");
+    c.fail(o.at("force"), "expected a number of newtons, \"auto\" or {\"stiffness\": N/m}");
   } else {
     cs.force_rule = ForceRule::constant;
     cs.force = o.number("force", std::nullopt, 0.0, 1e12);

@@ -335,7 +335,10 @@ void Simulation::update_residual() {
     if (!ext.empty()) applied += ext[i].squaredNorm();
     if (!el.empty()) springs += el[i].squaredNorm();
   }
-  const double scale = applied > 0.0 ? applied : springs;
+  // Without applied forces, free bodies come to rest with their springs relaxed: the scale is
+  // then the largest spring-force norm seen in the run.
+  spring_force_peak_ = std::max(spring_force_peak_, springs);
+  const double scale = applied > 0.0 ? applied : spring_force_peak_;
   residual_ = scale > 0.0 ? std::sqrt(net / scale) : 0.0;
 }
 

@@ -65,9 +65,9 @@ class Simulation {
   const EnergyLedger& energy() const { return ledger_; }
   // Restarts the audit from the current state (after a caller changed it by hand).
   void reset_energy();
-  // |net force on the free nodes| / |applied forces on them| (gravity, pressure, loads), or
-  // over |spring forces| where nothing is applied, at the start of the last substep; 0 without
-  // either, NaN with the audit off.
+  // |net force on the free nodes| / |applied forces on them| (gravity, pressure, loads), or,
+  // where nothing is applied, over the largest |spring forces| of the run so far, at the start
+  // of the last substep; 0 without either, NaN with the audit off.
   double residual() const { return residual_; }
   double critical_dt() const;       // of the built effects at the current state, s
 
@@ -104,6 +104,7 @@ class Simulation {
   bool have_prev_ = false;
   EnergyLedger ledger_;
   double residual_ = 0.0;
+  double spring_force_peak_ = 0.0;  // largest |spring forces|^2 on the free nodes so far
   StepTimes last_;
   SimulationStats stats_;
 };

@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
   run->add_option("SCENE", scene_arg, "scene file, or the name of a bundled scene")->required();
   run->add_option("--out", out_dir, "output folder")->capture_default_str();
   run->add_option("--set", sets, "override a scene value: KEY=JSON (dotted key, list indices)");
-  run->add_option("--steps", steps, "override time.steps");
+  run->add_option("--steps", steps, "run exactly N steps: override time.steps and turn time.settle off");
   run->add_flag("--quiet", quiet, "no progress line");
   int run_threads = 0;
   run->add_option("--threads", run_threads, "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
@@ -172,7 +172,10 @@ int main(int argc, char** argv) {
     }
     const std::string path = resolve_scene(scene_arg);
     auto overrides = parse_sets(sets);
-    if (steps >= 0) overrides.emplace_back("time.steps", std::to_string(steps));
+    if (steps >= 0) {
+      overrides.emplace_back("time.steps", std::to_string(steps));
+      overrides.emplace_back("time.settle", "null");
+    }
     else if (run->count("--steps")) throw InputError("--steps", "must be >= 0");
     const Scene scene = load_scene(path, overrides);
     RunOptions opt;

@@ -34,6 +34,33 @@ int triangle_vertices_nearest_first(const World& w, int host_begin, const Tri& t
   return n;
 }
 
+// Outward unit normal of host triangle t (global node offset `begin`); false when degenerate.
+bool face_normal(const World& w, int begin, const Tri& t, Vec3& n) {
+  const Vec3& a = w.x[begin + t[0]];
+  const Vec3 c = (w.x[begin + t[1]] - a).cross(w.x[begin + t[2]] - a);
+  const double len = c.norm();
+  if (!(len > 0.0) || !std::isfinite(len)) return false;
+  n = c / len;
+  return true;
+}
+
+// The closest point of host triangle t to x: barycentric weights on its vertices, the outward
+// normal (the face's), and x's depth below the face along it (>= 0; the node is inside).
+bool triangle_contact_point(const World& w, int begin, const Tri& t, const Vec3& x, ContactPoint& out) {
+  const Vec3 &a = w.x[begin + t[0]], &b = w.x[begin + t[1]], &c = w.x[begin + t[2]];
+  const Vec3 p = closest_on_triangle(x, a, b, c);
+  barycentric(p, a, b, c, out.weight);
+  for (int k = 0; k < 3; ++k) out.hosts[k] = begin + t[k];
+  const Vec3 d = p - x;
+  const double len = d.norm();
+  Vec3 fn;
+  if (!face_normal(w, begin, t, fn)) return false;
+  // Inside, the nearest point lies outward of the node; on the face, the face's normal.
+  out.normal = len > 1e-12 * (1.0 + x.norm()) && std::isfinite(len) ? Vec3(d / len) : fn;
+  out.depth = std::isfinite(len) ? len : 0.0;
+  return true;
+}
+
 }  // namespace
 
 // ---- CGAL -----------------------------------------------------------------------------------
@@ -55,23 +82,17 @@ void CgalDetector::detect(const World& w, const ContactSpec& spec, std::vector<C
       out.push_back(Contact{i, host_surface_.closest_face(w.x[i])});
 }
 
+bool CgalDetector::contact_point(const World& w, const Contact& c, ContactPoint& out) const {
+  if (c.key < 0 || c.key >= static_cast<int>(host_surface_.faces().size())) return false;
+  return triangle_contact_point(w, host_begin_, host_surface_.faces()[c.key], w.x[c.guest], out);
+}
+
 int CgalDetector::nearest_hosts(const World& w, const Contact& c, int k, int* out) const {
   if (c.key < 0 || c.key >= static_cast<int>(host_surface_.faces().size())) return 0;
   return triangle_vertices_nearest_first(w, host_begin_, host_surface_.faces()[c.key], w.x[c.guest],
                                          k, out);
 }
 
-namespace {
-// Outward unit normal of host triangle t (global node offset `begin`); false when degenerate.
-bool face_normal(const World& w, int begin, const Tri& t, Vec3& n) {
-  const Vec3& a = w.x[begin + t[0]];
-  const Vec3 c = (w.x[begin + t[1]] - a).cross(w.x[begin + t[2]] - a);
-  const double len = c.norm();
-  if (!(len > 0.0) || !std::isfinite(len)) return false;
-  n = c / len;
-  return true;
-}
-}  // namespace
 
 bool CgalDetector::contact_direction(const World& w, const Contact& c, Vec3& n) const {
   if (c.key < 0 || c.key >= static_cast<int>(host_surface_.faces().size())) return false;
@@ -142,6 +163,11 @@ int FclDetector::nearest_hosts(const World& w, const Contact& c, int k, int* out
 bool FclDetector::contact_direction(const World& w, const Contact& c, Vec3& n) const {
   if (c.key < 0 || c.key >= static_cast<int>(host_.faces().size())) return false;
   return face_normal(w, host_begin_, host_.faces()[c.key], n);
+}
+
+bool FclDetector::contact_point(const World& w, const Contact& c, ContactPoint& out) const {
+  if (c.key < 0 || c.key >= static_cast<int>(host_.faces().size())) return false;
+  return triangle_contact_point(w, host_begin_, host_.faces()[c.key], w.x[c.guest], out);
 }
 
 std::unique_ptr<CollisionDetector> make_exact_detector(DetectorKind kind) {

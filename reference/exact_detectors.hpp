@@ -25,6 +25,7 @@ class CgalDetector final : public CollisionDetector {
   void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
   bool contact_direction(const World& w, const Contact& c, Vec3& n) const override;
+  bool contact_point(const World& w, const Contact& c, ContactPoint& out) const override;
 
  private:
   CgalSurface host_surface_;
@@ -39,6 +40,7 @@ class FclDetector final : public CollisionDetector {
   void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
   bool contact_direction(const World& w, const Contact& c, Vec3& n) const override;
+  bool contact_point(const World& w, const Contact& c, ContactPoint& out) const override;
 
  private:
   FclSurface host_, guest_;

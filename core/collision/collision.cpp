@@ -13,6 +13,8 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
   const int nb = static_cast<int>(w.bodies.size());
   if (spec_.host < 0 || spec_.host >= nb || spec_.guest < 0 || spec_.guest >= nb)
     throw std::invalid_argument("contact pair: host or guest body index out of range");
+  if (spec_.force_rule == ForceRule::penalty && (!(spec_.stiffness >= 0.0) || !std::isfinite(spec_.stiffness)))
+    throw std::invalid_argument("contact pair: stiffness must be finite and >= 0");
   if (spec_.force_rule == ForceRule::constant && (!(spec_.force >= 0.0) || !std::isfinite(spec_.force)))
     throw std::invalid_argument("contact pair: force must be finite and >= 0");
   detector_ = make_detector(spec_.detector, exact);
@@ -24,6 +26,17 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
   share_.assign(w.x.size(), 0);
   // Length scale of the automatic force for detectors without a grid: mean host spring length.
   length_scale_ = mean_rest_length(w, spec_.host);
+  if (spec_.two_sided) {
+    reverse_spec_ = spec_;
+    std::swap(reverse_spec_.host, reverse_spec_.guest);
+    reverse_ = make_detector(spec_.detector, exact);
+    reverse_->initialize(w, reverse_spec_);
+    reverse_contacts_.reserve(static_cast<std::size_t>(w.bodies[spec_.host].size()));
+    const std::size_t all = contacts_.capacity() + reverse_contacts_.capacity();
+    pushes_.reserve(all);
+    magnitude_.reserve(all);
+    reverse_pushes_.reserve(reverse_contacts_.capacity());
+  }
 }
 
 int Collision::detect(const World& w) {
@@ -35,19 +48,29 @@ PairStep Collision::step(World& w, double dt) {
   PairStep s;
   const auto t0 = Clock::now();
   detector_->detect(w, spec_, contacts_);
+  if (reverse_) reverse_->detect(w, reverse_spec_, reverse_contacts_);
   const auto t1 = Clock::now();
   eliminator_->pushes(w, spec_, *detector_, contacts_, pushes_);
-  if (spec_.force_rule == ForceRule::automatic) {
-    const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
-    s.force = auto_contact_forces(w, pushes_, dt, L / kSeparationTime,
-                                  magnitude_, share_);
-  } else {
-    magnitude_.assign(pushes_.size(), spec_.force);  // capacity reserved: no allocation
-    s.force = pushes_.empty() ? 0.0 : spec_.force;
+  if (reverse_) {  // the other way round's pushes after this way's
+    eliminator_->pushes(w, reverse_spec_, *reverse_, reverse_contacts_, reverse_pushes_);
+    pushes_.insert(pushes_.end(), reverse_pushes_.begin(), reverse_pushes_.end());
+  }
+  switch (spec_.force_rule) {
+    case ForceRule::automatic: {
+      const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
+      s.force = auto_contact_forces(w, pushes_, dt, L / kSeparationTime, magnitude_, share_);
+      break;
+    }
+    case ForceRule::penalty: s.force = penalty_contact_forces(pushes_, spec_.stiffness, magnitude_); break;
+    case ForceRule::constant:
+      magnitude_.assign(pushes_.size(), spec_.force);  // capacity reserved: no allocation
+      s.force = pushes_.empty() ? 0.0 : spec_.force;
+      break;
   }
   apply_pushes(w, pushes_, magnitude_);
+  stepped_ = true;
   const auto t2 = Clock::now();
-  s.contacts = static_cast<int>(contacts_.size());
+  s.contacts = static_cast<int>(contacts_.size() + reverse_contacts_.size());
   s.detect_us = us_between(t0, t1);
   s.eliminate_us = us_between(t1, t2);
   return s;

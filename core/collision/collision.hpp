@@ -43,12 +43,19 @@ class Collision {
   // Detection only (tests, benchmarks, measurement); returns the number of contacts.
   int detect(const World& w);
 
+  // The guest nodes detected this step (with two_sided, the host nodes detected the other way
+  // round are in reverse_contacts()).
   const std::vector<Contact>& contacts() const { return contacts_; }
+  const std::vector<Contact>& reverse_contacts() const { return reverse_contacts_; }
   double voxel_size() const { return detector_->voxel_size(); }
   int rebuilds() const { return detector_->rebuilds(); }
   const ContactSpec& spec() const { return spec_; }
   const CollisionDetector& detector() const { return *detector_; }
   const CollisionEliminator& eliminator() const { return *eliminator_; }
+  // The last step's pushes and their magnitudes (N): the contact forces applied.
+  const std::vector<Push>& pushes() const { return pushes_; }
+  const std::vector<double>& magnitudes() const { return magnitude_; }
+  bool stepped() const { return stepped_; }  // step() ran at least once
 
  private:
   ContactSpec spec_;
@@ -59,6 +66,12 @@ class Collision {
   std::vector<double> magnitude_;  // force per contact, N (same capacity)
   double length_scale_ = 0.0;      // m, for the automatic force without a grid
   std::vector<int> share_;         // per node: contacts leaning on it (scratch, all zero)
+  // two_sided: the roles swapped (its contacts are host nodes inside the guest).
+  ContactSpec reverse_spec_;
+  std::unique_ptr<CollisionDetector> reverse_;
+  std::vector<Contact> reverse_contacts_;
+  std::vector<Push> reverse_pushes_;
+  bool stepped_ = false;
 };
 
 // One contact pair of the scene. `collision` exists only when the scene lists "contact";

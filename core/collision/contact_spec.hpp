@@ -15,8 +15,9 @@ enum class HostNodes { all, surface };
 enum class DetectorKind { voxel, cgal, fcl };
 // The direction rule of the penalty push (responses/).
 enum class EliminatorKind { line, plane };
-// How large each contact's force is: the paper's constant F, or `auto` (force_rules.hpp).
-enum class ForceRule { constant, automatic };
+// How large each contact's force is: the paper's constant F, `auto`, or a penalty k_c x depth
+// (force_rules.hpp).
+enum class ForceRule { constant, automatic, penalty };
 
 struct DetectorName {
   DetectorKind kind;
@@ -38,7 +39,11 @@ struct ContactSpec {
   HostNodes host_nodes = HostNodes::all;
   EliminatorKind eliminator = EliminatorKind::line;
   ForceRule force_rule = ForceRule::constant;
-  double force = 1.0;  // N per contact (ForceRule::constant)
+  double force = 1.0;      // N per contact (ForceRule::constant)
+  double stiffness = 0.0;  // N/m per contact (ForceRule::penalty)
+  // Also the other way round: the guest's surface keeps the host's nodes out as well (a second
+  // detector with the roles swapped). The paper's model is one-sided (false).
+  bool two_sided = false;
 };
 
 }  // namespace harness

@@ -26,6 +26,37 @@ void ContactEffect::end_step(World&, const StepContext& s) {
     for (Pair& p : pairs_) p.last.contacts = (p.last.contacts + s.substeps - 1) / s.substeps;
 }
 
+bool ContactEffect::has_stiffness() const {
+  for (const Pair& p : pairs_)
+    if (p.spec.force_rule == ForceRule::penalty && p.spec.stiffness > 0.0) return true;
+  return false;
+}
+
+bool ContactEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const {
+  bool any = false;
+  for (const Pair& p : pairs_) {
+    if (p.spec.force_rule != ForceRule::penalty || !(p.spec.stiffness > 0.0)) continue;
+    any = true;
+    const double k = p.spec.stiffness;
+    if (!p.collision->stepped()) {
+      const Body& g = w.bodies[p.spec.guest];
+      for (int i = g.begin; i < g.end; ++i) rows[i] += Vec3::Constant(2.0 * k);
+      continue;
+    }
+    const auto& pushes = p.collision->pushes();
+    const auto& mag = p.collision->magnitudes();
+    for (std::size_t i = 0; i < pushes.size(); ++i) {
+      const Push& q = pushes[i];
+      if (q.count == 0 || !(mag[i] > 0.0)) continue;
+      const Vec3 a = q.n.cwiseAbs();
+      const Vec3 r = (2.0 * k * a.sum()) * a;
+      rows[q.guest] += r;
+      for (int h = 0; h < q.count; ++h) rows[q.hosts[h]] += q.weight[h] * r;
+    }
+  }
+  return any;
+}
+
 std::unique_ptr<Effect> make_contact_effect(EffectBuild& b) {
   for (std::size_t i = 0; i < b.pairs.size(); ++i) {
     Pair& p = b.pairs[i];

@@ -17,6 +17,11 @@ class ContactEffect final : public Effect {
   void begin_step(World& w, const StepContext& s) override;
   void add_forces(World& w, const StepContext& s) override;
   void end_step(World& w, const StepContext& s) override;
+  // Pairs with the penalty rule have stiffness: k_c n n^T between a guest node and its hosts.
+  // Before the first step every guest node counts as in contact (Gershgorin: 2 k_c on its rows);
+  // then the last step's pushes do, each host node with its weight.
+  bool has_stiffness() const override;
+  bool add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const override;
 
  private:
   std::vector<Pair>& pairs_;

@@ -55,14 +55,14 @@ cmp -s "$T/run/summary.json" "$T/summary.before" && ok || bad "summary survived 
 
 # harness sweep: product of grids, --list, --index, runs.csv; bad grid values are bad input.
 "$H" sweep sphere_collision --grid contacts.0.force=0.01,auto --grid contacts.0.eliminator=line,plane \
-  --set time.steps=5 --set 'references.solvers=[]' --set output.frames_every=0 --out "$T/sw" -j 2 2>/dev/null \
+  --set time.steps=5 --set time.settle=null --set 'references.solvers=[]' --set output.frames_every=0 --out "$T/sw" -j 2 2>/dev/null \
   && ok || bad "sweep runs"
 [[ $(($(wc -l < "$T/sw/runs.csv") - 1)) -eq 4 ]] && ok || bad "sweep runs.csv has 4 rows"
 head -1 "$T/sw/runs.csv" | grep -q '^point,name,contacts.0.force,contacts.0.eliminator,status' && ok || bad "runs.csv header"
 [[ -f "$T/sw/contacts.0.force-auto__contacts.0.eliminator-plane/summary.json" ]] && ok || bad "point folder named by parameters"
 [[ $("$H" sweep sphere_collision --grid contacts.0.force=0.01,auto --grid contacts.0.eliminator=line,plane --out "$T/sw2" --list | wc -l) -eq 4 ]] \
   && ok || bad "sweep --list prints 4 commands"
-"$H" sweep sphere_collision --grid contacts.0.force=0.01,auto --set time.steps=5 --set 'references.solvers=[]' --out "$T/sw3" --index 1 2>/dev/null \
+"$H" sweep sphere_collision --grid contacts.0.force=0.01,auto --set time.steps=5 --set time.settle=null --set 'references.solvers=[]' --out "$T/sw3" --index 1 2>/dev/null \
   && [[ -f "$T/sw3/contacts.0.force-auto/summary.json" && ! -e "$T/sw3/contacts.0.force-0.01" ]] && ok || bad "sweep --index 1"
 "$H" sweep sphere_collision --grid contacts.0.force=-1 --out "$T/sw4" 2>"$T/err"; rc=$?
 [[ $rc -eq 2 ]] && grep -q "contacts.0.force" "$T/err" && [[ ! -e "$T/sw4" ]] && ok || bad "sweep bad value: exit $rc"

@@ -27,6 +27,12 @@ struct SceneRun {
   int tunnelled = 0;
   long long contacts_total = 0;
   double voxel = 0.0;
+  // The energy audit: the largest cumulative work of contact (positive: contact injected energy)
+  // over the energy the scene puts in (initial kinetic + elastic, plus external work).
+  double contact_injection = 0.0;
+  double balance_error = 0.0;  // at the end
+  bool settled = false;        // time.settle reached (false without time.settle)
+  double residual = 0.0;       // at the end
 };
 
 inline std::string bundled(const std::string& name) {
@@ -46,11 +52,13 @@ inline SceneRun run_scene_measured(const std::string& name,
   RecorderOptions ro;
   ro.measurer = make_reference_measurer;
   ro.measure_last = true;
-  ro.last_step = scene.steps;
+  ro.last_step = scene.steps;  // (a settling run is measured every `every` steps)
   Recorder rec(sim, ro);
   SceneRun r;
   Points good_x(sim.world().num_nodes()), good_v(sim.world().num_nodes());
-  for (int s = 1; s <= scene.steps; ++s) {
+  const SettleSpec& settle = scene.settle;
+  int below = 0;
+  for (int s = 1; s <= scene.steps || (settle.present && !r.settled && s <= scene.steps + settle.max_steps); ++s) {
     r.failure = checked_step(sim, good_x, good_v);
     if (!r.failure.empty()) {
       r.finite = false;
@@ -58,8 +66,14 @@ inline SceneRun run_scene_measured(const std::string& name,
     }
     rec.record(sim);
     r.steps_run = s;
+    below = sim.residual() <= settle.tolerance ? below + 1 : 0;
+    r.settled = settle.present && s >= scene.steps && below >= kSettleWindow;
   }
+  r.residual = sim.residual();
   r.ke_peak = rec.kinetic_energy_peak();
+  const EnergyLedger& e = sim.energy();
+  r.contact_injection = e.work_contact_peak / std::max(1e-300, e.initial + std::max(0.0, e.work_external));
+  r.balance_error = e.balance_error();
   r.ke_final = rec.kinetic_energy();
   for (std::size_t i = 0; i < sim.pairs().size(); ++i) {
     const PairTotals& t = rec.totals()[i];

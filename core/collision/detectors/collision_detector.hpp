@@ -20,6 +20,16 @@ struct Contact {
   int key = -1;
 };
 
+// Where an exact detector sees a contact: the host surface point nearest to the guest node, as
+// barycentric weights on the vertices of its triangle, the outward normal there and the depth
+// of the node (m, >= 0 inside).
+struct ContactPoint {
+  Vec3 normal = Vec3::Zero();
+  double depth = 0.0;
+  int hosts[3] = {-1, -1, -1};
+  double weight[3] = {0.0, 0.0, 0.0};
+};
+
 class CollisionDetector {
  public:
   virtual ~CollisionDetector() = default;
@@ -38,6 +48,12 @@ class CollisionDetector {
   // of their geometric rule for the guest's direction. The voxel detector knows none (false).
   virtual bool contact_direction(const World& w, const Contact& c, Vec3& n) const {
     (void)w, (void)c, (void)n;
+    return false;
+  }
+  // The contact's nearest host surface point (exact detectors); false when the detector does
+  // not know it (the voxel detector). Called from several threads at once, like the above.
+  virtual bool contact_point(const World& w, const Contact& c, ContactPoint& out) const {
+    (void)w, (void)c, (void)out;
     return false;
   }
   // Voxel size in use, m (0 for detectors without a grid).

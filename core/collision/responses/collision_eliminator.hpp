@@ -12,13 +12,17 @@
 namespace harness {
 
 // One contact's push: direction n (unit) on the guest node, reactions on up to three host
-// nodes with weights summing to one. count == 0: the contact gets no force.
+// nodes with weights summing to one. count == 0: the contact gets no force. For the penalty
+// rule (spec.force_rule == penalty) the eliminator also says how deep the guest node is below
+// the host's surface as it sees it: `depth` (m, negative outside) along the outward `normal`.
 struct Push {
   int guest = -1;
   Vec3 n = Vec3::Zero();
   int hosts[3] = {-1, -1, -1};
   double weight[3] = {0.0, 0.0, 0.0};
   int count = 0;
+  Vec3 normal = Vec3::Zero();
+  double depth = 0.0;
 };
 
 class CollisionEliminator {

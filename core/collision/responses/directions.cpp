@@ -1,5 +1,7 @@
 #include "core/collision/responses/directions.hpp"
 
+#include "core/geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -63,6 +65,28 @@ bool plane_normal(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& hi
   if (side < 0.0) u = -u;
   n = u;
   return true;
+}
+
+void penalty_depth(const World& w, int host, const CollisionDetector& det, const Contact& c, const Vec3& host_center,
+                   Push& p) {
+  if (p.count == 0) return;
+  ContactPoint cp;
+  if (det.contact_point(w, c, cp)) {  // exact: the closest point, its triangle takes the reaction
+    p.normal = cp.normal;
+    p.depth = cp.depth;
+    p.count = 3;
+    for (int k = 0; k < 3; ++k) p.hosts[k] = cp.hosts[k], p.weight[k] = cp.weight[k];
+    return;
+  }
+  if (p.count == 3) {  // the plane: the closest point of the triangle of the three host nodes
+    const Vec3 &a = w.x[p.hosts[0]], &b = w.x[p.hosts[1]], &q = w.x[p.hosts[2]];
+    p.normal = p.n;
+    p.depth = (a - w.x[p.guest]).dot(p.normal);
+    barycentric(closest_on_triangle(w.x[p.guest], a, b, q), a, b, q, p.weight);
+    return;
+  }
+  p.normal = host_outward_hint(w, host, p.hosts[0], host_center);
+  p.depth = (w.x[p.hosts[0]] - w.x[p.guest]).dot(p.normal);
 }
 
 }  // namespace harness

@@ -32,6 +32,7 @@
 // whenever F is.
 #pragma once
 
+#include "core/collision/responses/collision_eliminator.hpp"
 #include "core/world.hpp"
 
 namespace harness {
@@ -40,6 +41,18 @@ namespace harness {
 Vec3 unit_or_zero(const Vec3& a);
 // Centre of the host's current bounding box.
 Vec3 host_center_of(const World& w, int host);
+
+// The penalty rule's depth (Push::normal, Push::depth) of a push whose host nodes are set, and
+// the reaction's weights at the point it is measured from, so that the penalty is the gradient
+// of 1/2 k depth^2 (conservative) while the host nodes stay the same:
+//   exact detector  the closest point of the host surface (CollisionDetector::contact_point):
+//                   its triangle's vertices take the reaction by barycentric weights;
+//   plane push      the plane's normal n, depth (x_h0 - x_g) . n, the reaction by the barycentric
+//                   weights of the closest point of the triangle h0 h1 h2 (not a third each);
+//   line push       the host's outward hint at its node, depth (x_h - x_g) . hint.
+// `host_center` as for host_outward_hint.
+void penalty_depth(const World& w, int host, const CollisionDetector& det, const Contact& c, const Vec3& host_center,
+                   Push& p);
 
 // Normalised outward hint of global host node `node` of body `host` (see above); may be zero.
 Vec3 host_outward_hint(const World& w, int host, int node, const Vec3& host_center);

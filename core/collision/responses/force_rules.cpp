@@ -8,6 +8,19 @@
 
 namespace harness {
 
+double penalty_contact_forces(std::vector<Push>& pushes, double k, std::vector<double>& out) {
+  out.resize(pushes.size());
+  double largest = 0.0;
+  for (std::size_t i = 0; i < pushes.size(); ++i) {
+    Push& p = pushes[i];
+    p.n = p.normal;
+    const double f = k * std::max(0.0, p.depth);
+    out[i] = std::isfinite(f) && p.normal.squaredNorm() > 0.0 ? f : 0.0;
+    largest = std::max(largest, out[i]);
+  }
+  return largest;
+}
+
 void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<double>& magnitude) {
   // With threads, thread t owns the nodes of every T-th block of 4096 (blocks interleave, so the
   // host's and the guest's nodes are shared out alike) and adds, in push order, the forces on

@@ -2,12 +2,19 @@
 // the reaction come from the eliminator, collision_eliminator.hpp).
 //   constant   the paper's: one F (N) for every contact, tuned by hand so that it beats the
 //              deformation forces;
-//   automatic  `"force": "auto"`: that rule applied per contact and per step (below).
+//   automatic  `"force": "auto"`: that rule applied per contact and per step (below);
+//   penalty    `"force": {"stiffness": k_c}`: F = k_c max(0, depth) along the push's outward
+//              normal (Push::depth, Push::normal; directions.hpp says where they come from), so
+//              no force acts across a gap and a pressed contact has a static equilibrium.
 #pragma once
 
 #include "core/collision/responses/collision_eliminator.hpp"
 
 namespace harness {
+
+// The penalty rule: out[i] = k max(0, depth_i), and every push's direction set to its normal
+// (resized; reuse it). Returns the largest force (0 without contacts).
+double penalty_contact_forces(std::vector<Push>& pushes, double k, std::vector<double>& out);
 
 // Adds magnitude[i] * pushes[i] into w.f.
 void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<double>& magnitude);

@@ -54,6 +54,11 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
         p.n = line_direction(w, spec.host, contacts[i].guest, p.hosts[0], center);
     }
   }
+  if (spec.force_rule == ForceRule::penalty) {
+    if (!have_center) center = host_center_of(w, spec.host);
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
+    for (std::size_t i = 0; i < n; ++i) penalty_depth(w, spec.host, det, contacts[i], center, out[i]);
+  }
 }
 
 }  // namespace harness

@@ -39,6 +39,10 @@ void PlaneEliminator::pushes(const World& w, const ContactSpec& spec, const Coll
     p.hosts[0] = h[0];
     p.weight[0] = 1.0;
   }
+  if (spec.force_rule == ForceRule::penalty) {
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
+    for (std::size_t i = 0; i < n; ++i) penalty_depth(w, spec.host, det, contacts[i], center, out[i]);
+  }
 }
 
 }  // namespace harness
