@@ -216,10 +216,129 @@ const std::vector<std::string>& bench_methods() {
   return names;
 }
 
+namespace {
+
+// One size of the bench: the scene of n nodes per body and its rows, written as they are timed.
+class BenchSize {
+ public:
+  BenchSize(long long n, const BenchOptions& opt, std::FILE* out) : n_(n), opt_(opt), out_(out) {
+    SimulationOptions so;
+    so.audit = false;  // the step as the kernels take it (the energy audit only reads the state)
+    const auto tb = Clock::now();
+    sim_ = std::make_unique<Simulation>(make_bench_scene(n), so);
+    World& w = sim_->world();
+    if (opt.progress)
+      std::fprintf(stderr, "bench: %lld nodes per body: built in %.1f s (%d + %d nodes, %zu springs)\n", n,
+                   seconds_since(tb), w.bodies[0].size(), w.bodies[1].size(), w.springs.size());
+    col_ = sim_->pairs().at(0).collision.get();
+    contacts_ = col_->detect(w);
+    const auto& vd = dynamic_cast<const VoxelDetector&>(col_->detector());
+    voxels_ = vd.grid().geometry().num_voxels();
+    grid_bytes_ = vd.grid().bytes();
+  }
+
+  void core_rows() {
+    World& w = sim_->world();
+    volatile std::uint64_t sink = 0;
+    const long long node_bytes = 24LL * w.num_nodes();
+    const long long step_bytes = 16LL * static_cast<long long>(w.springs.size()) +
+                                 (24 * 3 + 8 + 1 + 2 * 24) * static_cast<long long>(w.num_nodes());
+    const std::vector<int>& T = opt_.threads;
+    measure("voxel_detect", T, [&] { col_->detect(w); }, grid_bytes_, "grid bytes");
+    measure("voxel_detect_eliminate", T, [&] { col_->step(w, sim_->scene().dt); }, grid_bytes_, "grid bytes");
+    measure("stream_positions", T, [&] { sink = sink + stream_positions(w); }, node_bytes, "bytes read");
+    if (wanted("step")) {
+      // Steps move the bodies: every other row is timed on the initial state. A repetition is
+      // kEvery steps (one stability check each, as in a run), divided by their number: the
+      // step's cost with its periodic guard, not the median step without it.
+      const Points x0 = w.x, v0 = w.v;
+      measure("step", T, [&] {
+        for (int k = 0; k < StabilityGuard::kEvery; ++k) sim_->step();
+      }, 0, "per step; repetitions of " + std::to_string(StabilityGuard::kEvery) + " steps (one stability check)", 1e30,
+              StabilityGuard::kEvery);
+      std::copy(x0.begin(), x0.end(), w.x.begin());
+      std::copy(v0.begin(), v0.end(), w.v.begin());
+    }
+    measure("stream_step", T, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
+  }
+
+  void reference_rows() {
+#ifdef HARNESS_HAVE_REFERENCE
+    World& w = sim_->world();
+    const Body& host = w.bodies[0];
+    const Body& guest = w.bodies[1];
+    volatile std::uint64_t sink = 0;
+    if (wanted("fcl")) {
+      FclSurface a, b;
+      a.set_topology(host.n_surface, host.faces);
+      b.set_topology(guest.n_surface, guest.faces);
+      std::vector<TrianglePair> pairs;
+      measure("fcl", {1}, [&] {
+        a.update(&w.x[host.begin]);
+        b.update(&w.x[guest.begin]);
+        intersecting_pairs(a, b, pairs, false);
+        sink = sink + pairs.size();
+      }, 0, "refit + all triangle pairs; single-threaded library", opt_.single_rep_seconds);
+    }
+    if (wanted("cgal")) {
+      CgalSurface s;
+      s.set_topology(host.n_surface, host.faces);
+      measure("cgal", {1}, [&] {
+        s.update(&w.x[host.begin]);
+        int inside = 0;
+        for (int i = guest.begin; i < guest.end; ++i) inside += s.strictly_inside(w.x[i]);
+        sink = sink + static_cast<std::uint64_t>(inside);
+      }, 0, "tree rebuild + inside test of every guest node; single-threaded library", opt_.single_rep_seconds);
+    }
+#endif
+  }
+
+ private:
+  bool wanted(const std::string& m) const {
+    return opt_.methods.empty() || std::find(opt_.methods.begin(), opt_.methods.end(), m) != opt_.methods.end();
+  }
+  void emit(const Row& r) const {
+    const World& w = sim_->world();
+    std::fprintf(out_, "%s,%lld,%d,%.3f,%lld,%d,%d,%d,%zu,%d,%lld,%s\n", r.method.c_str(), r.nodes, r.threads, r.us,
+                 r.bytes, r.reps, w.bodies[0].size(), w.bodies[1].size(), w.springs.size(), contacts_, voxels_,
+                 r.note.c_str());
+    std::fflush(out_);
+    if (opt_.progress)
+      std::fprintf(stderr, "bench: %-22s %8lld nodes %d thr %14.1f us/step (%d reps)\n", r.method.c_str(), r.nodes,
+                   r.threads, r.us, r.reps);
+  }
+  // One row per thread count of `counts` (time_steps: the counts take turns).
+  void measure(const std::string& method, const std::vector<int>& counts, const std::function<void()>& fn,
+               long long bytes, const std::string& note, double single = 1e30, int per_rep = 1) {
+    if (!wanted(method)) return;
+    std::vector<int> reps;
+    std::vector<double> us = time_steps(fn, counts, opt_, single, reps);
+    for (double& u : us) u /= per_rep;
+    for (std::size_t c = 0; c < counts.size(); ++c) {
+      Row r;
+      r.method = method;
+      r.nodes = n_;
+      r.threads = counts[c];
+      r.bytes = bytes;
+      r.note = note;
+      r.us = us[c];
+      r.reps = reps[c];
+      emit(r);
+    }
+  }
+
+  long long n_;
+  const BenchOptions& opt_;
+  std::FILE* out_;
+  std::unique_ptr<Simulation> sim_;
+  Collision* col_ = nullptr;
+  int contacts_ = 0;
+  long long voxels_ = 0, grid_bytes_ = 0;
+};
+
+}  // namespace
+
 int run_bench(const BenchOptions& opt) {
-  auto wanted = [&](const std::string& m) {
-    return opt.methods.empty() || std::find(opt.methods.begin(), opt.methods.end(), m) != opt.methods.end();
-  };
   std::vector<long long> sizes = opt.sizes;
   if (sizes.empty()) {
     sizes = {1000, 10000, 100000};
@@ -227,104 +346,14 @@ int run_bench(const BenchOptions& opt) {
   }
   std::FILE* out = std::fopen(opt.out.c_str(), "w");
   if (!out) throw std::runtime_error("cannot write " + opt.out);
-  std::fprintf(out,
-               "method,nodes,threads,us_per_step,bytes,reps,host_nodes,guest_nodes,springs,contacts,"
-               "voxels,note\n");
+  std::fprintf(out, "method,nodes,threads,us_per_step,bytes,reps,host_nodes,guest_nodes,springs,contacts,voxels,note\n");
   std::fflush(out);
   const int threads_before = threads();
-  volatile std::uint64_t sink = 0;
-
   for (long long n : sizes) {
-    const auto tb = Clock::now();
-    Simulation sim(make_bench_scene(n));
-    World& w = sim.world();
-    if (opt.progress)
-      std::fprintf(stderr, "bench: %lld nodes per body: built in %.1f s (%d + %d nodes, %zu springs)\n", n,
-                   seconds_since(tb), w.bodies[0].size(), w.bodies[1].size(), w.springs.size());
-    Collision& col = *sim.pairs().at(0).collision;
-    const auto& vd = dynamic_cast<const VoxelDetector&>(col.detector());
-    const Body& host = w.bodies[0];
-    const Body& guest = w.bodies[1];
-    const int contacts = col.detect(w);
-    const long long voxels = vd.grid().geometry().num_voxels();
-
-    auto emit = [&](const Row& r) {
-      std::fprintf(out, "%s,%lld,%d,%.3f,%lld,%d,%d,%d,%zu,%d,%lld,%s\n", r.method.c_str(), r.nodes,
-                   r.threads, r.us, r.bytes, r.reps, host.size(), guest.size(), w.springs.size(),
-                   contacts, voxels, r.note.c_str());
-      std::fflush(out);
-      if (opt.progress)
-        std::fprintf(stderr, "bench: %-22s %8lld nodes %d thr %14.1f us/step (%d reps)\n", r.method.c_str(),
-                     r.nodes, r.threads, r.us, r.reps);
-    };
-    // One row per thread count of `counts` (time_steps: the counts take turns).
-    auto measure = [&](const std::string& method, const std::vector<int>& counts, const std::function<void()>& fn,
-                       long long bytes, const std::string& note, double single = 1e30, int per_rep = 1) {
-      if (!wanted(method)) return;
-      std::vector<int> reps;
-      std::vector<double> us = time_steps(fn, counts, opt, single, reps);
-      for (double& u : us) u /= per_rep;
-      for (std::size_t c = 0; c < counts.size(); ++c) {
-        Row r;
-        r.method = method;
-        r.nodes = n;
-        r.threads = counts[c];
-        r.bytes = bytes;
-        r.note = note;
-        r.us = us[c];
-        r.reps = reps[c];
-        emit(r);
-      }
-    };
-
-    const long long node_bytes = 24LL * w.num_nodes();
-    const long long step_bytes = 16LL * static_cast<long long>(w.springs.size()) +
-                                 (24 * 3 + 8 + 1 + 2 * 24) * static_cast<long long>(w.num_nodes());
-    const std::vector<int>& T = opt.threads;
-    measure("voxel_detect", T, [&] { col.detect(w); }, vd.grid().bytes(), "grid bytes");
-    measure("voxel_detect_eliminate", T, [&] { col.step(w, sim.scene().dt); }, vd.grid().bytes(), "grid bytes");
-    measure("stream_positions", T, [&] { sink = sink + stream_positions(w); }, node_bytes, "bytes read");
-    if (wanted("step")) {
-      // Steps move the bodies: every other row is timed on the initial state.
-      const Points x0 = w.x, v0 = w.v;
-      // A repetition is kGuardEvery steps (one stability check each, as in a run), divided by
-      // their number: the step's cost with its periodic guard, not the median step without it.
-      measure("step", T, [&] {
-        for (int k = 0; k < StabilityGuard::kEvery; ++k) sim.step();
-      }, 0, "per step; repetitions of " + std::to_string(StabilityGuard::kEvery) + " steps (one stability check)", 1e30,
-              StabilityGuard::kEvery);
-      std::copy(x0.begin(), x0.end(), w.x.begin());
-      std::copy(v0.begin(), v0.end(), w.v.begin());
-    }
-    measure("stream_step", T, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
+    BenchSize b(n, opt, out);
+    b.core_rows();
     set_threads(1);
-#ifdef HARNESS_HAVE_REFERENCE
-    if (opt.references) {
-      if (wanted("fcl")) {
-        FclSurface a, b;
-        a.set_topology(host.n_surface, host.faces);
-        b.set_topology(guest.n_surface, guest.faces);
-        std::vector<TrianglePair> pairs;
-        measure("fcl", {1}, [&] {
-          a.update(&w.x[host.begin]);
-          b.update(&w.x[guest.begin]);
-          intersecting_pairs(a, b, pairs, false);
-          sink = sink + pairs.size();
-        }, 0, "refit + all triangle pairs; single-threaded library", opt.single_rep_seconds);
-      }
-      if (wanted("cgal")) {
-        CgalSurface s;
-        s.set_topology(host.n_surface, host.faces);
-        measure("cgal", {1}, [&] {
-          s.update(&w.x[host.begin]);
-          int inside = 0;
-          for (int i = guest.begin; i < guest.end; ++i) inside += s.strictly_inside(w.x[i]);
-          sink = sink + static_cast<std::uint64_t>(inside);
-        }, 0, "tree rebuild + inside test of every guest node; single-threaded library",
-                opt.single_rep_seconds);
-      }
-    }
-#endif
+    if (opt.references) b.reference_rows();
   }
   set_threads(threads_before);
   const bool ok = std::ferror(out) == 0;

@@ -87,50 +87,128 @@ int cmd_list() {
   return 0;
 }
 
+// The options every program that runs a scene passes: the reference library where linked.
+RunOptions run_options() {
+  RunOptions opt;
+#ifdef HARNESS_HAVE_REFERENCE
+  opt.measurer = make_reference_measurer;
+  opt.exact_detectors = make_exact_detector;
+  opt.versions = reference_version_map();
+#endif
+  return opt;
+}
+
+// Overrides of --set and --steps (exactly N steps: time.settle off).
+std::vector<std::pair<std::string, std::string>> scene_overrides(const std::vector<std::string>& sets, CLI::App* cmd,
+                                                                 int steps) {
+  auto overrides = parse_sets(sets);
+  if (cmd->count("--steps")) {
+    if (steps < 0) throw InputError("--steps", "must be >= 0");
+    overrides.emplace_back("time.steps", std::to_string(steps));
+    overrides.emplace_back("time.settle", "null");
+  }
+  return overrides;
+}
+
+struct RunCommand {
+  CLI::App* cmd = nullptr;
+  std::string scene, out = "out";
+  std::vector<std::string> sets;
+  int steps = -1, threads = 0;
+  bool quiet = false;
+
+  void setup(CLI::App& app) {
+    cmd = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
+    cmd->add_option("SCENE", scene, "scene file, or the name of a bundled scene")->required();
+    cmd->add_option("--out", out, "output folder")->capture_default_str();
+    cmd->add_option("--set", sets, "override a scene value: KEY=JSON (dotted key, list indices)");
+    cmd->add_option("--steps", steps, "run exactly N steps: override time.steps and turn time.settle off");
+    cmd->add_flag("--quiet", quiet, "no progress line");
+    cmd->add_option("--threads", threads,
+                    "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
+  }
+  int exec() {
+    if (cmd->count("--threads")) {
+      if (threads < 1) throw InputError("--threads", "must be >= 1");
+      set_threads(threads);
+    }
+    const Scene sc = load_scene(resolve_scene(scene), scene_overrides(sets, cmd, steps));
+    RunOptions opt = run_options();
+    opt.out_dir = out;
+    opt.progress = !quiet;
+    return run_scene(sc, opt);
+  }
+};
+
+struct SweepCommand {
+  CLI::App* cmd = nullptr;
+  SweepOptions sw;
+  std::string scene;
+
+  void setup(CLI::App& app) {
+    cmd = app.add_subcommand("sweep", "run the Cartesian product of --grid values, one run folder per point, merged into DIR/runs.csv");
+    cmd->add_option("SCENE", scene, "scene file, or the name of a bundled scene")->required();
+    cmd->add_option("--grid", sw.grids, "KEY=V1,V2,... (JSON values; bare words are strings)")->required();
+    cmd->add_option("--set", sw.sets, "a fixed override for every point: KEY=JSON");
+    cmd->add_option("--out", sw.out_dir, "output folder")->required();
+    cmd->add_option("-j", sw.jobs, "points run at once")->capture_default_str();
+    cmd->add_flag("--list", sw.list, "print one `harness run` command per point and exit");
+    cmd->add_option("--index", sw.index, "run only point I (0-based), then merge runs.csv");
+    cmd->add_flag("--merge", sw.merge, "run nothing; rewrite DIR/runs.csv from the points already complete");
+  }
+  int exec(const char* argv0) {
+    sw.scene = resolve_scene(scene);
+    sw.scene_arg = scene;
+    std::error_code ec;
+    sw.self = fs::read_symlink("/proc/self/exe", ec).string();
+    if (ec) sw.self = argv0;
+    if (sw.jobs < 1) throw InputError("-j", "must be >= 1");
+    if (cmd->count("--index") && sw.index < 0) throw InputError("--index", "must be >= 0");
+    return run_sweep(sw);
+  }
+};
+
+struct BenchCommand {
+  CLI::App* cmd = nullptr;
+  BenchOptions bo;
+
+  void setup(CLI::App& app) {
+    cmd = app.add_subcommand("bench", "time detection, references, steps and bandwidth limits on generated scenes; one CSV");
+    cmd->add_flag("--quick", bo.quick, "stop at 10^5 nodes per body");
+    cmd->add_option("--out", bo.out, "CSV file")->required();
+    cmd->add_option("--sizes", bo.sizes, "nodes per body (default 1000,10000,100000[,1000000])")->delimiter(',');
+    cmd->add_option("--threads", bo.threads, "thread counts to time")->delimiter(',')->capture_default_str();
+    cmd->add_option("--min-time", bo.min_seconds, "seconds of repetitions per row (at least 3 reps)")->capture_default_str();
+    cmd->add_flag("!--no-references", bo.references, "skip the fcl and cgal rows");
+    cmd->add_option("--methods", bo.methods, "only these rows (CSV method names; default all)")->delimiter(',');
+  }
+  int exec() {
+    for (long long n : bo.sizes)
+      if (n < 8) throw InputError("--sizes", "nodes per body must be >= 8");
+    if (bo.threads.empty()) throw InputError("--threads", "needs at least one thread count");
+    for (int t : bo.threads)
+      if (t < 1) throw InputError("--threads", "must be >= 1");
+    if (!(bo.min_seconds >= 0.0)) throw InputError("--min-time", "must be >= 0");
+    for (const std::string& m : bo.methods)
+      if (std::find(bench_methods().begin(), bench_methods().end(), m) == bench_methods().end())
+        throw InputError("--methods", "unknown method '" + m + "'");
+    return run_bench(bo);
+  }
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"harness: soft bodies as nonlinear mass-spring models, collisions by the local voxel "
                "model of Nikolaev (2013), measured against FCL and CGAL"};
   app.require_subcommand(1);
-
-  std::string scene_arg, out_dir = "out";
-  std::vector<std::string> sets;
-  int steps = -1;
-  bool quiet = false;
-  CLI::App* run = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
-  run->add_option("SCENE", scene_arg, "scene file, or the name of a bundled scene")->required();
-  run->add_option("--out", out_dir, "output folder")->capture_default_str();
-  run->add_option("--set", sets, "override a scene value: KEY=JSON (dotted key, list indices)");
-  run->add_option("--steps", steps, "run exactly N steps: override time.steps and turn time.settle off");
-  run->add_flag("--quiet", quiet, "no progress line");
-  int run_threads = 0;
-  run->add_option("--threads", run_threads, "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
-
-  app.add_subcommand("list", "list the bundled scenes");
-
-  SweepOptions sw;
-  std::string sweep_scene;
-  CLI::App* sweep = app.add_subcommand("sweep", "run the Cartesian product of --grid values, one run folder per point, merged into DIR/runs.csv");
-  sweep->add_option("SCENE", sweep_scene, "scene file, or the name of a bundled scene")->required();
-  sweep->add_option("--grid", sw.grids, "KEY=V1,V2,... (JSON values; bare words are strings)")->required();
-  sweep->add_option("--set", sw.sets, "a fixed override for every point: KEY=JSON");
-  sweep->add_option("--out", sw.out_dir, "output folder")->required();
-  sweep->add_option("-j", sw.jobs, "points run at once")->capture_default_str();
-  sweep->add_flag("--list", sw.list, "print one `harness run` command per point and exit");
-  sweep->add_option("--index", sw.index, "run only point I (0-based), then merge runs.csv");
-  sweep->add_flag("--merge", sw.merge, "run nothing; rewrite DIR/runs.csv from the points already complete");
-
-  BenchOptions bo;
-  CLI::App* bench = app.add_subcommand("bench", "time detection, references, steps and bandwidth limits on generated scenes; one CSV");
-  bench->add_flag("--quick", bo.quick, "stop at 10^5 nodes per body");
-  bench->add_option("--out", bo.out, "CSV file")->required();
-  bench->add_option("--sizes", bo.sizes, "nodes per body (default 1000,10000,100000[,1000000])")->delimiter(',');
-  bench->add_option("--threads", bo.threads, "thread counts to time")->delimiter(',')->capture_default_str();
-  bench->add_option("--min-time", bo.min_seconds, "seconds of repetitions per row (at least 3 reps)")->capture_default_str();
-  bench->add_flag("!--no-references", bo.references, "skip the fcl and cgal rows");
-  bench->add_option("--methods", bo.methods, "only these rows (CSV method names; default all)")->delimiter(',');
-
+  RunCommand run;
+  run.setup(app);
+  CLI::App* list = app.add_subcommand("list", "list the bundled scenes");
+  SweepCommand sweep;
+  sweep.setup(app);
+  BenchCommand bench;
+  bench.setup(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -141,52 +219,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "harness: error: %s (see harness --help)\n", e.what());
     return 2;
   }
-
   try {
-    if (app.got_subcommand("list")) return cmd_list();
-    if (app.got_subcommand("bench")) {
-      for (long long n : bo.sizes)
-        if (n < 8) throw InputError("--sizes", "nodes per body must be >= 8");
-      if (bo.threads.empty()) throw InputError("--threads", "needs at least one thread count");
-      for (int t : bo.threads)
-        if (t < 1) throw InputError("--threads", "must be >= 1");
-      if (!(bo.min_seconds >= 0.0)) throw InputError("--min-time", "must be >= 0");
-      for (const std::string& m : bo.methods)
-        if (std::find(bench_methods().begin(), bench_methods().end(), m) == bench_methods().end())
-          throw InputError("--methods", "unknown method '" + m + "'");
-      return run_bench(bo);
-    }
-    if (app.got_subcommand("sweep")) {
-      sw.scene = resolve_scene(sweep_scene);
-      sw.scene_arg = sweep_scene;
-      std::error_code ec;
-      sw.self = fs::read_symlink("/proc/self/exe", ec).string();
-      if (ec) sw.self = argv[0];
-      if (sw.jobs < 1) throw InputError("-j", "must be >= 1");
-      if (sweep->count("--index") && sw.index < 0) throw InputError("--index", "must be >= 0");
-      return run_sweep(sw);
-    }
-    if (run->count("--threads")) {
-      if (run_threads < 1) throw InputError("--threads", "must be >= 1");
-      set_threads(run_threads);
-    }
-    const std::string path = resolve_scene(scene_arg);
-    auto overrides = parse_sets(sets);
-    if (steps >= 0) {
-      overrides.emplace_back("time.steps", std::to_string(steps));
-      overrides.emplace_back("time.settle", "null");
-    }
-    else if (run->count("--steps")) throw InputError("--steps", "must be >= 0");
-    const Scene scene = load_scene(path, overrides);
-    RunOptions opt;
-    opt.out_dir = out_dir;
-    opt.progress = !quiet;
-#ifdef HARNESS_HAVE_REFERENCE
-    opt.measurer = make_reference_measurer;
-    opt.exact_detectors = make_exact_detector;
-    opt.versions = reference_version_map();
-#endif
-    return run_scene(scene, opt);
+    if (list->parsed()) return cmd_list();
+    if (bench.cmd->parsed()) return bench.exec();
+    if (sweep.cmd->parsed()) return sweep.exec(argv[0]);
+    return run.exec();
   } catch (const InputError& e) {
     std::fprintf(stderr, "harness: error: %s\n", e.what());
     return 2;
