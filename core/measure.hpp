@@ -44,6 +44,10 @@ struct Measurement {
   // into the measurer and stay valid until its next measure().
   const std::vector<std::uint8_t>* pen_guest = nullptr;
   const std::vector<std::uint8_t>* pen_host = nullptr;
+  // CGAL: per surface vertex (body-local, < n_surface) its signed distance to the other body's
+  // surface, m (negative inside); null when not measured. Valid until the next measure().
+  const std::vector<double>* sd_guest = nullptr;
+  const std::vector<double>* sd_host = nullptr;
   double t_ccd_us = 0.0;
 };
 

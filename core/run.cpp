@@ -3,8 +3,10 @@
 #include "core/clock.hpp"
 #include "core/run/columns.hpp"
 #include "core/run/frames.hpp"
+#include "core/run/compare.hpp"
 #include "core/run/recorder.hpp"
 #include "core/run/summary.hpp"
+#include "core/run/surfaces.hpp"
 
 #include <unistd.h>
 
@@ -95,53 +97,89 @@ std::string checked_step(Simulation& sim, Points& good_x, Points& good_v) {
   return failure;
 }
 
+StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on_step) {
+  const Scene& sc = sim.scene();
+  const SettleSpec& settle = sc.settle;
+  const int n = sim.world().num_nodes();
+  Points good_x(n), good_v(n);
+  StepsOutcome o;
+  if (sc.steps <= 0 && !settle.present) return o;
+  int below = 0;
+  for (int s = 1;; ++s) {
+    o.failure = checked_step(sim, good_x, good_v);
+    if (!o.failure.empty()) {
+      o.failed_step = s;
+      return o;
+    }
+    below = sim.residual() <= settle.tolerance ? below + 1 : 0;
+    o.settle_steps = std::max(0, s - sc.steps);
+    o.settled = settle.present && s >= sc.steps && below >= kSettleWindow;
+    const bool last = s >= sc.steps && (!settle.present || o.settled || s >= sc.steps + settle.max_steps);
+    on_step(last);
+    if (last) return o;
+  }
+}
+
 int run_scene(const Scene& scene, const RunOptions& opt) {
   SimulationOptions so;
   so.exact_detectors = opt.exact_detectors;
   Simulation sim(scene, so);  // may throw InputError: nothing written yet
+  std::unique_ptr<Comparison> compare;
+  if (!opt.compare_dir.empty()) {
+    compare = std::make_unique<Comparison>(opt.compare_dir, sim);
+    if (compare->converged() == std::optional<bool>(false))
+      std::fprintf(stderr, "harness: warning: --compare %s: that reference did not converge (its summary.json, "
+                           "reference.levels); the errors are against an unconverged state\n",
+                   opt.compare_dir.c_str());
+  }
   RecorderOptions ro;
   ro.measurer = opt.measurer;
+  ro.compare = compare.get();
   Recorder rec(sim, ro);
 
   const fs::path dir(opt.out_dir);
   prepare_output(dir, scene.frames_every > 0);
   StepsWriter steps((dir / "steps.csv").string());
   write_frames(dir, sim, rec, 0);
+  std::unique_ptr<TrajectoryWriter> trajectory;
+  if (scene.trajectory) trajectory = std::make_unique<TrajectoryWriter>((dir / "trajectory.bin").string(), sim.world());
 
-  const int n = sim.world().num_nodes();
-  Points good_x(n), good_v(n);
   RunStatus status;
   int exit_code = 0;
-  int below = 0;  // consecutive steps with the residual within time.settle's tolerance
-  const SettleSpec& settle = scene.settle;
   {
     ProgressLine progress(opt.progress);
-    for (int s = 1; s <= scene.steps || (settle.present && !status.settled && s <= scene.steps + settle.max_steps); ++s) {
-      const std::string failure = checked_step(sim, good_x, good_v);
-      if (!failure.empty()) {
-        status.error = "step " + std::to_string(s) + ": " + failure + "; last good state is step " + std::to_string(s - 1);
-        std::fprintf(stderr, "harness: simulation failed: %s\n", status.error.c_str());
-        status.status = "error";
-        status.finite = false;
-        exit_code = 3;
-        break;
-      }
-      rec.record(sim);
-      below = sim.residual() <= settle.tolerance ? below + 1 : 0;
-      if (settle.present && s >= scene.steps && below >= kSettleWindow) status.settled = true;
-      status.settle_steps = std::max(0, s - scene.steps);
-      if (sim.pairs().empty()) steps.row({sim, nullptr, nullptr, rec.kinetic_energy(), rec.potential_energy()});
+    const StepsOutcome o = run_steps(sim, [&](bool last) {
+      rec.record(sim, last);
+      if (trajectory && rec.sd_step() == sim.step_index())
+        trajectory->record(surface_state(sim.world(), sim.step_index(), sim.time(), rec.signed_distance()));
+      if (sim.pairs().empty()) steps.row({sim, nullptr, nullptr, nullptr, rec.kinetic_energy(), rec.potential_energy()});
       for (std::size_t p = 0; p < sim.pairs().size(); ++p)
-        steps.row({sim, &sim.pairs()[p], rec.measurement(p), rec.kinetic_energy(), rec.potential_energy()});
-      const bool last = s >= scene.steps && (!settle.present || status.settled || s >= scene.steps + settle.max_steps);
+        steps.row({sim, &sim.pairs()[p], rec.measurement(p), rec.figures(p), rec.kinetic_energy(), rec.potential_energy()});
+      const int s = sim.step_index();
       if (scene.frames_every > 0 && s % scene.frames_every == 0 && !last) write_frames(dir, sim, rec, s);
       progress.update(sim);
+    });
+    status.settled = o.settled;
+    status.settle_steps = o.settle_steps;
+    if (!o.failure.empty()) {
+      status.error = "step " + std::to_string(o.failed_step) + ": " + o.failure + "; last good state is step " +
+                     std::to_string(o.failed_step - 1);
+      std::fprintf(stderr, "harness: simulation failed: %s\n", status.error.c_str());
+      status.status = "error";
+      status.finite = false;
+      exit_code = 3;
     }
   }
   write_frames(dir, sim, rec, sim.step_index());
   steps.close();
+  if (trajectory) trajectory->close();
+  write_surfaces((dir / "surfaces.csv").string(),
+                 surface_state(sim.world(), sim.step_index(), sim.time(),
+                               rec.sd_step() == sim.step_index() ? rec.signed_distance() : std::vector<std::vector<double>>{}));
   if (rec.references() && scene.references.cgal) write_episodes(dir.string(), sim, rec);
-  write_summary(dir.string(), summary_json(sim, rec, status, opt.versions));
+  nlohmann::json sum = summary_json(sim, rec, status, opt.versions);
+  if (compare) add_comparison(sum, sim, rec, *compare);
+  write_summary(dir.string(), sum);
   return exit_code;
 }
 

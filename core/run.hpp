@@ -7,6 +7,7 @@
 #include "core/scene.hpp"
 #include "core/simulation.hpp"
 
+#include <functional>
 #include <map>
 #include <string>
 
@@ -18,6 +19,7 @@ struct RunOptions {
   MeasurerFactory measurer;                     // empty: references unavailable in this program
   ExactDetectorMaker exact_detectors = nullptr;  // empty: detectors "cgal", "fcl" unavailable
   std::map<std::string, std::string> versions;  // extra library versions (FCL, CGAL)
+  std::string compare_dir;                      // --compare: a reference or a finished run
 };
 
 // Exit status: 0 done, 3 the state became non-finite (last good state and summary written).
@@ -28,5 +30,16 @@ int run_scene(const Scene& scene, const RunOptions& options);
 // voxel region outgrew its cap) or leaves a non-finite state, it is put back and the reason is
 // returned (empty: the step went through). `good_x`, `good_v` are scratch of the node count.
 std::string checked_step(Simulation& sim, Points& good_x, Points& good_v);
+
+// The steps of a run: time.steps, then with time.settle until the force residual has been
+// within its tolerance for kSettleWindow steps in a row, or max_steps more steps. After each
+// completed step, on_step(last) (last: the run ends with it). Stops at the first failed step.
+struct StepsOutcome {
+  std::string failure;  // empty: every step went through
+  int failed_step = 0;
+  bool settled = false;
+  int settle_steps = 0;  // taken after time.steps
+};
+StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on_step);
 
 }  // namespace harness

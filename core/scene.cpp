@@ -1,5 +1,6 @@
 #include "core/scene.hpp"
 
+#include "core/collision/collision.hpp"
 #include "core/effects/effects.hpp"
 
 #include <cmath>
@@ -490,6 +491,7 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
   cs.host_nodes = pick<HostNodes>(o, "host_nodes", "all", {{HostNodes::all, "all"}, {HostNodes::surface, "surface"}});
   cs.eliminator = pick(o, "eliminator", "line", eliminator_names());
   cs.two_sided = o.boolean("two_sided", false);
+  cs.separation_time = o.number("separation_time", Collision::kSeparationTime, 0.0, 1e6, true);
   const json* f = o.get("force");
   if (!f || (f->is_string() && f->get<std::string>() == "auto")) {
     cs.force_rule = ForceRule::automatic;
@@ -547,6 +549,7 @@ void read_output(const Ctx& c, Obj& top, Scene& s) {
   const json* oj = top.get("output");
   Obj o(c, oj ? *oj : empty, "output", s.resolved["output"]);
   s.frames_every = static_cast<int>(o.integer("frames_every", 0, 0, 2000000000));
+  s.trajectory = o.boolean("trajectory", false);
   o.finish();
 }
 

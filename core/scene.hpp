@@ -125,6 +125,7 @@ struct Scene {
   std::vector<ContactPairSpec> contacts;
   ReferenceSpec references;
   int frames_every = 0;
+  bool trajectory = false;  // output.trajectory: DIR/trajectory.bin (run/surfaces.hpp)
   nlohmann::json resolved;  // the scene with every default written in
 
   bool has(EffectFlag e) const { return (effects & e) != 0; }

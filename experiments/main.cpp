@@ -3,6 +3,7 @@
 #include "core/run.hpp"
 #include "core/scene.hpp"
 #include "experiments/bench.hpp"
+#include "experiments/reference.hpp"
 #include "experiments/sweep.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
@@ -116,6 +117,7 @@ struct RunCommand {
   std::vector<std::string> sets;
   int steps = -1, threads = 0;
   bool quiet = false;
+  std::string compare;
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
@@ -126,6 +128,8 @@ struct RunCommand {
     cmd->add_flag("--quiet", quiet, "no progress line");
     cmd->add_option("--threads", threads,
                     "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
+    cmd->add_option("--compare", compare, "a reference (harness reference) or finished run of the same scene: "
+                                          "error_vs_reference in summary.json, pos_err/gap columns");
   }
   int exec() {
     if (cmd->count("--threads")) {
@@ -136,7 +140,37 @@ struct RunCommand {
     RunOptions opt = run_options();
     opt.out_dir = out;
     opt.progress = !quiet;
+    opt.compare_dir = compare;
     return run_scene(sc, opt);
+  }
+};
+
+struct ReferenceCommand {
+  CLI::App* cmd = nullptr;
+  std::string scene;
+  std::vector<std::string> sets;
+  ReferenceOptions ro;
+  bool quiet = false;
+
+  void setup(CLI::App& app) {
+    cmd = app.add_subcommand("reference", "the converged reference solution of a scene (exact detection, penalty; "
+                                          "dt halved and k_c doubled until the settled surfaces agree)");
+    cmd->add_option("SCENE", scene, "scene file, or the name of a bundled scene")->required();
+    cmd->add_option("--out", ro.out_dir, "output folder")->required();
+    cmd->add_option("--set", sets, "override a scene value: KEY=JSON (dotted key, list indices)");
+    cmd->add_option("--tolerance", ro.tolerance, "largest change of a surface node between levels, m")->capture_default_str();
+    cmd->add_option("--max-levels", ro.max_levels, "levels at most")->capture_default_str();
+    cmd->add_option("--stiffness", ro.stiffness, "k_c of level 0, N/m (default: the scene's penalty stiffness)");
+    cmd->add_flag("--quiet", quiet, "no progress line");
+  }
+  int exec() {
+    if (!(ro.tolerance > 0.0)) throw InputError("--tolerance", "must be > 0");
+    if (ro.max_levels < 2) throw InputError("--max-levels", "must be >= 2 (a change needs two levels)");
+    if (cmd->count("--stiffness") && !(ro.stiffness > 0.0)) throw InputError("--stiffness", "must be > 0");
+    const Scene sc = load_scene(resolve_scene(scene), parse_sets(sets));
+    ro.run = run_options();
+    ro.progress = !quiet;
+    return run_reference(sc, ro);
   }
 };
 
@@ -155,6 +189,7 @@ struct SweepCommand {
     cmd->add_flag("--list", sw.list, "print one `harness run` command per point and exit");
     cmd->add_option("--index", sw.index, "run only point I (0-based), then merge runs.csv");
     cmd->add_flag("--merge", sw.merge, "run nothing; rewrite DIR/runs.csv from the points already complete");
+    cmd->add_option("--compare", sw.compare, "passed to every run: the reference to measure the error against");
   }
   int exec(const char* argv0) {
     sw.scene = resolve_scene(scene);
@@ -209,6 +244,8 @@ int main(int argc, char** argv) {
   sweep.setup(app);
   BenchCommand bench;
   bench.setup(app);
+  ReferenceCommand reference;
+  reference.setup(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -223,6 +260,7 @@ int main(int argc, char** argv) {
     if (list->parsed()) return cmd_list();
     if (bench.cmd->parsed()) return bench.exec();
     if (sweep.cmd->parsed()) return sweep.exec(argv[0]);
+    if (reference.cmd->parsed()) return reference.exec();
     return run.exec();
   } catch (const InputError& e) {
     std::fprintf(stderr, "harness: error: %s\n", e.what());

@@ -124,6 +124,7 @@ std::vector<std::string> run_args(const SweepOptions& opt, const SweepPoint& p, 
   std::vector<std::string> a = {opt.self, "run", scene, "--out", (fs::path(opt.out_dir) / point_name(p)).string(), "--quiet"};
   for (const std::string& s : opt.sets) a.insert(a.end(), {"--set", s});
   for (const auto& [k, v] : p) a.insert(a.end(), {"--set", k + "=" + v});
+  if (!opt.compare.empty()) a.insert(a.end(), {"--compare", opt.compare});
   return a;
 }
 
@@ -164,20 +165,59 @@ std::string csv_field(const json& v) {
 
 }  // namespace
 
+// The summary figures of runs.csv: column name and JSON pointer into summary.json (the first
+// pair's figures under /pairs/0). A new figure is one line.
+const std::vector<std::pair<const char*, const char*>>& merged_figures() {
+  static const std::vector<std::pair<const char*, const char*>> figures = {
+      {"status", "/status"},
+      {"steps_run", "/steps_run"},
+      {"finite", "/finite"},
+      {"state_hash", "/state_hash"},
+      {"kinetic_energy_final", "/kinetic_energy_final"},
+      {"kinetic_energy_peak", "/kinetic_energy_peak"},
+      {"substeps", "/stability/max_substeps"},
+      {"guard_violations", "/stability/guard_violations"},
+      {"t_step_us", "/timing_us/step"},
+      {"t_physics_us", "/timing_us/physics"},
+      {"t_detect_us", "/timing_us/detect"},
+      {"t_eliminate_us", "/timing_us/eliminate"},
+      {"t_cgal_us", "/timing_us/cgal"},
+      {"t_fcl_us", "/timing_us/fcl"},
+      {"voxel_size_used", "/pairs/0/voxel_size_used"},
+      {"region_rebuilds", "/pairs/0/region_rebuilds"},
+      {"contacts_total", "/pairs/0/contacts_total"},
+      {"true_pen_final", "/pairs/0/true_pen_final"},
+      {"max_depth_final", "/pairs/0/max_depth_final"},
+      {"max_depth_peak", "/pairs/0/max_depth_peak"},
+      {"recall", "/pairs/0/recall"},
+      {"precision", "/pairs/0/precision"},
+      {"tunnelled", "/pairs/0/tunnelled"},
+      {"settled", "/settled"},
+      {"residual", "/residual"},
+      {"settle_steps", "/settle_steps"},
+      {"work_external", "/energy/work_external"},
+      {"energy_dissipated", "/energy/energy_dissipated"},
+      {"work_contact", "/energy/work_contact"},
+      {"work_contact_peak", "/energy/work_contact_peak"},
+      {"energy_balance_error", "/energy/energy_balance_error"},
+      {"pos_err_max", "/pairs/0/error_vs_reference/pos_err_max"},
+      {"pos_err_rms", "/pairs/0/error_vs_reference/pos_err_rms"},
+      {"gap_max", "/pairs/0/error_vs_reference/gap_max"},
+      {"gap_mean", "/pairs/0/error_vs_reference/gap_mean"},
+      {"depth_max", "/pairs/0/error_vs_reference/depth_max"},
+      {"reference_converged", "/compare/converged"},
+  };
+  return figures;
+}
+
 void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& points) {
-  static const std::vector<std::string> timing = {"step", "physics", "detect", "eliminate", "cgal", "fcl"};
-  static const std::vector<std::string> pair_keys = {"voxel_size_used", "region_rebuilds", "contacts_total",
-                                                     "true_pen_final", "max_depth_final", "max_depth_peak",
-                                                     "recall", "precision"};
   // Unique temporary name: several --index runs (one per scheduler task) may merge at once.
   const fs::path tmp = fs::path(out_dir) / ("runs.csv.tmp." + std::to_string(::getpid()));
   std::ofstream o(tmp);
   o << "point,name";
   if (!points.empty())
     for (const auto& [k, v] : points[0]) o << "," << csv_field(json(k));
-  o << ",status,steps_run,finite,state_hash,kinetic_energy_final,kinetic_energy_peak,substeps";
-  for (const auto& t : timing) o << ",t_" << t << "_us";
-  for (const auto& k : pair_keys) o << "," << k;
+  for (const auto& [name, ptr] : merged_figures()) o << "," << name;
   o << "\n";
   for (std::size_t i = 0; i < points.size(); ++i) {
     const fs::path sp = fs::path(out_dir) / point_name(points[i]) / "summary.json";
@@ -191,14 +231,10 @@ void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& point
     }
     o << i << "," << csv_field(json(point_name(points[i])));
     for (const auto& [k, v] : points[i]) o << "," << csv_field(json(plain(v)));
-    o << "," << csv_field(s.value("status", json())) << "," << csv_field(s.value("steps_run", json()))
-      << "," << csv_field(s.value("finite", json())) << "," << csv_field(s.value("state_hash", json()))
-      << "," << csv_field(s.value("kinetic_energy_final", json()))
-      << "," << csv_field(s.value("kinetic_energy_peak", json()));
-    o << "," << csv_field(s.contains("stability") ? s["stability"].value("max_substeps", json()) : json());
-    for (const auto& t : timing) o << "," << csv_field(s.contains("timing_us") ? s["timing_us"].value(t, json()) : json());
-    const json pair = s.contains("pairs") && !s["pairs"].empty() ? s["pairs"][0] : json::object();
-    for (const auto& k : pair_keys) o << "," << csv_field(pair.value(k, json()));
+    for (const auto& [name, ptr] : merged_figures()) {
+      const json::json_pointer jp(ptr);
+      o << "," << csv_field(s.contains(jp) ? s.at(jp) : json());
+    }
     o << "\n";
   }
   o.close();

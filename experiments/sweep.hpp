@@ -22,6 +22,7 @@ struct SweepOptions {
   int index = -1;  // run only this point (then merge whatever points are complete)
   bool merge = false;  // run nothing: rewrite runs.csv from the complete points
   std::string self;  // path of this executable
+  std::string compare;  // --compare DIR passed to every run
 };
 
 // One grid point: its overrides in grid order.

@@ -20,16 +20,20 @@ void check_pair(const World& w, const ContactSpec& pair) {
 }
 
 // Nodes [begin, end) of one body against the other body's surface: count the strictly inside
-// ones, add their distances to the surface into the depth sums, flag them when `flags` is given.
+// ones, add their distances to the surface into the depth sums, flag them when `flags` is given;
+// and the signed distance of every surface vertex (negative inside) into `sd` (n_surface).
 int classify(const World& w, const Body& b, const CgalSurface& other, double& max_depth,
-             double& sum_depth, std::uint8_t* flags) {
+             double& sum_depth, std::uint8_t* flags, double* sd) {
   int count = 0;
   for (int i = b.begin; i < b.end; ++i) {
     const bool in = other.strictly_inside(w.x[i]);
     if (flags) flags[i - b.begin] = in ? 1 : 0;
+    const bool surface = i - b.begin < b.n_surface;
+    if (!in && !surface) continue;
+    const double d = std::sqrt(other.squared_distance(w.x[i]));
+    if (surface) sd[i - b.begin] = in ? -d : d;
     if (!in) continue;
     ++count;
-    const double d = std::sqrt(other.squared_distance(w.x[i]));
     max_depth = std::max(max_depth, d);
     sum_depth += d;
   }
@@ -49,6 +53,8 @@ ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
     cg_guest_.set_topology(G.n_surface, G.faces);
     pen_guest_.assign(G.size(), 0);
     pen_host_.assign(H.size(), 0);
+    sd_guest_.assign(G.n_surface, 0.0);
+    sd_host_.assign(H.n_surface, 0.0);
     seen_.assign(G.size(), 0);
   }
   if (spec_.fcl) {
@@ -75,10 +81,12 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair,
     cg_guest_.update(&w.x[G.begin]);
     if (spec_.cgal) {
       double max_depth = 0.0, sum_depth = 0.0;
-      out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data());
-      out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data());
+      out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data(), sd_guest_.data());
+      out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data(), sd_host_.data());
       out.pen_guest = &pen_guest_;
       out.pen_host = &pen_host_;
+      out.sd_guest = &sd_guest_;
+      out.sd_host = &sd_host_;
       const int n_pen = out.true_pen_guest + out.true_pen_host;
       out.max_depth = max_depth;
       out.mean_depth = n_pen > 0 ? sum_depth / n_pen : 0.0;

@@ -17,7 +17,8 @@ namespace harness {
 
 // Per measure() call, for the solvers the spec asks for:
 //  cgal: every node of each body (interior nodes too) classified against the other body's
-//        closed surface; residual depths; tp/fp/fn of `detected`; surfaces_intersect with the
+//        closed surface; residual depths; the signed distance of every surface vertex to the
+//        other body's surface (negative inside); tp/fp/fn of `detected`; surfaces_intersect with the
 //        bounded-side test (containment counts); t_cgal_us. With spec.volume also the penetration
 //        volume by corefinement (has_volume false when CGAL cannot give it), timed apart in
 //        t_volume_us and not in t_cgal_us.
@@ -46,6 +47,7 @@ class ReferenceMeasurer final : public Measurer {
   FclSurface fc_host_, fc_guest_;
   std::vector<std::uint8_t> pen_guest_;
   std::vector<std::uint8_t> pen_host_;
+  std::vector<double> sd_guest_, sd_host_;  // per surface vertex: signed distance to the other body, m
   std::vector<int> seen_;  // per guest node: stamp of the last call that counted it as detected
   int stamp_ = 0;
   std::vector<TrianglePair> pairs_;

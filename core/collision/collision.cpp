@@ -58,7 +58,7 @@ PairStep Collision::step(World& w, double dt) {
   switch (spec_.force_rule) {
     case ForceRule::automatic: {
       const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
-      s.force = auto_contact_forces(w, pushes_, dt, L / kSeparationTime, magnitude_, share_);
+      s.force = auto_contact_forces(w, pushes_, dt, L / spec_.separation_time, magnitude_, share_);
       break;
     }
     case ForceRule::penalty: s.force = penalty_contact_forces(pushes_, spec_.stiffness, magnitude_); break;

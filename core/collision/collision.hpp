@@ -27,10 +27,10 @@ struct PairStep {
 
 class Collision {
  public:
-  // The automatic force separates a contact at v_sep = L / kSeparationTime, L the voxel size
-  // (see auto_contact_forces): a pair resting in one voxel leaves it in about this time, a few
-  // cm/s for millimetre voxels. A physical time, so that the rule depends on dt only through
-  // the integration.
+  // The automatic force separates a contact at v_sep = L / separation_time (ContactSpec, default
+  // kSeparationTime), L the voxel size (see auto_contact_forces): a pair resting in one voxel
+  // leaves it in about this time, a few cm/s for millimetre voxels. A physical time, so that the
+  // rule depends on dt only through the integration.
   static constexpr double kSeparationTime = 0.1;  // s
 
   // Makes and initializes the detector on the current (rest) positions. Throws

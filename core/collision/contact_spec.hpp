@@ -41,6 +41,7 @@ struct ContactSpec {
   ForceRule force_rule = ForceRule::constant;
   double force = 1.0;      // N per contact (ForceRule::constant)
   double stiffness = 0.0;  // N/m per contact (ForceRule::penalty)
+  double separation_time = 0.1;  // s, of the automatic force: v_sep = L / separation_time
   // Also the other way round: the guest's surface keeps the host's nodes out as well (a second
   // detector with the roles swapped). The paper's model is one-sided (false).
   bool two_sided = false;

@@ -67,6 +67,14 @@ const std::vector<Column>& steps_columns() {
       {"work_contact", [](O o, R r) { o.g9(r.sim.energy().work_contact); }},
       {"energy_balance_error", [](O o, R r) { o.g9(r.sim.energy().balance_error()); }},
       {"residual", [](O o, R r) { o.g9(r.sim.residual()); }},
+      // Accuracy both ways (run/compare.hpp), m: the signed distance of the nodes contact pushed
+      // (positive: across a gap), and the error against the reference at this step.
+      {"force_dist_max", [](O o, R r) { if (r.fig && r.fig->force_dist) o.g9(r.fig->force_dist_max); }},
+      {"force_dist_mean", [](O o, R r) { if (r.fig && r.fig->force_dist) o.g9(r.fig->force_dist_mean); }},
+      {"gap_max", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.gap_max); }},
+      {"gap_mean", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.gap_mean); }},
+      {"pos_err_max", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.pos_err_max); }},
+      {"pos_err_rms", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.pos_err_rms); }},
   };
   return columns;
 }

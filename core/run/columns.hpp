@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/measure.hpp"
+#include "core/run/recorder.hpp"
 #include "core/simulation.hpp"
 
 #include <cstdio>
@@ -18,6 +19,7 @@ struct StepRow {
   const Simulation& sim;
   const Pair* pair = nullptr;        // null: a scene without contact pairs
   const Measurement* m = nullptr;    // null: the references did not run this step
+  const PairStepFigures* fig = nullptr;  // null likewise (run/recorder.hpp)
   double kinetic_energy = 0.0;       // J
   double potential_energy = 0.0;     // J
 };

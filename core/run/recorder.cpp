@@ -35,6 +35,8 @@ Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_
     for (const Pair& p : pairs) measurers_.push_back(opt_.measurer(w, p.spec, sc.references));
   }
   meas_.resize(pairs.size());
+  figures_.resize(pairs.size());
+  sd_.resize(w.bodies.size());
   totals_.resize(pairs.size());
   for (const Pair& p : pairs) {
     open_.emplace_back(static_cast<std::size_t>(w.bodies[p.spec.guest].size()), -1);
@@ -67,11 +69,10 @@ void Recorder::track(std::size_t p, int role, const std::vector<std::uint8_t>& f
   }
 }
 
-void Recorder::record(const Simulation& sim) {
+void Recorder::record(const Simulation& sim, bool last) {
   const Scene& sc = sim.scene();
   const int s = sim.step_index();
-  measured_now_ = !measurers_.empty() &&
-                  (s % sc.references.every == 0 || (opt_.measure_last && s == opt_.last_step));
+  measured_now_ = !measurers_.empty() && (s % sc.references.every == 0 || last);
   ke_ = sim.kinetic_energy();
   ke_peak_ = std::max(ke_peak_, ke_);
   pe_ = sim.potential_energy();
@@ -109,6 +110,71 @@ void Recorder::record(const Simulation& sim) {
     }
     if (m.has_fcl) timings_.fcl.push_back(m.t_fcl_us);
   }
+  if (measured_now_) pair_figures(sim);
+}
+
+// Signed distances per body from this step's measurements (a body in several pairs: the most
+// penetrating), then per pair the signed distance of the nodes its contact pushed, and the error
+// against the reference's state at this step.
+void Recorder::pair_figures(const Simulation& sim) {
+  const World& w = sim.world();
+  const auto& pairs = sim.pairs();
+  bool any = false;
+  for (auto& v : sd_) v.clear();
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    const Measurement& m = meas_[p];
+    if (!m.sd_guest || !m.sd_host) continue;
+    any = true;
+    for (const auto& [body, src] : {std::pair{pairs[p].spec.guest, m.sd_guest}, std::pair{pairs[p].spec.host, m.sd_host}}) {
+      std::vector<double>& d = sd_[body];
+      if (d.empty()) d = *src;
+      else
+        for (std::size_t i = 0; i < d.size(); ++i) d[i] = std::min(d[i], (*src)[i]);
+    }
+  }
+  if (!any) return;
+  sd_step_ = sim.step_index();
+  auto sd_of = [&](int node) {
+    for (std::size_t b = 0; b < w.bodies.size(); ++b) {
+      const Body& body = w.bodies[b];
+      if (node >= body.begin && node < body.begin + body.n_surface && !sd_[b].empty()) return sd_[b][node - body.begin];
+    }
+    return std::numeric_limits<double>::quiet_NaN();  // an interior node: no signed distance
+  };
+  const SurfaceState* ref = opt_.compare ? opt_.compare->at_step(sim.step_index()) : nullptr;
+  const SurfaceState now = ref ? surface_state(w, sim.step_index(), sim.time(), sd_) : SurfaceState{};
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    PairStepFigures& f = figures_[p];
+    f = PairStepFigures{};
+    if (const Collision* c = pairs[p].collision.get()) {
+      double sum = 0.0;
+      int n = 0;
+      f.force_dist_max = -std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < c->pushes().size(); ++i) {
+        const double d = sd_of(c->pushes()[i].guest);
+        if (!(c->magnitudes()[i] > 0.0) || !std::isfinite(d)) continue;
+        f.force_dist_max = std::max(f.force_dist_max, d);
+        sum += d;
+        ++n;
+      }
+      f.force_dist = n > 0;
+      f.force_dist_mean = n ? sum / n : 0.0;
+      if (!n) f.force_dist_max = 0.0;
+    }
+    if (ref) {
+      f.vs_reference = true;
+      f.errors = Comparison::errors(now, *ref, pairs[p].spec.host, pairs[p].spec.guest);
+    }
+  }
+}
+
+std::vector<ReferenceErrors> Recorder::final_errors(const Simulation& sim) const {
+  std::vector<ReferenceErrors> out;
+  if (!opt_.compare) return out;
+  const SurfaceState now = surface_state(sim.world(), sim.step_index(), sim.time(), sd_);
+  for (const Pair& p : sim.pairs())
+    out.push_back(Comparison::errors(now, opt_.compare->final_state(), p.spec.host, p.spec.guest));
+  return out;
 }
 
 const std::vector<std::uint8_t>* Recorder::penetration(int body, int step) const {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/measure.hpp"
+#include "core/run/compare.hpp"
 #include "core/simulation.hpp"
 
 #include <cstdint>
@@ -36,8 +37,15 @@ struct RunTimings {
 
 struct RecorderOptions {
   MeasurerFactory measurer;  // empty: no references in this program
-  bool measure_last = false;  // also measure the last step when it is not a multiple of `every`
-  int last_step = -1;         // the step measure_last refers to
+  const Comparison* compare = nullptr;  // the reference solution to measure the error against
+};
+
+// A pair's figures of one measured step beyond the references' own (CGAL signed distances).
+struct PairStepFigures {
+  bool force_dist = false;  // some node received a contact force
+  double force_dist_max = 0.0, force_dist_mean = 0.0;  // signed distance of those nodes, m
+  bool vs_reference = false;  // the reference has this step
+  ReferenceErrors errors;
 };
 
 class Recorder {
@@ -46,14 +54,23 @@ class Recorder {
   // (references.solvers) when it asks for them and the program has none.
   Recorder(const Simulation& sim, const RecorderOptions& options);
 
-  // After each completed step: measures when due and accumulates.
-  void record(const Simulation& sim);
+  // After each completed step: measures when due (every references.every steps, and the last
+  // step of the run: `last`) and accumulates.
+  void record(const Simulation& sim, bool last = false);
 
   // This step's measurement of pair p, or null when the references did not run.
   const Measurement* measurement(std::size_t p) const { return measured_now_ ? &meas_[p] : nullptr; }
   // Truly penetrating nodes of a body (body-local flags) when `step` is the last measured step
   // with CGAL, else null (frames carry them only on measured steps).
   const std::vector<std::uint8_t>* penetration(int body, int step) const;
+  // This step's figures of pair p beyond the references' (null when not measured).
+  const PairStepFigures* figures(std::size_t p) const { return measured_now_ ? &figures_[p] : nullptr; }
+  // Per body, per surface vertex: signed distance to its contact partner at the last measured
+  // step (empty vectors before any, or without CGAL).
+  const std::vector<std::vector<double>>& signed_distance() const { return sd_; }
+  int sd_step() const { return sd_step_; }
+  // The final state against the compared reference, per pair (after the last step).
+  std::vector<ReferenceErrors> final_errors(const Simulation& sim) const;
   const std::vector<PairTotals>& totals() const { return totals_; }
   const std::vector<Episode>& episodes() const { return episodes_; }
   const RunTimings& timings() const { return timings_; }
@@ -65,11 +82,15 @@ class Recorder {
   bool references() const { return !measurers_.empty(); }
 
  private:
+  void pair_figures(const Simulation& sim);
   void track(std::size_t p, int role, const std::vector<std::uint8_t>& flags, int step, const Simulation& sim);
 
   RecorderOptions opt_;
   std::vector<std::unique_ptr<Measurer>> measurers_;
   std::vector<Measurement> meas_;
+  std::vector<PairStepFigures> figures_;
+  std::vector<std::vector<double>> sd_;
+  int sd_step_ = -1;
   bool measured_now_ = false;
   std::vector<PairTotals> totals_;
   std::vector<Episode> episodes_;

@@ -1,5 +1,7 @@
 #include "core/run/summary.hpp"
 
+#include "core/run/compare.hpp"
+
 #include "harness_git.hpp"
 
 #include <algorithm>
@@ -74,8 +76,11 @@ json pair_json(const Simulation& sim, const Recorder& rec, std::size_t pi) {
   pj["true_pen_final"] = measured(t.true_pen_final);
   pj["max_depth_final"] = measured(t.max_depth_final);
   pj["max_depth_peak"] = measured(t.max_depth_peak);
-  pj["recall"] = t.measured && t.tp + t.fn > 0 ? json(double(t.tp) / double(t.tp + t.fn)) : json(nullptr);
-  pj["precision"] = t.measured && t.tp + t.fp > 0 ? json(double(t.tp) / double(t.tp + t.fp)) : json(nullptr);
+  // Stated values where the ratio is 0/0: nothing truly penetrated, so nothing was missed
+  // (recall 1); nothing was reported, so nothing was reported falsely (precision 1). Neither
+  // says the bodies are where they should be: that is error_vs_reference.
+  pj["recall"] = t.measured ? json(t.tp + t.fn > 0 ? double(t.tp) / double(t.tp + t.fn) : 1.0) : json(nullptr);
+  pj["precision"] = t.measured ? json(t.tp + t.fp > 0 ? double(t.tp) / double(t.tp + t.fp) : 1.0) : json(nullptr);
   return pj;
 }
 
@@ -120,6 +125,26 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& s
   for (std::size_t pi = 0; pi < sim.pairs().size(); ++pi) pairs.push_back(pair_json(sim, rec, pi));
   sum["pairs"] = pairs;
   return sum;
+}
+
+void add_comparison(json& sum, const Simulation& sim, const Recorder& rec, const Comparison& cmp) {
+  const auto conv = cmp.converged();
+  sum["compare"] = {{"dir", cmp.dir()},
+                    {"kind", cmp.is_reference() ? "reference" : "run"},
+                    {"converged", conv ? json(*conv) : json(nullptr)},
+                    {"touch_tolerance", kTouchTolerance},
+                    {"final_signed_distance_measured", rec.sd_step() == sim.step_index()}};
+  const std::vector<ReferenceErrors> errs = rec.final_errors(sim);
+  for (std::size_t p = 0; p < errs.size(); ++p) {
+    const ReferenceErrors& e = errs[p];
+    const bool sd = rec.sd_step() == sim.step_index();
+    sum["pairs"][p]["error_vs_reference"] = {{"pos_err_max", e.pos_err_max},
+                                             {"pos_err_rms", e.pos_err_rms},
+                                             {"gap_max", sd ? json(e.gap_max) : json(nullptr)},
+                                             {"gap_mean", sd ? json(e.gap_mean) : json(nullptr)},
+                                             {"depth_max", sd ? json(e.depth_max) : json(nullptr)},
+                                             {"touching_nodes", e.touching}};
+  }
 }
 
 void write_summary(const std::string& dir, const json& summary) {

@@ -22,6 +22,10 @@ struct RunStatus {
 
 nlohmann::json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& status,
                             const std::map<std::string, std::string>& versions);
+class Comparison;
+// summary.json's error against the compared reference: "compare" and per pair
+// "error_vs_reference" (compare.hpp).
+void add_comparison(nlohmann::json& summary, const Simulation& sim, const Recorder& rec, const Comparison& cmp);
 // Writes DIR/summary.json through a temporary file and a rename.
 void write_summary(const std::string& dir, const nlohmann::json& summary);
 // DIR/penetration_episodes.csv: one row per episode of true penetration (recorder.hpp).

@@ -51,24 +51,15 @@ inline SceneRun run_scene_measured(const std::string& name,
   Simulation sim(scene, so);
   RecorderOptions ro;
   ro.measurer = make_reference_measurer;
-  ro.measure_last = true;
-  ro.last_step = scene.steps;  // (a settling run is measured every `every` steps)
   Recorder rec(sim, ro);
   SceneRun r;
-  Points good_x(sim.world().num_nodes()), good_v(sim.world().num_nodes());
-  const SettleSpec& settle = scene.settle;
-  int below = 0;
-  for (int s = 1; s <= scene.steps || (settle.present && !r.settled && s <= scene.steps + settle.max_steps); ++s) {
-    r.failure = checked_step(sim, good_x, good_v);
-    if (!r.failure.empty()) {
-      r.finite = false;
-      break;
-    }
-    rec.record(sim);
-    r.steps_run = s;
-    below = sim.residual() <= settle.tolerance ? below + 1 : 0;
-    r.settled = settle.present && s >= scene.steps && below >= kSettleWindow;
-  }
+  const StepsOutcome o = run_steps(sim, [&](bool last) {
+    rec.record(sim, last);
+    r.steps_run = sim.step_index();
+  });
+  r.failure = o.failure;
+  r.finite = o.failure.empty();
+  r.settled = o.settled;
   r.residual = sim.residual();
   r.ke_peak = rec.kinetic_energy_peak();
   const EnergyLedger& e = sim.energy();

@@ -58,7 +58,7 @@ Figures run(const std::string& scene, int steps, int every, std::vector<std::pai
   fs::remove_all(dir);
   const json& p = s["pairs"][0];
   Figures f;
-  f.recall = p["recall"].is_null() ? 1.0 : p["recall"].get<double>();  // nothing to miss
+  f.recall = p["recall"].get<double>();
   f.true_pen_final = p["true_pen_final"].get<int>();
   f.depth_voxels = p["max_depth_peak"].get<double>() / p["voxel_size_used"].get<double>();
   return f;

@@ -1,0 +1,162 @@
+// Accuracy both ways (core/run/compare.hpp): signed distances and gaps on analytic
+// configurations, the error of a hand-computed case, a run compared with itself.
+#include "core/run.hpp"
+#include "core/run/compare.hpp"
+#include "reference/reference.hpp"
+#include "tests/reference/reference_test_worlds.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+using namespace harness;
+using namespace harness::reftest;
+namespace fs = std::filesystem;
+
+namespace {
+ReferenceSpec cgal_only() {
+  ReferenceSpec s;
+  s.cgal = true;
+  return s;
+}
+}  // namespace
+
+TEST_CASE("signed distance: two spheres at known distances", "[accuracy][cgal]") {
+  const double R = 1.0;
+  for (double D : {2.5, 2.05, 1.8}) {  // apart, nearly touching, overlapping
+    World w;
+    ContactSpec pair;
+    pair.host = add_body(w, "a", icosphere(Vec3::Zero(), R, 3));
+    pair.guest = add_body(w, "b", icosphere(Vec3(D, 0, 0), R, 3));
+    ReferenceMeasurer m(w, pair, cgal_only());
+    Measurement out;
+    m.measure(w, pair, {}, out);
+    REQUIRE(out.sd_guest);
+    REQUIRE(out.sd_host);
+    // An icosphere of 3 subdivisions lies inside its sphere by at most its sagitta: vertices are
+    // on the sphere, faces up to ~0.5 % of R inside.
+    const double sagitta = 0.005 * R;
+    const Body& b = w.bodies[pair.guest];
+    double nearest = 1e9;
+    for (int s = 0; s < b.n_surface; ++s) {
+      const Vec3& p = w.x[b.begin + s];
+      const double analytic = p.norm() - R;  // distance to sphere a's surface, negative inside
+      INFO("D " << D << " vertex " << s << ": measured " << (*out.sd_guest)[s] << ", analytic " << analytic);
+      CHECK((*out.sd_guest)[s] >= analytic - 1e-12);  // the polyhedron is inside the sphere
+      CHECK((*out.sd_guest)[s] <= analytic + sagitta);
+      nearest = std::min(nearest, (*out.sd_guest)[s]);
+    }
+    CHECK(nearest == Approx(D - 2 * R).margin(sagitta));
+  }
+}
+
+TEST_CASE("signed distance and gap: a cube above a layer at a known gap", "[accuracy][cgal]") {
+  for (double g : {0.05, 0.0, -0.1}) {
+    World w;
+    ContactSpec pair;
+    pair.host = add_body(w, "layer", box_surface(Vec3(-1, -1, -0.5), Vec3(2, 2, 0.0), Vec3i(6, 6, 1)));
+    pair.guest = add_body(w, "cube", box_surface(Vec3(0, 0, g), Vec3(1, 1, 1 + g), Vec3i(4, 4, 4)));
+    ReferenceMeasurer m(w, pair, cgal_only());
+    Measurement out;
+    m.measure(w, pair, {}, out);
+    const Body& c = w.bodies[pair.guest];
+    for (int s = 0; s < c.n_surface; ++s) {
+      const Vec3& p = w.x[c.begin + s];
+      if (std::fabs(p.z() - g) > 1e-12) continue;  // the bottom face: at signed distance g exactly
+      CHECK((*out.sd_guest)[s] == Approx(g).margin(1e-12));
+    }
+    // The gap of this state against the touching one (g = 0) is g over the bottom face.
+    if (g > 0.0) {
+      World w0;
+      ContactSpec p0;
+      p0.host = add_body(w0, "layer", box_surface(Vec3(-1, -1, -0.5), Vec3(2, 2, 0.0), Vec3i(6, 6, 1)));
+      p0.guest = add_body(w0, "cube", box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3i(4, 4, 4)));
+      ReferenceMeasurer m0(w0, p0, cgal_only());
+      Measurement o0;
+      m0.measure(w0, p0, {}, o0);
+      const SurfaceState ref = surface_state(w0, 0, 0.0, {*o0.sd_host, *o0.sd_guest});
+      const SurfaceState now = surface_state(w, 0, 0.0, {*out.sd_host, *out.sd_guest});
+      const ReferenceErrors e = Comparison::errors(now, ref, pair.host, pair.guest);
+      CHECK(e.touching >= 25);  // the bottom face's 25 vertices (and layer vertices on it)
+      CHECK(e.gap_max == Approx(g).margin(1e-12));
+      CHECK(e.pos_err_max == Approx(g).margin(1e-12));
+      CHECK(e.depth_max == 0.0);
+    }
+  }
+}
+
+TEST_CASE("error against a reference: a hand-computed case", "[accuracy]") {
+  SurfaceState ref, now;
+  ref.bodies = now.bodies = {"a", "b"};
+  ref.x = {{Vec3(0, 0, 0), Vec3(1, 0, 0)}, {Vec3(0, 0, 1), Vec3(1, 0, 1)}};
+  ref.sd = {{0.0, 0.5}, {0.00005, 2.0}};  // a0 and b0 touch (|sd| <= 0.1 mm)
+  now.x = {{Vec3(0, 0, 0.003), Vec3(1, 0, 0)}, {Vec3(0, 0.004, 1), Vec3(1, 0, 1)}};
+  now.sd = {{0.002, 0.5}, {-0.001, 2.0}};
+  const ReferenceErrors e = Comparison::errors(now, ref, 0, 1);
+  CHECK(e.pos_err_max == Approx(0.004));
+  CHECK(e.pos_err_rms == Approx(std::sqrt((0.003 * 0.003 + 0.004 * 0.004) / 4.0)));
+  CHECK(e.touching == 2);
+  CHECK(e.gap_max == Approx(0.002));         // a0: 0.002 - 0
+  CHECK(e.gap_mean == Approx(0.001));        // b0: no gap (it penetrates)
+  CHECK(e.depth_max == Approx(0.001));
+  // Against itself: zero.
+  const ReferenceErrors z = Comparison::errors(ref, ref, 0, 1);
+  CHECK(z.pos_err_max == 0.0);
+  CHECK(z.gap_max == 0.0);
+}
+
+TEST_CASE("--compare: a run against itself gives zero, another scene is refused", "[accuracy][cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("harness_compare_" + std::to_string(::getpid()));
+  const std::string scene = std::string(HARNESS_SOURCE_DIR) + "/experiments/scenes/cylinder_press.json";
+  const std::vector<std::pair<std::string, std::string>> ov = {
+      {"time.steps", "300"}, {"time.settle", "null"}, {"references.every", "100"}, {"output.frames_every", "0"},
+      {"output.trajectory", "true"}};
+  RunOptions opt;
+  opt.measurer = make_reference_measurer;
+  opt.exact_detectors = make_exact_detector;
+  opt.out_dir = (dir / "a").string();
+  REQUIRE(run_scene(load_scene(scene, ov), opt) == 0);
+  opt.out_dir = (dir / "b").string();
+  opt.compare_dir = (dir / "a").string();
+  REQUIRE(run_scene(load_scene(scene, ov), opt) == 0);
+  std::ifstream in(dir / "b" / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  const auto& e = s["pairs"][0]["error_vs_reference"];
+  CHECK(e["pos_err_max"].get<double>() == 0.0);
+  CHECK(e["gap_max"].get<double>() == 0.0);
+  CHECK(s["compare"]["kind"] == "run");
+  // Per measured step too: the columns are zero on the measured steps.
+  std::ifstream steps(dir / "b" / "steps.csv");
+  auto fields = [](const std::string& line) {
+    std::vector<std::string> f;
+    std::string cell;
+    for (char ch : line + ",") {
+      if (ch == ',') f.push_back(cell), cell.clear();
+      else cell += ch;
+    }
+    return f;
+  };
+  std::string line;
+  std::getline(steps, line);
+  const auto head = fields(line);
+  const auto col = std::find(head.begin(), head.end(), "pos_err_max") - head.begin();
+  REQUIRE(col < static_cast<long>(head.size()));
+  int measured = 0;
+  while (std::getline(steps, line)) {
+    const auto f = fields(line);
+    for (long c = col - 2; c <= col + 1; ++c)  // gap_max, gap_mean, pos_err_max, pos_err_rms
+      if (!f[c].empty()) CHECK(std::stod(f[c]) == 0.0);
+    measured += !f[col].empty();
+  }
+  CHECK(measured >= 3);
+  // Another scene (other bodies): exit 2 naming the difference.
+  opt.out_dir = (dir / "c").string();
+  const std::string other = std::string(HARNESS_SOURCE_DIR) + "/experiments/scenes/sphere_collision.json";
+  CHECK_THROWS_WITH(run_scene(load_scene(other, ov), opt), Catch::Contains("has no body"));
+  fs::remove_all(dir);
+}
