@@ -486,11 +486,19 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
   } else {
     cs.voxel_size = o.number("voxel_size", std::nullopt, 0.0, 1e6, true);
   }
+  const json* cz = o.get("cell_size");
+  if (!cz || (cz->is_string() && cz->get<std::string>() == "auto")) {
+    cs.cell_size = 0.0;
+    o.out()["cell_size"] = "auto";
+  } else {
+    cs.cell_size = o.number("cell_size", std::nullopt, 0.0, 1e6, true);
+  }
   cs.region = pick<Region>(o, "region", "half", {{Region::half, "half"}, {Region::full, "full"}, {Region::overlap, "overlap"}});
   cs.margin = static_cast<int>(o.integer("margin", 1, 0, 64));
   cs.host_nodes = pick<HostNodes>(o, "host_nodes", "all", {{HostNodes::all, "all"}, {HostNodes::surface, "surface"}});
   cs.eliminator = pick(o, "eliminator", "line", eliminator_names());
   cs.two_sided = o.boolean("two_sided", false);
+  cs.invert_push = o.boolean("invert_push", false);
   cs.separation_time = o.number("separation_time", Collision::kSeparationTime, 0.0, 1e6, true);
   const json* f = o.get("force");
   if (!f || (f->is_string() && f->get<std::string>() == "auto")) {
@@ -679,6 +687,28 @@ Scene parse_scene(const std::string& text, const std::string& file,
   std::string dir = std::filesystem::path(file).parent_path().string();
   if (dir.empty()) dir = ".";
   return scene_from_json(doc, file, dir);
+}
+
+Scene rescale_dt(const Scene& scene, int factor) {
+  if (factor < 1) throw InputError(scene.file + ": time.dt", "the dt divisor must be >= 1");
+  json s = scene.resolved;
+  auto scale = [factor](json& v) {
+    if (v.is_number_integer() && v.get<long long>() > 0) v = v.get<long long>() * factor;
+  };
+  s["time"]["dt"] = scene.dt / factor;
+  scale(s["time"]["steps"]);
+  if (s["time"].contains("settle")) scale(s["time"]["settle"]["max_steps"]);
+  for (json& b : s["bodies"]) {
+    if (b.contains("pressure")) scale(b["pressure"]["ramp_steps"]);
+    for (json& l : b["loads"]) scale(l["ramp_steps"]);
+    for (json& d : b["drivers"]) {
+      if (d["from_step"].get<long long>() > 0) d["from_step"] = (d["from_step"].get<long long>() - 1) * factor + 1;
+      scale(d["to_step"]);
+    }
+  }
+  scale(s["references"]["every"]);
+  scale(s["output"]["frames_every"]);
+  return scene_from_json(s, scene.file, scene.dir);
 }
 
 std::string read_text_file(const std::string& path) {

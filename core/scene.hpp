@@ -144,6 +144,11 @@ Scene scene_from_json(const nlohmann::json& doc, const std::string& file, const 
 // missing object members; `value_json` is a JSON literal. Throws InputError("--set KEY", ...).
 void apply_override(nlohmann::json& doc, const std::string& key, const std::string& value_json);
 
+// The same scene at dt / factor over the same physical time: every step count (time.steps,
+// time.settle.max_steps, pressure and load ramps, driver windows, references.every,
+// output.frames_every) times factor. Step k at dt covers steps (k-1) factor + 1 .. k factor.
+Scene rescale_dt(const Scene& scene, int factor);
+
 // Reads a whole text file; throws InputError(path, ...) when missing or unreadable.
 std::string read_text_file(const std::string& path);
 

@@ -241,6 +241,7 @@ void Simulation::step() {
     add_forces(ctx);
     if (audit_) v_before_ = w.v;
     integrate(ctx);
+    after_integration(ctx);
     if (audit_) book_work(ctx.h);
     total += us_since(ts);
   }
@@ -277,6 +278,22 @@ void Simulation::add_forces(const StepContext& s) {
     e->add_forces(w, s);
   }
   close_category(open);
+}
+
+// Position-based corrections; with the audit, the equivalent forces they add into w.f are booked
+// with their effect's category.
+void Simulation::after_integration(const StepContext& s) {
+  World& w = world_;
+  for (const auto& e : effects_) {
+    if (!e->corrects_positions()) continue;
+    if (!audit_ || e->category() == EffectCategory::none) {
+      e->after_integration(w, s);
+      continue;
+    }
+    mark_ = w.f;
+    e->after_integration(w, s);
+    close_category(e->category());
+  }
 }
 
 void Simulation::close_category(EffectCategory c) {

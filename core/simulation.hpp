@@ -78,6 +78,7 @@ class Simulation {
   void build_effects(const SimulationOptions& options);
   void integrate(const StepContext& s);
   void add_forces(const StepContext& s);
+  void after_integration(const StepContext& s);
   void close_category(EffectCategory c);
   void book_work(double h);
   void book_interval();

@@ -118,6 +118,7 @@ struct RunCommand {
   int steps = -1, threads = 0;
   bool quiet = false;
   std::string compare;
+  int dt_divide = 1;
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
@@ -128,6 +129,7 @@ struct RunCommand {
     cmd->add_flag("--quiet", quiet, "no progress line");
     cmd->add_option("--threads", threads,
                     "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
+    cmd->add_option("--dt-divide", dt_divide, "run at dt / N over the same physical time (every step count times N)");
     cmd->add_option("--compare", compare, "a reference (harness reference) or finished run of the same scene: "
                                           "error_vs_reference in summary.json, pos_err/gap columns");
   }
@@ -136,7 +138,8 @@ struct RunCommand {
       if (threads < 1) throw InputError("--threads", "must be >= 1");
       set_threads(threads);
     }
-    const Scene sc = load_scene(resolve_scene(scene), scene_overrides(sets, cmd, steps));
+    if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
+    const Scene sc = rescale_dt(load_scene(resolve_scene(scene), scene_overrides(sets, cmd, steps)), dt_divide);
     RunOptions opt = run_options();
     opt.out_dir = out;
     opt.progress = !quiet;

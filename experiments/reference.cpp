@@ -18,26 +18,6 @@ using nlohmann::json;
 
 namespace {
 
-// Every step count of a resolved scene times `factor` (the same physical timeline at dt / factor).
-void scale_steps(json& s, int factor) {
-  auto scale = [factor](json& v) {
-    if (v.is_number_integer() && v.get<long long>() > 0) v = v.get<long long>() * factor;
-  };
-  scale(s["time"]["steps"]);
-  if (s["time"].contains("settle")) scale(s["time"]["settle"]["max_steps"]);
-  for (json& b : s["bodies"]) {
-    if (b.contains("pressure")) scale(b["pressure"]["ramp_steps"]);
-    for (json& l : b["loads"]) scale(l["ramp_steps"]);
-    for (json& d : b["drivers"]) {
-      // Driver windows are step numbers: step k at dt covers steps (k-1) f + 1 .. k f at dt / f.
-      if (d["from_step"].get<long long>() > 0) d["from_step"] = (d["from_step"].get<long long>() - 1) * factor + 1;
-      scale(d["to_step"]);
-    }
-  }
-  scale(s["references"]["every"]);
-  scale(s["output"]["frames_every"]);
-}
-
 double default_stiffness(const Scene& sc) {
   if (sc.contacts.empty()) return 0.0;
   if (sc.contacts[0].spec.force_rule == ForceRule::penalty && sc.contacts[0].spec.stiffness > 0.0)
@@ -50,13 +30,10 @@ double default_stiffness(const Scene& sc) {
 
 // The scene of level i: exact detection, penalty k, contact both ways, dt / 2^i, a tight settle.
 Scene level_scene(const Scene& base, int level, double k) {
-  json s = base.resolved;
-  const int f = 1 << level;
-  s["time"]["dt"] = base.dt / f;
+  json s = rescale_dt(base, 1 << level).resolved;
   const double tol = base.settle.present ? base.settle.tolerance / 100.0 : 1e-5;
   const long long max_steps = base.settle.present ? 4LL * base.settle.max_steps : 20LL * std::max(1, base.steps);
-  s["time"]["settle"] = {{"tolerance", tol}, {"max_steps", max_steps}};
-  scale_steps(s, f);
+  s["time"]["settle"] = {{"tolerance", tol}, {"max_steps", max_steps * (1 << level)}};
   bool contact = false;
   for (const auto& e : s["effects"]) contact = contact || e == "contact";
   if (!contact) s["effects"].push_back("contact");

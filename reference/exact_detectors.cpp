@@ -1,5 +1,6 @@
 #include "reference/exact_detectors.hpp"
 
+#include "core/collision/detectors/triangles.hpp"
 #include "core/geometry.hpp"
 
 #include <cmath>
@@ -17,47 +18,6 @@ namespace {
 bool all_finite(const World& w, const Body& b) {
   for (int i = b.begin; i < b.end; ++i)
     if (!w.x[i].allFinite()) return false;
-  return true;
-}
-
-// The (up to 3) vertices of host triangle t, as global indices, nearest to p first.
-int triangle_vertices_nearest_first(const World& w, int host_begin, const Tri& t, const Vec3& p,
-                                    int k, int* out) {
-  if (k <= 0) return 0;
-  std::array<int, 3> g{host_begin + t[0], host_begin + t[1], host_begin + t[2]};
-  std::array<double, 3> d{};
-  for (int j = 0; j < 3; ++j) d[j] = (w.x[g[j]] - p).squaredNorm();
-  std::array<int, 3> order{0, 1, 2};
-  std::sort(order.begin(), order.end(), [&](int i, int j) { return d[i] < d[j] || (d[i] == d[j] && g[i] < g[j]); });
-  const int n = std::min(k, 3);
-  for (int j = 0; j < n; ++j) out[j] = g[order[j]];
-  return n;
-}
-
-// Outward unit normal of host triangle t (global node offset `begin`); false when degenerate.
-bool face_normal(const World& w, int begin, const Tri& t, Vec3& n) {
-  const Vec3& a = w.x[begin + t[0]];
-  const Vec3 c = (w.x[begin + t[1]] - a).cross(w.x[begin + t[2]] - a);
-  const double len = c.norm();
-  if (!(len > 0.0) || !std::isfinite(len)) return false;
-  n = c / len;
-  return true;
-}
-
-// The closest point of host triangle t to x: barycentric weights on its vertices, the outward
-// normal (the face's), and x's depth below the face along it (>= 0; the node is inside).
-bool triangle_contact_point(const World& w, int begin, const Tri& t, const Vec3& x, ContactPoint& out) {
-  const Vec3 &a = w.x[begin + t[0]], &b = w.x[begin + t[1]], &c = w.x[begin + t[2]];
-  const Vec3 p = closest_on_triangle(x, a, b, c);
-  barycentric(p, a, b, c, out.weight);
-  for (int k = 0; k < 3; ++k) out.hosts[k] = begin + t[k];
-  const Vec3 d = p - x;
-  const double len = d.norm();
-  Vec3 fn;
-  if (!face_normal(w, begin, t, fn)) return false;
-  // Inside, the nearest point lies outward of the node; on the face, the face's normal.
-  out.normal = len > 1e-12 * (1.0 + x.norm()) && std::isfinite(len) ? Vec3(d / len) : fn;
-  out.depth = std::isfinite(len) ? len : 0.0;
   return true;
 }
 
@@ -96,16 +56,7 @@ int CgalDetector::nearest_hosts(const World& w, const Contact& c, int k, int* ou
 
 bool CgalDetector::contact_direction(const World& w, const Contact& c, Vec3& n) const {
   if (c.key < 0 || c.key >= static_cast<int>(host_surface_.faces().size())) return false;
-  const Tri& t = host_surface_.faces()[c.key];
-  const Vec3& x = w.x[c.guest];
-  const Vec3 p = closest_on_triangle(x, w.x[host_begin_ + t[0]], w.x[host_begin_ + t[1]], w.x[host_begin_ + t[2]]);
-  const Vec3 d = p - x;
-  const double len = d.norm();
-  if (len > 1e-12 * (1.0 + x.norm()) && std::isfinite(len)) {
-    n = d / len;
-    return true;
-  }
-  return face_normal(w, host_begin_, t, n);
+  return triangle_direction(w, host_begin_, host_surface_.faces()[c.key], w.x[c.guest], n);
 }
 
 // ---- FCL ------------------------------------------------------------------------------------
@@ -167,7 +118,8 @@ bool FclDetector::contact_direction(const World& w, const Contact& c, Vec3& n) c
 
 bool FclDetector::contact_point(const World& w, const Contact& c, ContactPoint& out) const {
   if (c.key < 0 || c.key >= static_cast<int>(host_.faces().size())) return false;
-  return triangle_contact_point(w, host_begin_, host_.faces()[c.key], w.x[c.guest], out);
+  // FCL reports the vertices of intersecting triangles, inside or not: the depth is signed.
+  return triangle_contact_point(w, host_begin_, host_.faces()[c.key], w.x[c.guest], out, false);
 }
 
 std::unique_ptr<CollisionDetector> make_exact_detector(DetectorKind kind) {

@@ -209,3 +209,127 @@ def fmt(v, spec):
     if v is None or (isinstance(v, float) and math.isnan(v)):
         return "n/a"
     return format(v, spec)
+
+
+# ---------------------------------------------------------------------------------------------
+# Tables and figures shared by the scripts.
+COLUMN = 3.4   # in: one column of the report; figures are drawn at their printed size
+PAGE = 7.0     # in: the text width
+
+
+def pyplot():
+    """matplotlib.pyplot with the report's style: text of 7 pt or more at the printed size,
+    colour-blind-safe colours, vector PDF beside each PNG (save())."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    plt.rcParams.update({
+        "font.size": 7, "axes.titlesize": 7.5, "axes.labelsize": 7, "xtick.labelsize": 7, "ytick.labelsize": 7,
+        "legend.fontsize": 7, "figure.titlesize": 8, "lines.linewidth": 1.0, "axes.linewidth": 0.6,
+        "pdf.fonttype": 42, "savefig.bbox": "tight", "savefig.pad_inches": 0.02,
+        "axes.prop_cycle": matplotlib.cycler(color=["#0072B2", "#E69F00", "#009E73", "#CC79A7", "#D55E00",
+                                                    "#56B4E9", "#F0E442", "#000000"]),
+    })
+    return plt
+
+
+def save(fig, base):
+    """base.png (300 dpi) and base.pdf (vector)."""
+    import matplotlib.pyplot as plt
+    fig.savefig(base + ".png", dpi=300)
+    fig.savefig(base + ".pdf")
+    plt.close(fig)
+
+
+def heatmap(ax, m, xlabels, ylabels, title, crossed=()):
+    """A matrix as a heat map with its values written in a colour that contrasts with the cell
+    (viridis: white on the dark end, black on the bright end); `crossed` cells (x, y) get an X."""
+    import numpy as np
+    a = np.array(m, dtype=float)
+    im = ax.imshow(a, origin="lower", aspect="auto", cmap="viridis")
+    finite = a[np.isfinite(a)]
+    lo, hi = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            if not np.isfinite(a[i, j]):
+                continue
+            level = (a[i, j] - lo) / (hi - lo) if hi > lo else 0.0
+            ax.text(j, i, "%.2g" % a[i, j], ha="center", va="center", fontsize=6,
+                    color="black" if level > 0.55 else "white")
+    for j, i in crossed:
+        ax.plot([j - 0.45, j + 0.45], [i - 0.45, i + 0.45], color="#D55E00", lw=0.8)
+        ax.plot([j - 0.45, j + 0.45], [i + 0.45, i - 0.45], color="#D55E00", lw=0.8)
+    ax.set_xticks(range(len(xlabels)))
+    ax.set_xticklabels(xlabels, rotation=45, ha="right")
+    ax.set_yticks(range(len(ylabels)))
+    ax.set_yticklabels(ylabels)
+    ax.set_title(title)
+    ax.figure.colorbar(im, ax=ax, fraction=0.05, pad=0.02)
+
+
+def median(v):
+    s = sorted(x for x in v if not (isinstance(x, float) and math.isnan(x)))
+    if not s:
+        return float("nan")
+    n = len(s)
+    return s[n // 2] if n % 2 else 0.5 * (s[n // 2 - 1] + s[n // 2])
+
+
+def cell(v):
+    if isinstance(v, float):
+        return "" if math.isnan(v) else "%.6g" % v
+    return v
+
+
+def write_csv(path, rows, cols):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(cols)
+        for r in rows:
+            w.writerow([cell(r.get(c, "")) for c in cols])
+
+
+def md_table(rows, cols, heads):
+    def show(v):
+        if isinstance(v, float):
+            return "" if math.isnan(v) else "%.4g" % v
+        return str(v)
+    out = ["| " + " | ".join(heads) + " |", "|" + "---|" * len(heads)]
+    for r in rows:
+        out.append("| " + " | ".join(show(r.get(c, "")) for c in cols) + " |")
+    return "\n".join(out) + "\n"
+
+
+def tex_table(rows, cols, heads, caption):
+    def show(v):
+        if isinstance(v, float):
+            return "--" if math.isnan(v) else "%.3g" % v
+        return tex_escape(v)
+    out = ["\\begin{tabular}{" + "l" * 2 + "r" * (len(cols) - 2) + "}", "\\toprule", " & ".join(heads) + " \\\\",
+           "\\midrule"]
+    for r in rows:
+        out.append(" & ".join(show(r.get(c, "")) for c in cols) + " \\\\")
+    out += ["\\bottomrule", "\\end{tabular}"]
+    return "% " + caption + " (made by scripts/study.py)\n" + "\n".join(out) + "\n"
+
+
+def bundled_scene(scene):
+    """experiments/scenes/<scene>.json, parsed."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "experiments", "scenes", scene + ".json")
+    with open(path) as f:
+        return json.load(f)
+
+
+def load_surfaces(path):
+    """surfaces.csv of a run: {body: [(x, y, z, x0, y0, z0, signed distance or None)]}."""
+    out = {}
+    with open(os.path.join(path, "surfaces.csv"), newline="") as f:
+        for r in csv.DictReader(f):
+            out.setdefault(r["body"], []).append(tuple(float(r[k]) for k in ("x", "y", "z", "x0", "y0", "z0")) +
+                                                 (float(r["signed_distance"]) if r["signed_distance"] else None,))
+    return out
+
+
+def largest_displacements(path):
+    """{body: largest distance of a surface vertex from its rest position (m)} after the run."""
+    return {b: max(math.dist(v[:3], v[3:6]) for v in vs) for b, vs in load_surfaces(path).items()}

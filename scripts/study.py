@@ -1,51 +1,89 @@
 #!/usr/bin/env python3
-"""What accuracy costs in time, ablations of force and voxel size, convergence (issue 6).
+"""The studies of the report, all judged by the error against a converged reference solution.
 
-Every run goes through `harness sweep` (one run folder per point, runs.csv merged), so any
-point can be re-run by hand with the command `harness sweep ... --list` prints.
-
-  study.py accuracy     results/accuracy_time.csv, figures/pareto_<scene>.png, tables/accuracy_time.md
-  study.py ablation     results/ablation.csv, figures/ablation_<scene>.png, tables/ablation.md
-  study.py convergence  results/convergence.csv, figures/convergence.png, tables/convergence.md
-  study.py realtime     results/realtime.csv, tables/realtime.{md,tex}: steps per second, one core
-  study.py all          the three
+  study.py references   results/references/<scene>/ (summary.json with every level of the loop,
+                        surfaces.csv: the settled reference), tables/references.{md,tex}
+  study.py accuracy     accuracy_time.csv, figures/pareto_<scene>.{png,pdf}, tables/accuracy_time.md,
+                        tables/accuracy_time_front.tex: what accuracy costs in time
+  study.py ablation     ablation.csv, figures/ablation_<scene>.{png,pdf}, tables/ablation.md,
+                        tables/ablation_defaults.tex: force rule and magnitude by voxel size, the
+                        voxel model's default chosen by the written rule
+  study.py convergence  convergence.csv, figures/convergence.{png,pdf}, tables/convergence.md
+  study.py refinement   refinement.csv, tables/refinement.{md,tex}: settled shape against mesh resolution
+  study.py realtime     realtime.csv, tables/realtime.{md,tex}: steps per second, one core
+  study.py all          every one of them, in this order
 Options: --harness PATH (default build/bin/harness), --results DIR (default results),
-         --quick (shorter runs, fewer points), -j N (points at once, default 2).
-"""
-import argparse, csv, json, math, os, re, subprocess, sys
+         --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
+         --repeats N (runs per configuration for the timings, default 3).
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-import numpy as np
+Definitions (stated once, used everywhere):
+  error         against the scene's reference (core/run/compare.hpp): pos_err_max (largest distance of
+                a surface vertex from where the reference has it), gap_max (largest gap where the
+                reference has contact), depth_max (deepest penetration); all at the end of the run.
+  stable        the run finished finite, the stability guard never found dt above 0.9 dt_crit, the
+                energy audit closed within 1 %, and contact injected at most 10 % of the energy the
+                scene put in (largest cumulative work of contact over initial plus external energy).
+  time          microseconds per step of detection plus elimination: the median over the run's steps,
+                then the median over --repeats runs (the spread is the range over the runs).
+  rule          (the defaults) among the stable settings, the smallest pos_err_max; among those within
+                10 % of it, the smallest gap_max; among those, the fastest.
+"""
+import argparse, concurrent.futures, csv, json, math, os, shutil, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import resultslib as rl  # noqa: E402
 
+plt = rl.pyplot()
+
 SCENES = ["sphere_collision", "cylinder_press", "implant_expansion"]
+# The paper's eliminator for each scenario (line for the spheres and the cylinder, plane for the implant).
+PAPER_ELIMINATOR = {"sphere_collision": "line", "cylinder_press": "line", "implant_expansion": "plane"}
 VOXELS = [0.002, 0.004, 0.008, 0.016]
-FORCES = ["0.01", "0.03", "0.1", "0.3", "1", "3", "auto"]
 ABLATION_VOXELS = [0.004, 0.008, 0.016, 0.032]
 CONVERGENCE_VOXELS = [0.032, 0.016, 0.008, 0.004, 0.002]
-# A run "stayed stable" when it finished finite and its kinetic energy peak stayed below
-# KE_FACTOR times the peak of the same scene without contact (the energy its loads put in).
-KE_FACTOR = 10.0
-# The defaults of the bundled scenes are chosen from the ablation by choose_default(): among the
-# stable settings, the fewest final true penetrations; among equals, those whose detection and
-# elimination fit CONTACT_BUDGET_US (a fifth of the 1 ms step of the 1 kHz haptic rate) first,
-# then the lowest kinetic energy peak (the least energy the contact force adds), then time.
-CONTACT_BUDGET_US = 200.0
+CONSTANT_FORCES = ["0.003", "0.01", "0.03", "0.1"]
+PENALTY = '{"stiffness":500}'
+CONSTANT = "0.01"
+ABLATION_FORCES = CONSTANT_FORCES + ["auto", '{"stiffness":125}', PENALTY, '{"stiffness":2000}']
+INJECTION_SHARE = 0.1
+BALANCE = 0.01
+WITHIN = 1.10
+# Study runs stop settling after this many more steps (the voxel model's contact never settles:
+# its end state after the same time is what it is judged on).
+STUDY_SETTLE = 4000
 
 
-def sweep(a, scene, grids, sets, out):
-    cmd = [a.harness, "sweep", scene, "--out", out, "-j", str(a.jobs)]
-    for g in grids:
-        cmd += ["--grid", g]
-    for s in sets + a.extra_sets:
-        cmd += ["--set", s]
-    subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
-    with open(os.path.join(out, "runs.csv")) as f:
-        return list(csv.DictReader(f))
+def force_label(f):
+    if f == "auto":
+        return "auto"
+    if f.startswith("{"):
+        return "k=%g" % json.loads(f)["stiffness"]
+    return "F=%s" % f
+
+
+# ---------------------------------------------------------------------------------------------
+# Running
+def run_one(a, scene, out, sets, compare=True):
+    """One `harness run` into `out` (skipped when its summary is already there); its summary."""
+    summary = os.path.join(out, "summary.json")
+    if not os.path.exists(summary):
+        cmd = [a.harness, "run", scene, "--out", out, "--quiet", "--set", "output.frames_every=0",
+               "--set", "time.settle.max_steps=%d" % (400 if a.quick else STUDY_SETTLE)]
+        for s in sets + a.extra_sets:
+            cmd += ["--set", s]
+        ref = os.path.join(a.results, "references", scene)
+        if compare and os.path.exists(os.path.join(ref, "surfaces.csv")):
+            cmd += ["--compare", ref]
+        env = dict(os.environ, HARNESS_THREADS="1")
+        subprocess.run(cmd, check=False, env=env, stderr=subprocess.DEVNULL)
+    with open(summary) as f:
+        return json.load(f)
+
+
+def run_all(a, jobs):
+    """jobs: list of (scene, out, sets); runs them -j at once; returns their summaries in order."""
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
+        return list(ex.map(lambda j: run_one(a, *j), jobs))
 
 
 def num(v, default=float("nan")):
@@ -55,425 +93,466 @@ def num(v, default=float("nan")):
         return default
 
 
-def write_csv(path, rows, cols):
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(cols)
-        for r in rows:
-            w.writerow([fmt(r.get(c, "")) for c in cols])
+def figures(s):
+    """The figures of one run's summary that the studies use."""
+    p = s["pairs"][0] if s.get("pairs") else {}
+    e = p.get("error_vs_reference") or {}
+    en = s.get("energy") or {}
+    st = s.get("stability") or {}
+    t = s.get("timing_us") or {}
+    energy_in = num(en.get("energy_initial"), 0.0) + max(0.0, num(en.get("work_external"), 0.0))
+    injection = num(en.get("work_contact_peak"), 0.0) / energy_in if energy_in > 0 else 0.0
+    reasons = []
+    if s.get("status") != "ok":
+        reasons.append("not finite")
+    if num(st.get("guard_violations"), 0) > 0:
+        reasons.append("dt above the limit")
+    if abs(num(en.get("energy_balance_error"), 0.0)) > BALANCE:
+        reasons.append("energy audit open")
+    if injection > INJECTION_SHARE:
+        reasons.append("contact injects %.0f %% of the energy in" % (100 * injection))
+    return {
+        "status": s.get("status"), "stable": "yes" if not reasons else "no", "why_unstable": "; ".join(reasons),
+        "settled": s.get("settled"), "steps": s.get("steps_run"),
+        "pos_err_max_mm": 1e3 * num(e.get("pos_err_max")), "pos_err_rms_mm": 1e3 * num(e.get("pos_err_rms")),
+        "gap_max_mm": 1e3 * num(e.get("gap_max")), "gap_mean_mm": 1e3 * num(e.get("gap_mean")),
+        "depth_max_mm": 1e3 * num(e.get("depth_max")), "contact_injection": injection,
+        "t_contact_us": num(t.get("detect"), 0.0) + num(t.get("eliminate"), 0.0), "t_step_us": num(t.get("step")),
+        "recall": num(p.get("recall")), "precision": num(p.get("precision")),
+        "true_pen_final": num(p.get("true_pen_final")), "voxel_size_used": num(p.get("voxel_size_used")),
+    }
 
 
-def fmt(v):
-    if isinstance(v, float):
-        return "" if math.isnan(v) else "%.6g" % v
-    return v
+def repeated(a, scene, folder, sets):
+    """A configuration run --repeats times (the first gives the errors; every one its timings)."""
+    outs = [os.path.join(a.results, "sweeps", folder + ("" if r == 0 else "_r%d" % r)) for r in range(a.repeats)]
+    return [(scene, o, sets) for o in outs]
 
 
-def md_table(rows, cols, heads):
-    out = ["| " + " | ".join(heads) + " |", "|" + "---|" * len(heads)]
-    for r in rows:
-        out.append("| " + " | ".join(str(fmt(r.get(c, ""))) for c in cols) + " |")
-    return "\n".join(out) + "\n"
+def combine(summaries):
+    """Errors of the first run; contact and step time: median over the runs, and the range."""
+    f = figures(summaries[0])
+    tc = sorted(figures(s)["t_contact_us"] for s in summaries)
+    ts = sorted(figures(s)["t_step_us"] for s in summaries)
+    f["t_contact_us"] = rl.median(tc)
+    f["t_contact_range"] = "%.3g-%.3g" % (tc[0], tc[-1])
+    f["t_step_us"] = rl.median(ts)
+    f["repeats"] = len(summaries)
+    return f
 
 
-def tex_num(v):
-    if isinstance(v, float):
-        return "--" if math.isnan(v) else "%.3g" % v
-    return v
+def choose(rows):
+    """The written rule (module docstring) over stable rows; None when none is stable."""
+    ok = [r for r in rows if r["stable"] == "yes" and not math.isnan(r["pos_err_max_mm"])]
+    if not ok:
+        return None
+    best = min(r["pos_err_max_mm"] for r in ok)
+    near = [r for r in ok if r["pos_err_max_mm"] <= WITHIN * best]
+    g = min(r["gap_max_mm"] for r in near)
+    near = [r for r in near if r["gap_max_mm"] <= WITHIN * g + 1e-9]
+    return min(near, key=lambda r: r["t_contact_us"])
 
 
-def tex_table(rows, cols, heads, caption):
-    out = ["\\begin{tabular}{" + "l" * 2 + "r" * (len(cols) - 2) + "}", "\\toprule",
-           " & ".join(heads) + " \\\\", "\\midrule"]
-    for r in rows:
-        out.append(" & ".join(rl.tex_escape(tex_num(r.get(c, ""))) for c in cols) + " \\\\")
-    out += ["\\bottomrule", "\\end{tabular}"]
-    return "% " + caption + " (made by scripts/study.py)\n" + "\n".join(out) + "\n"
-
-
-def baseline(a, scene, out):
-    """The scene without contact: its runs.csv row (kinetic energy peak, true penetrations)."""
-    rows = sweep(a, scene, ["contacts.0.detector=voxel"],
-                 ['effects=' + json.dumps(effects_without_contact(scene)), 'references.solvers=["cgal"]',
-                  "references.every=10", "output.frames_every=0"], out)
-    return rows[0]
-
-
-def bundled_scene(scene):
-    """The bundled scene file experiments/scenes/<scene>.json, parsed."""
-    path = os.path.join(os.path.dirname(__file__), "..", "experiments", "scenes", scene + ".json")
-    with open(path) as f:
-        return json.load(f)
-
-
-def effects_without_contact(scene):
-    return [e for e in bundled_scene(scene)["effects"] if e != "contact"]
+def pareto(rows, x="t_contact_us", y="pos_err_max_mm"):
+    ok = [r for r in rows if r["stable"] == "yes" and not math.isnan(r[x]) and not math.isnan(r[y])]
+    return [r for r in ok if not any(o is not r and o[x] <= r[x] and o[y] <= r[y] and (o[x] < r[x] or o[y] < r[y])
+                                     for o in ok)]
 
 
 # ---------------------------------------------------------------------------------------------
-def accuracy(a):
+def references(a):
     rows = []
     for scene in SCENES:
-        base = os.path.join(a.results, "sweeps", "accuracy", scene)
-        common = ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=10"]
-        vox = sweep(a, scene, ["contacts.0.voxel_size=" + ",".join(str(v) for v in VOXELS),
-                               "contacts.0.eliminator=line,plane"], common + ['contacts.0.detector="voxel"'],
-                    os.path.join(base, "voxel"))
-        ex = sweep(a, scene, ["contacts.0.detector=cgal,fcl", "contacts.0.eliminator=line,plane"], common,
-                   os.path.join(base, "exact"))
-        for r in vox + ex:
-            det = r.get("contacts.0.detector", "voxel")
-            rows.append({
-                "scene": scene, "detector": det,
-                "voxel_size": num(r.get("contacts.0.voxel_size")) if det == "voxel" else float("nan"),
-                "eliminator": r["contacts.0.eliminator"], "status": r["status"],
-                "recall": num(r["recall"]), "precision": num(r["precision"]),
-                "true_pen_final": num(r["true_pen_final"]),
-                "max_depth_peak_mm": 1e3 * num(r["max_depth_peak"], 0.0),
-                "t_detect_us": num(r["t_detect_us"]), "t_eliminate_us": num(r["t_eliminate_us"]),
-                "t_contact_us": num(r["t_detect_us"]) + num(r["t_eliminate_us"]),
-                "t_step_us": num(r["t_step_us"]),
-            })
-    cols = ["scene", "detector", "voxel_size", "eliminator", "status", "recall", "precision", "true_pen_final",
-            "max_depth_peak_mm", "t_detect_us", "t_eliminate_us", "t_contact_us", "t_step_us"]
-    write_csv(os.path.join(a.results, "accuracy_time.csv"), rows, cols)
-    md = ["# What accuracy costs in time\n",
-          "Detection driving elimination, per scenario: the voxel model at four voxel sizes, FCL and "
-          "CGAL, each with the line and the plane eliminator. Error = peak residual depth (CGAL ground "
-          "truth, measured every 10 steps); time = median microseconds per step of detection plus "
-          "elimination. `front` marks the Pareto front (no other configuration is both faster and "
-          "more accurate). Made by `scripts/study.py accuracy`.\n"]
+        work = os.path.join(a.results, "sweeps", "references", scene)
+        dest = os.path.join(a.results, "references", scene)
+        if not os.path.exists(os.path.join(work, "summary.json")):
+            cmd = [a.harness, "reference", scene, "--out", work, "--quiet"]
+            if a.quick:
+                cmd += ["--max-levels", "2", "--set", "time.steps=300", "--set", "time.settle.max_steps=400"]
+            subprocess.run(cmd, check=True, env=dict(os.environ, HARNESS_THREADS="1"))
+        os.makedirs(dest, exist_ok=True)
+        for f in ["summary.json", "surfaces.csv"]:
+            shutil.copy(os.path.join(work, f), os.path.join(dest, f))
+        with open(os.path.join(dest, "summary.json")) as f:
+            ref = json.load(f)["reference"]
+        for lv in ref["levels"]:
+            rows.append({"scene": scene, "level": lv["level"], "dt": lv["dt"], "stiffness": lv["stiffness"],
+                         "steps": lv["steps_run"], "settled": lv["settled"], "residual": lv["residual"],
+                         "change_mm": 1e3 * num(lv["change_max"]), "wall_s": lv["wall_s"],
+                         "converged": ref["converged"] if lv is ref["levels"][-1] else ""})
+    cols = ["scene", "level", "dt", "stiffness", "steps", "settled", "residual", "change_mm", "wall_s", "converged"]
+    rl.write_csv(os.path.join(a.results, "references.csv"), rows, cols)
+    heads = ["scene", "level", "dt (s)", "k_c (N/m)", "steps", "settled", "residual", "change (mm)", "wall (s)",
+             "converged"]
+    with open(os.path.join(a.results, "tables", "references.md"), "w") as f:
+        f.write("# Reference solutions\n\nExact detection (CGAL), contact both ways, penalty k_c x depth with "
+                "barycentric reactions; each level halves dt and doubles k_c over the same physical time and "
+                "settles to a force residual of 1e-5; change = largest distance of a surface vertex between "
+                "the level and the one before. Converged when the change is below 0.05 mm. Made by "
+                "`scripts/study.py references`.\n\n" + rl.md_table(rows, cols, heads))
+    with open(os.path.join(a.results, "tables", "references.tex"), "w") as f:
+        f.write(rl.tex_table(rows, ["scene", "level", "dt", "stiffness", "steps", "change_mm", "converged"],
+                             ["scenario", "level", "$\\Delta t$ (s)", "$k_c$ (N/m)", "steps", "change (mm)",
+                              "converged"], "The reference loop"))
+
+
+# ---------------------------------------------------------------------------------------------
+def method_configs(scene):
+    """(label, detector, voxel size or None, eliminator, force, extra sets) of the comparison: the
+    detectors by the responses where they make sense (module docstring of the report's table)."""
+    out = []
+    for v in VOXELS:
+        for e in ["line", "plane"]:
+            for f in [CONSTANT, "auto", PENALTY]:
+                out.append(("voxel %g mm" % (1e3 * v), "voxel", v, e, f, []))
+        out.append(("voxel %g mm" % (1e3 * v), "voxel", v, "projection", "auto", []))
+    for d in ["hash", "cgal", "fcl"]:
+        for f in [CONSTANT, "auto", PENALTY]:
+            out.append((d, d, None, "line", f, []))
+        out.append((d, d, None, "projection", "auto", []))
+    for d in ["hash", "cgal"]:
+        out.append((d + ", both ways", d, None, "line", PENALTY, ["contacts.0.two_sided=true"]))
+    return out
+
+
+def config_sets(det, voxel, elim, force, extra):
+    sets = ['contacts.0.detector="%s"' % det, 'contacts.0.eliminator="%s"' % elim, "contacts.0.force=" +
+            (json.dumps(force) if force == "auto" else force), "contacts.0.two_sided=false",
+            'references.solvers=["cgal"]', "references.every=50"]
+    if voxel:
+        sets.append("contacts.0.voxel_size=%g" % voxel)
+    return sets + extra
+
+
+def folder_name(scene, label, elim, force):
+    return "%s/%s_%s_%s" % (scene, label.replace(" ", "_").replace(",", ""), elim, force_label(force))
+
+
+def accuracy(a):
+    rows, jobs, index = [], [], []
+    for scene in SCENES:
+        for label, det, voxel, elim, force, extra in method_configs(scene):
+            js = repeated(a, scene, "accuracy/" + folder_name(scene, label, elim, force),
+                          config_sets(det, voxel, elim, force, extra))
+            index.append((scene, label, det, voxel, elim, force, len(jobs), len(js)))
+            jobs += js
+    sums = run_all(a, jobs)
+    for scene, label, det, voxel, elim, force, i, n in index:
+        rows.append(dict(combine(sums[i:i + n]), scene=scene, config=label, detector=det, eliminator=elim,
+                         force=force_label(force) if elim != "projection" else "positions"))
+    cols = ["scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "steps",
+            "pos_err_max_mm", "pos_err_rms_mm", "gap_max_mm", "gap_mean_mm", "depth_max_mm", "contact_injection",
+            "recall", "precision", "t_contact_us", "t_contact_range", "t_step_us", "repeats"]
+    for r in rows:
+        r["front"] = ""
+    md = ["# What accuracy costs in time\n\n",
+          "Every method on every scenario, judged by its error against the scenario's reference solution "
+          "(`results/references/`; pos_err_max: largest distance of a surface vertex from the reference; "
+          "gap_max: largest gap where the reference has contact; depth_max: deepest penetration; all in mm at "
+          "the end of the run). Time: detection plus elimination, µs per step, median of %d runs (range over "
+          "them). Stable: finite, dt within the limit, energy audit closed within %g %%, contact injecting at most "
+          "%g %% of the energy put in. The Pareto front (error against time) is drawn from the stable rows only; "
+          "the unstable rows are listed with the reason. Made by `scripts/study.py accuracy`.\n"
+          % (a.repeats, 100 * BALANCE, 100 * INJECTION_SHARE)]
     for scene in SCENES:
         sr = [r for r in rows if r["scene"] == scene]
         front = pareto(sr)
-        for r in sr:
-            r["front"] = "yes" if id(r) in front else ""
-            r["config"] = r["detector"] + ("" if r["detector"] != "voxel" else " %g mm" % (1e3 * r["voxel_size"]))
+        for r in front:
+            r["front"] = "yes"
         md.append("\n## %s\n\n" % scene)
-        md.append(md_table(sorted(sr, key=lambda r: r["t_contact_us"]),
-                           ["config", "eliminator", "status", "recall", "precision", "true_pen_final",
-                            "max_depth_peak_mm", "t_contact_us", "front"],
-                           ["configuration", "eliminator", "status", "recall", "precision", "true pen. final",
-                            "peak depth (mm)", "detect+elim (µs/step)", "front"]))
+        md.append(rl.md_table(sorted(sr, key=lambda r: (r["stable"] != "yes", r["pos_err_max_mm"])),
+                              ["config", "eliminator", "force", "stable", "pos_err_max_mm", "gap_max_mm",
+                               "depth_max_mm", "t_contact_us", "t_contact_range", "front", "why_unstable"],
+                              ["method", "elim.", "force", "stable", "pos. error max (mm)", "gap max (mm)",
+                               "depth max (mm)", "detect+elim (µs/step)", "range", "front", "why unstable"]))
         plot_pareto(a, scene, sr, front)
+    rl.write_csv(os.path.join(a.results, "accuracy_time.csv"), rows, cols + ["front"])
     with open(os.path.join(a.results, "tables", "accuracy_time.md"), "w") as f:
         f.write("".join(md))
-    front_rows = [dict(r, scene=r["scene"].replace("_", " ")) for r in rows if r.get("front") == "yes"]
+    fr = [dict(r, scene=r["scene"].replace("_", " ")) for r in rows if r["front"] == "yes"]
     with open(os.path.join(a.results, "tables", "accuracy_time_front.tex"), "w") as f:
-        f.write(tex_table(front_rows, ["scene", "config", "eliminator", "recall", "max_depth_peak_mm", "t_contact_us"],
-                          ["scenario", "detector", "elim.", "recall", "peak depth (mm)", "detect+elim ($\\mu$s)"],
-                          "Pareto front of error against time"))
-
-
-def pareto(rows):
-    ok = [r for r in rows if r["status"] == "ok" and not math.isnan(r["t_contact_us"])]
-    front = set()
-    for r in ok:
-        dominated = any(o is not r and o["t_contact_us"] <= r["t_contact_us"] and
-                        o["max_depth_peak_mm"] <= r["max_depth_peak_mm"] and
-                        (o["t_contact_us"] < r["t_contact_us"] or o["max_depth_peak_mm"] < r["max_depth_peak_mm"])
-                        for o in ok)
-        if not dominated:
-            front.add(id(r))
-    return front
+        f.write(rl.tex_table(fr, ["scene", "config", "eliminator", "force", "pos_err_max_mm", "gap_max_mm",
+                                  "t_contact_us"],
+                             ["scenario", "method", "elim.", "force", "pos. err. (mm)", "gap (mm)",
+                              "detect+elim ($\\mu$s)"], "Pareto front of error against time"))
 
 
 def plot_pareto(a, scene, rows, front):
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    floor = 1e-3  # mm: zero depth drawn at the floor of the log axis
-    marks = {"line": "o", "plane": "s"}
-    colors = {"voxel": "tab:blue", "fcl": "tab:orange", "cgal": "tab:green"}
+    fig, ax = plt.subplots(figsize=(rl.COLUMN, 2.6))
+    colors = {"voxel": "#0072B2", "fcl": "#E69F00", "cgal": "#009E73", "hash": "#CC79A7", "bullet": "#D55E00"}
+    marks = {"line": "o", "plane": "s", "projection": "^"}
+    floor = 1e-3
     for r in rows:
-        if r["status"] != "ok":
+        if math.isnan(r["pos_err_max_mm"]) or math.isnan(r["t_contact_us"]):
             continue
-        x, y = r["t_contact_us"], max(r["max_depth_peak_mm"], floor)
-        ax.scatter(x, y, marker=marks[r["eliminator"]], color=colors[r["detector"]],
-                   edgecolor="k" if id(r) in front else "none", s=60 if id(r) in front else 30, zorder=3)
-        ax.annotate(r["config"].replace("voxel ", ""), (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
-    fr = sorted((r for r in rows if id(r) in front), key=lambda r: r["t_contact_us"])
+        x, y = max(r["t_contact_us"], 0.1), max(r["pos_err_max_mm"], floor)
+        ok = r["stable"] == "yes"
+        ax.scatter(x, y, marker=marks.get(r["eliminator"], "D"), s=22 if r in front else 12,
+                   facecolor=colors.get(r["detector"], "gray") if ok else "none",
+                   edgecolor="k" if r in front else colors.get(r["detector"], "gray"), linewidth=0.6, zorder=3)
+    fr = sorted(front, key=lambda r: r["t_contact_us"])
     if fr:
-        ax.step([r["t_contact_us"] for r in fr], [max(r["max_depth_peak_mm"], floor) for r in fr], where="post",
-                color="k", lw=0.8, zorder=2, label="Pareto front")
-    for d, c in colors.items():
-        ax.scatter([], [], color=c, label=d)
-    for e, m in marks.items():
-        ax.scatter([], [], marker=m, color="gray", label=e)
+        ax.step([max(r["t_contact_us"], 0.1) for r in fr], [max(r["pos_err_max_mm"], floor) for r in fr],
+                where="post", color="k", lw=0.7, zorder=2, label="Pareto front (stable)")
+    for d in sorted({r["detector"] for r in rows}):
+        ax.scatter([], [], color=colors.get(d, "gray"), s=12, label=d)
+    ax.scatter([], [], facecolor="none", edgecolor="gray", s=12, label="unstable (hollow)")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("detection + elimination (µs per step, median)")
-    ax.set_ylabel("peak residual depth (mm; 0 drawn at %g)" % floor)
-    ax.set_title("%s: error against time" % scene)
-    ax.legend(fontsize=7, loc="best")
+    ax.set_xlabel("detection + elimination (µs per step)")
+    ax.set_ylabel("largest position error (mm)")
+    ax.set_title(scene.replace("_", " "))
+    ax.legend(loc="best", ncol=2)
     ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.results, "figures", "pareto_%s.png" % scene), dpi=110)
-    plt.close(fig)
+    rl.save(fig, os.path.join(a.results, "figures", "pareto_%s" % scene))
 
 
 # ---------------------------------------------------------------------------------------------
 def ablation(a):
-    rows = []
-    md = ["# Ablation: force magnitude by voxel size\n",
-          "Constant force F (N, log-spaced) and `auto`, by voxel size, with the scene's eliminator. "
-          "Stable = finished finite and kinetic energy peak below %g times the peak of the same scene "
-          "without contact. Made by `scripts/study.py ablation`.\n" % KE_FACTOR]
-    reasons = ["% The defaults chosen from the ablation and why (made by scripts/study.py)\n"]
-    for scene in ["cylinder_press", "implant_expansion"]:
-        base = os.path.join(a.results, "sweeps", "ablation", scene)
-        b0 = baseline(a, scene, os.path.join(base, "no_contact"))
-        ke0, pen0 = num(b0["kinetic_energy_peak"]), num(b0["true_pen_final"])
-        depth0 = 1e3 * num(b0["max_depth_peak"], 0.0)
-        runs = sweep(a, scene, ["contacts.0.force=" + ",".join(FORCES),
-                                "contacts.0.voxel_size=" + ",".join(str(v) for v in ABLATION_VOXELS)],
-                     ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=10"],
-                     os.path.join(base, "grid"))
-        for r in runs:
-            stable = r["status"] == "ok" and num(r["kinetic_energy_peak"], float("inf")) <= KE_FACTOR * ke0
-            rows.append({"scene": scene, "force": r["contacts.0.force"], "voxel_size": num(r["contacts.0.voxel_size"]),
-                         "status": r["status"], "stable": "yes" if stable else "no",
-                         "kinetic_energy_peak": num(r["kinetic_energy_peak"]), "ke_peak_no_contact": ke0,
-                         "true_pen_final": num(r["true_pen_final"]),
-                         "max_depth_peak_mm": 1e3 * num(r["max_depth_peak"], 0.0),
-                         "recall": num(r["recall"]), "precision": num(r["precision"]),
-                         "t_contact_us": num(r["t_detect_us"]) + num(r["t_eliminate_us"])})
+    rows, jobs, index = [], [], []
+    for scene in SCENES:
+        elim = PAPER_ELIMINATOR[scene]
+        for v in ABLATION_VOXELS:
+            for f in ABLATION_FORCES:
+                js = repeated(a, scene, "ablation/%s/v%g_%s" % (scene, 1e3 * v, force_label(f)),
+                              config_sets("voxel", v, elim, f, []))
+                index.append((scene, v, f, len(jobs), len(js)))
+                jobs += js
+    sums = run_all(a, jobs)
+    for scene, v, f, i, n in index:
+        rows.append(dict(combine(sums[i:i + n]), scene=scene, voxel_mm=1e3 * v, force=force_label(f),
+                         eliminator=PAPER_ELIMINATOR[scene]))
+    md = ["# Ablation: force rule and magnitude by voxel size (the voxel model)\n\n",
+          "The paper's voxel model with its eliminator for the scenario; constant force F (N per contact), "
+          "`auto`, and the depth penalty k (N/m), by voxel size. Errors against the reference (mm), stability "
+          "and time as in `accuracy_time.md`. Made by `scripts/study.py ablation`.\n"]
+    reasons = ["% The voxel model's defaults chosen by the rule (made by scripts/study.py)\n"]
+    for scene in SCENES:
         sr = [r for r in rows if r["scene"] == scene]
+        best = choose(sr)
+        md.append("\n## %s (%s)\n\n" % (scene, PAPER_ELIMINATOR[scene]))
+        md.append(rl.md_table(sr, ["voxel_mm", "force", "stable", "pos_err_max_mm", "gap_max_mm", "depth_max_mm",
+                                   "contact_injection", "t_contact_us", "why_unstable"],
+                              ["voxel (mm)", "force", "stable", "pos. error max (mm)", "gap max (mm)",
+                               "depth max (mm)", "contact work / energy in", "detect+elim (µs)", "why unstable"]))
+        text = default_text(scene, sr, best)
+        md.append("\n" + text + "\n")
+        reasons.append("\\paragraph{Default of \\code{%s}.} %s\n" % (rl.tex_escape(scene), rl.tex_escape(text)))
         plot_ablation(a, scene, sr)
-        best = choose_default(sr)
-        md.append("\n## %s\n\nWithout contact: kinetic energy peak %.4g J, %d truly penetrating nodes at the end, "
-                  "peak depth %.3g mm.\n\n" % (scene, ke0, pen0, depth0))
-        md.append(md_table(sr, ["force", "voxel_size", "stable", "true_pen_final", "max_depth_peak_mm",
-                                "kinetic_energy_peak", "recall", "precision", "t_contact_us"],
-                           ["F (N)", "voxel (m)", "stable", "true pen. final", "peak depth (mm)", "KE peak (J)",
-                            "recall", "precision", "detect+elim (µs)"]))
-        reason = default_reason(scene, sr, best, pen0)
-        md.append(reason)
-        reasons.append("\\paragraph{Default of \\code{%s}.}" % rl.tex_escape(scene) + md_to_tex(re.sub(r"\*\*Default\.\*\* Rule:[^\n]*\n", "", reason)))
-    best_rows = []
-    for scene in ["cylinder_press", "implant_expansion"]:
-        b = choose_default([r for r in rows if r["scene"] == scene])
-        if b:
-            auto = [r for r in rows if r["scene"] == scene and r["force"] == "auto"]
-            best_rows.append(dict(b, scene=scene.replace("_", " "),
-                                  auto_stable="%d/%d" % (sum(r["stable"] == "yes" for r in auto), len(auto)),
-                                  stable_all="%d/%d" % (sum(r["stable"] == "yes" for r in rows if r["scene"] == scene),
-                                                        sum(1 for r in rows if r["scene"] == scene))))
-    with open(os.path.join(a.results, "tables", "ablation_best.tex"), "w") as f:
-        f.write(tex_table(best_rows, ["scene", "force", "voxel_size", "true_pen_final", "max_depth_peak_mm",
-                                      "stable_all", "auto_stable"],
-                          ["scenario", "F (N)", "voxel (m)", "final pen.", "peak depth (mm)", "stable runs",
-                           "auto stable"], "Best stable force and voxel size"))
-    write_csv(os.path.join(a.results, "ablation.csv"), rows,
-              ["scene", "force", "voxel_size", "status", "stable", "kinetic_energy_peak", "ke_peak_no_contact",
-               "true_pen_final", "max_depth_peak_mm", "recall", "precision", "t_contact_us"])
+    rl.write_csv(os.path.join(a.results, "ablation.csv"), rows,
+                 ["scene", "eliminator", "voxel_mm", "force", "stable", "why_unstable", "settled", "pos_err_max_mm",
+                  "gap_max_mm", "depth_max_mm", "contact_injection", "t_contact_us", "t_contact_range", "recall",
+                  "precision"])
     with open(os.path.join(a.results, "tables", "ablation.md"), "w") as f:
         f.write("".join(md))
     with open(os.path.join(a.results, "tables", "ablation_defaults.tex"), "w") as f:
         f.write("\n".join(reasons))
+    with open(os.path.join(a.results, "defaults.json"), "w") as f:
+        json.dump({scene: ({"voxel_size": choose([r for r in rows if r["scene"] == scene])["voxel_mm"] / 1e3,
+                            "force": choose([r for r in rows if r["scene"] == scene])["force"],
+                            "eliminator": PAPER_ELIMINATOR[scene]}
+                           if choose([r for r in rows if r["scene"] == scene]) else None) for scene in SCENES},
+                  f, indent=2, sort_keys=True)
+        f.write("\n")
 
 
-def choose_default(rows):
-    """The setting a bundled scene should use (see CONTACT_BUDGET_US), or None if none is stable."""
-    ok = [r for r in rows if r["stable"] == "yes" and not math.isnan(r["true_pen_final"])]
-    return min(ok, key=lambda r: (r["true_pen_final"], r["t_contact_us"] > CONTACT_BUDGET_US,
-                                  r["kinetic_energy_peak"], r["t_contact_us"]), default=None)
-
-
-def md_to_tex(text):
-    """The few Markdown constructs default_reason() uses, as LaTeX."""
-    t = text.replace("\\", "\\textbackslash{}").replace("%", "\\%").replace("_", "\\_").replace("&", "\\&")
-    t = t.replace("µs", "$\\mu$s")
-    t = re.sub(r"\*\*(.+?)\*\*", r"\\textbf{\1}", t)
-    t = re.sub(r"`(.+?)`", r"\\code{\1}", t)
-    return t.replace("\n\n", "\n").strip() + "\n"
-
-
-def bundled_contact(scene):
-    c = bundled_scene(scene)["contacts"][0]
-    return str(c.get("force", "auto")), float(c.get("voxel_size", float("nan")))
-
-
-def same_force(a, b):
-    return a == b or (num(a) == num(b) and not math.isnan(num(a)))
-
-
-def default_reason(scene, rows, best, pen0):
-    """The chosen default in words, with the figures behind it, and whether the bundled scene uses it."""
-    out = ["\n**Default.** Rule: among the stable settings, the fewest truly penetrating nodes at the end; "
-           "among equals, detection and elimination within %g µs per step first, then the lowest kinetic energy "
-           "peak (the least energy the contact force adds), then the fastest.\n" % CONTACT_BUDGET_US]
+def default_text(scene, rows, best):
+    stable = [r for r in rows if r["stable"] == "yes"]
+    out = ("Rule: among the stable settings, the smallest largest position error; among those within 10 %% of "
+           "it, the smallest gap; among those, the fastest. %d of %d settings are stable. " % (len(stable), len(rows)))
     if best is None:
-        out.append("\nNo setting stayed stable: no default can be chosen from this grid.\n")
-        return "".join(out)
-    ties = [r for r in rows if r["stable"] == "yes" and r["true_pen_final"] == best["true_pen_final"]]
-    out.append("\nChosen: F = %s, voxel %g m: %d truly penetrating nodes at the end (%d without contact), "
-               "peak depth %.3g mm, kinetic energy peak %.3g times the no-contact run, %.1f µs per step for "
-               "detection and elimination; %d stable setting(s) reach the same final count.\n"
-               % (best["force"], best["voxel_size"], best["true_pen_final"], pen0, best["max_depth_peak_mm"],
-                  best["kinetic_energy_peak"] / best["ke_peak_no_contact"], best["t_contact_us"], len(ties)))
-    elim = [r for r in rows if r["true_pen_final"] <= 0.1 * pen0 and r["status"] == "ok"]
-    if best["true_pen_final"] > 0.1 * pen0:
-        if elim:
-            e = min(elim, key=lambda r: r["kinetic_energy_peak"])
-            out.append("\nNo stable setting removes 90%% of the penetration. The settings that do are unstable: the "
-                       "least energetic, F = %s at %g m (%d at the end), peaks at %.3g times the no-contact kinetic "
-                       "energy. A constant force large enough to hold a driven body back switches on and off with "
-                       "the detection and pumps energy into the contact (chatter): the paper's method trades "
-                       "elimination for stability here.\n"
-                       % (e["force"], e["voxel_size"], e["true_pen_final"],
-                          e["kinetic_energy_peak"] / e["ke_peak_no_contact"]))
-        else:
-            out.append("\nNo setting in the grid removes 90%% of the penetration.\n")
-    force, voxel = bundled_contact(scene)
-    match = same_force(force, best["force"]) and abs(voxel - best["voxel_size"]) <= 1e-12
-    out.append("\nThe bundled `%s.json` uses F = %s, voxel %g m: %s.\n"
-               % (scene, force, voxel, "the chosen default" if match else "**not** the chosen default"))
-    return "".join(out)
+        return out + "None is stable: the voxel model has no default for this scenario."
+    return out + ("Chosen: %s at %g mm voxels: position error %.3g mm, gap %.3g mm, depth %.3g mm, %.3g µs per "
+                  "step for detection and elimination." % (best["force"], best["voxel_mm"], best["pos_err_max_mm"],
+                                                            best["gap_max_mm"], best["depth_max_mm"],
+                                                            best["t_contact_us"]))
 
 
 def plot_ablation(a, scene, rows):
-    forces = FORCES
-    voxels = ABLATION_VOXELS
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
-    panels = [("true_pen_final", "final true penetrations (nodes)"), ("max_depth_peak_mm", "peak residual depth (mm)"),
-              ("stable", "stable (1) / unstable (0)")]
+    forces = [force_label(f) for f in ABLATION_FORCES]
+    voxels = [1e3 * v for v in ABLATION_VOXELS]
+    panels = [("pos_err_max_mm", "largest position error (mm)"), ("gap_max_mm", "largest gap (mm)")]
+    fig, axes = plt.subplots(1, 2, figsize=(rl.PAGE, 2.4))
     for ax, (key, title) in zip(axes, panels):
-        m = np.full((len(voxels), len(forces)), np.nan)
+        m = [[float("nan")] * len(forces) for _ in voxels]
+        unstable = []
         for r in rows:
-            i, j = voxels.index(r["voxel_size"]), forces.index(r["force"])
-            m[i, j] = (1.0 if r["stable"] == "yes" else 0.0) if key == "stable" else r[key]
-        im = ax.imshow(m, origin="lower", aspect="auto", cmap="viridis_r" if key != "stable" else "RdYlGn")
-        for i in range(len(voxels)):
-            for j in range(len(forces)):
-                if not np.isnan(m[i, j]):
-                    ax.text(j, i, "%.3g" % m[i, j], ha="center", va="center", fontsize=7, color="w" if key != "stable" else "k")
-        ax.set_xticks(range(len(forces)))
-        ax.set_xticklabels(forces)
-        ax.set_yticks(range(len(voxels)))
-        ax.set_yticklabels(["%g" % (1e3 * v) for v in voxels])
-        ax.set_xlabel("force F (N)")
+            i, j = voxels.index(r["voxel_mm"]), forces.index(r["force"])
+            m[i][j] = r[key]
+            if r["stable"] != "yes":
+                unstable.append((j, i))
+        rl.heatmap(ax, m, forces, ["%g" % v for v in voxels], title, unstable)
+        ax.set_xlabel("force rule")
         ax.set_ylabel("voxel size (mm)")
-        ax.set_title(title, fontsize=9)
-        fig.colorbar(im, ax=ax, fraction=0.046)
-    fig.suptitle("%s: force by voxel size" % scene)
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.results, "figures", "ablation_%s.png" % scene), dpi=100)
-    plt.close(fig)
+    fig.suptitle("%s (%s): crossed cells are unstable" % (scene.replace("_", " "), PAPER_ELIMINATOR[scene]))
+    rl.save(fig, os.path.join(a.results, "figures", "ablation_%s" % scene))
 
 
 # ---------------------------------------------------------------------------------------------
+def defaults(a):
+    path = os.path.join(a.results, "defaults.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            return json.load(f)
+    return {}
+
+
 def convergence(a):
+    d = defaults(a)
+    rows, jobs, index = [], [], []
+    for scene in SCENES:
+        force = d.get(scene) and d[scene]["force"]
+        f = {"auto": "auto"}.get(force) or (json.dumps({"stiffness": float(force[2:])}) if force and force.startswith("k=")
+                                            else force[2:] if force else PENALTY)
+        for v in CONVERGENCE_VOXELS:
+            js = [(scene, os.path.join(a.results, "sweeps", "convergence", scene, "v%g" % (1e3 * v)),
+                   config_sets("voxel", v, PAPER_ELIMINATOR[scene], f, []))]
+            index.append((scene, v, force_label(f), len(jobs)))
+            jobs += js
+    sums = run_all(a, jobs)
+    for scene, v, f, i in index:
+        rows.append(dict(figures(sums[i]), scene=scene, voxel_mm=1e3 * v, force=f))
+    cols = ["scene", "voxel_mm", "force", "stable", "pos_err_max_mm", "pos_err_rms_mm", "gap_max_mm", "depth_max_mm",
+            "t_contact_us", "why_unstable"]
+    rl.write_csv(os.path.join(a.results, "convergence.csv"), rows, cols)
+    fig, axes = plt.subplots(1, 3, figsize=(rl.PAGE, 2.2))
+    for scene in SCENES:
+        sr = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["voxel_mm"])
+        x = [r["voxel_mm"] for r in sr]
+        for ax, key in zip(axes, ["pos_err_max_mm", "gap_max_mm", "depth_max_mm"]):
+            ax.plot(x, [r[key] for r in sr], "o-", ms=3, label=scene.replace("_", " "))
+    for ax, t in zip(axes, ["largest position error (mm)", "largest gap (mm)", "deepest penetration (mm)"]):
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("voxel size (mm)")
+        ax.set_title(t)
+        ax.grid(True, alpha=0.3)
+    axes[0].legend()
+    rl.save(fig, os.path.join(a.results, "figures", "convergence"))
+    with open(os.path.join(a.results, "tables", "convergence.md"), "w") as f:
+        f.write("# Convergence as the grid refines\n\nThe voxel model with each scenario's default force rule "
+                "(`defaults.json`) and its eliminator; voxel size halved from 32 to 2 mm. Errors against the "
+                "reference, mm. Made by `scripts/study.py convergence`.\n\n" + rl.md_table(rows, cols, cols))
+
+
+# ---------------------------------------------------------------------------------------------
+# Mesh refinement: each scenario at its resolution and r times finer (the same physical time at
+# dt / r, stable at the finer spacing).
+def refine_sets(scene, r):
+    s = rl.bundled_scene(scene)
+    sets = []
+    for i, b in enumerate(s["bodies"]):
+        sh = b["shape"]
+        if sh["type"] == "box":
+            sets.append("bodies.%d.shape.cells=%s" % (i, json.dumps([c * r for c in sh["cells"]])))
+        elif sh["type"] in ("sphere", "ellipsoid"):
+            sets.append("bodies.%d.shape.subdivisions=%d" % (i, sh.get("subdivisions", 2) + int(math.log2(r))))
+        elif sh["type"] == "cylinder":
+            sets.append("bodies.%d.shape.segments=%d" % (i, sh.get("segments", 16) * r))
+            sets.append("bodies.%d.shape.rings=%d" % (i, sh.get("rings", 4) * r))
+    return sets
+
+
+def refinement(a):
+    factors = [1, 2] if not a.quick else [1]
     rows = []
     for scene in SCENES:
-        runs = sweep(a, scene, ["contacts.0.voxel_size=" + ",".join(str(v) for v in CONVERGENCE_VOXELS)],
-                     ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=10"],
-                     os.path.join(a.results, "sweeps", "convergence", scene))
-        for r in runs:
-            rows.append({"scene": scene, "voxel_size": num(r["contacts.0.voxel_size"]),
-                         "voxel_size_used": num(r["voxel_size_used"]), "status": r["status"],
-                         "true_pen_final": num(r["true_pen_final"]), "max_depth_peak_mm": 1e3 * num(r["max_depth_peak"], 0.0),
-                         "kinetic_energy_final": num(r["kinetic_energy_final"]),
-                         "kinetic_energy_peak": num(r["kinetic_energy_peak"]),
-                         "recall": num(r["recall"]), "precision": num(r["precision"])})
-    cols = ["scene", "voxel_size", "voxel_size_used", "status", "true_pen_final", "max_depth_peak_mm",
-            "kinetic_energy_final", "kinetic_energy_peak", "recall", "precision"]
-    write_csv(os.path.join(a.results, "convergence.csv"), rows, cols)
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
-    for scene in SCENES:
-        sr = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["voxel_size_used"])
-        x = [1e3 * r["voxel_size_used"] for r in sr]
-        axes[0].plot(x, [r["true_pen_final"] for r in sr], "o-", label=scene)
-        axes[1].plot(x, [r["max_depth_peak_mm"] for r in sr], "o-", label=scene)
-        axes[2].plot(x, [r["kinetic_energy_final"] for r in sr], "o-", label=scene)
-    for ax, t in zip(axes, ["final true penetrations (nodes)", "peak residual depth (mm)", "final kinetic energy (J)"]):
-        ax.set_xscale("log", base=2)
-        ax.set_xlabel("voxel size used (mm), halving")
-        ax.set_title(t, fontsize=9)
-        ax.grid(True, alpha=0.3)
-    axes[2].set_yscale("log")
-    axes[0].legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.results, "figures", "convergence.png"), dpi=100)
-    plt.close(fig)
-    md = ["# Convergence as the grid refines\n",
-          "Voxel size halved from 32 mm to 2 mm (rounded down to powers of two), every other setting "
-          "as in the scene. Made by `scripts/study.py convergence`.\n\n"]
-    md.append(md_table(rows, cols, cols))
-    with open(os.path.join(a.results, "tables", "convergence.md"), "w") as f:
-        f.write("".join(md))
+        for r in factors:
+            out = os.path.join(a.results, "sweeps", "refinement", scene, "x%d" % r)
+            summary = os.path.join(out, "summary.json")
+            if not os.path.exists(summary):
+                cmd = [a.harness, "run", scene, "--out", out, "--quiet", "--dt-divide", str(r), "--set",
+                       "output.frames_every=0", "--set", 'references.solvers=["cgal"]']
+                for s in refine_sets(scene, r) + a.extra_sets:
+                    cmd += ["--set", s]
+                subprocess.run(cmd, check=False, env=dict(os.environ, HARNESS_THREADS="1"), stderr=subprocess.DEVNULL)
+            with open(summary) as f:
+                s = json.load(f)
+            disp = rl.largest_displacements(out)
+            for body, d in disp.items():
+                rows.append({"scene": scene, "resolution": "x%d" % r, "nodes": s["nodes"], "body": body,
+                             "max_displacement_mm": 1e3 * d, "settled": s["settled"], "steps": s["steps_run"]})
+    for row in rows:
+        base = [x for x in rows if x["scene"] == row["scene"] and x["body"] == row["body"] and x["resolution"] == "x1"]
+        row["vs_x1"] = row["max_displacement_mm"] / base[0]["max_displacement_mm"] if base and base[0][
+            "max_displacement_mm"] > 0 else float("nan")
+    cols = ["scene", "resolution", "nodes", "body", "max_displacement_mm", "vs_x1", "settled", "steps"]
+    rl.write_csv(os.path.join(a.results, "refinement.csv"), rows, cols)
+    text = ("# Mesh refinement\n\nEach scenario with its default contact at its resolution and twice as fine (box "
+            "cells, cylinder segments and rings doubled, one more icosphere subdivision; dt halved, every step "
+            "count doubled: the same physical time). Settled shape: the largest displacement of each body's "
+            "surface from its rest position. Four times as fine (256 times the work) is beyond the time budget. "
+            "Made by `scripts/study.py refinement`.\n\n")
+    with open(os.path.join(a.results, "tables", "refinement.md"), "w") as f:
+        f.write(text + rl.md_table(rows, cols, ["scene", "resolution", "nodes", "body", "largest displacement (mm)",
+                                                "over x1", "settled", "steps"]))
+    with open(os.path.join(a.results, "tables", "refinement.tex"), "w") as f:
+        f.write(rl.tex_table([dict(r, scene=r["scene"].replace("_", " ")) for r in rows],
+                             ["scene", "resolution", "nodes", "body", "max_displacement_mm", "vs_x1"],
+                             ["scenario", "mesh", "nodes", "body", "displacement (mm)", "over x1"],
+                             "Settled shape against resolution"))
 
 
 # ---------------------------------------------------------------------------------------------
-GUARD_EVERY = 10  # Simulation::kGuardEvery (summary.json: stability.guard_every_steps)
-
-
-def realtime(a, repeats=3):
-    """Steps per second of the bundled scenes at their default resolution on one core (one thread,
-    no references, no frames): the haptic goal is 1000 for implant_expansion. Each scene is run
-    `repeats` times, one after the other; the table gives the run with the median step time, and
-    the range over the runs (the machine is shared: one slow phase must not decide the figure).
-    steps/s counts every step, the periodic stability check included (mean step time)."""
+def realtime(a):
+    """Steps per second of the bundled scenes on one core (one thread, no references, no frames),
+    --repeats runs one after the other; the run with the median mean step, and the range."""
     rows = []
     for scene in SCENES:
         runs = []
-        for r in range(repeats):
+        for r in range(a.repeats):
             out = os.path.join(a.results, "sweeps", "realtime", "%s_%d" % (scene, r))
-            env = dict(os.environ, HARNESS_THREADS="1")
             cmd = [a.harness, "run", scene, "--out", out, "--quiet", "--set", "references.solvers=[]",
                    "--set", "output.frames_every=0"] + sum((["--set", s] for s in a.extra_sets), [])
-            subprocess.run(cmd, check=True, env=env, stderr=subprocess.DEVNULL)
+            subprocess.run(cmd, check=True, env=dict(os.environ, HARNESS_THREADS="1"), stderr=subprocess.DEVNULL)
             with open(os.path.join(out, "summary.json")) as f:
                 s = json.load(f)
-            t = s["timing_us"]
             with open(os.path.join(out, "steps.csv")) as f:
-                per_step = sorted(float(r["t_step_us"]) for r in csv.DictReader(f) if r["t_step_us"] not in ("", "nan"))
+                per_step = sorted(float(x["t_step_us"]) for x in csv.DictReader(f) if x["t_step_us"] not in ("", "nan"))
             mean = sum(per_step) / len(per_step)
-            runs.append({"scene": scene, "nodes": s["nodes"], "springs": s["springs"], "steps": s["steps_run"],
-                         "mean_us": mean, "median_us": num(t["step"]),
-                         "p99_us": per_step[min(len(per_step) - 1, int(0.99 * len(per_step)))],
-                         "physics_us": num(t["physics"]),
-                         "contact_us": num(t["detect"], 0.0) + num(t["eliminate"], 0.0),
-                         "steps_per_s": 1e6 / mean,
-                         "under_1ms": 100.0 * sum(1 for x in per_step if x <= 1000.0) / len(per_step)})
+            runs.append({"scene": scene, "nodes": s["nodes"], "steps": s["steps_run"], "mean_us": mean,
+                         "median_us": rl.median(per_step), "p99_us": per_step[min(len(per_step) - 1, int(0.99 * len(per_step)))],
+                         "contact_us": num(s["timing_us"]["detect"], 0.0) + num(s["timing_us"]["eliminate"], 0.0),
+                         "steps_per_s": 1e6 / mean, "realtime_factor": s["resolved_scene"]["time"]["dt"] * 1e6 / mean})
         runs.sort(key=lambda r: r["mean_us"])
         row = dict(runs[len(runs) // 2])
-        row["runs"] = len(runs)
         row["steps_per_s_range"] = "%.0f-%.0f" % (runs[-1]["steps_per_s"], runs[0]["steps_per_s"])
         rows.append(row)
-    cols = ["scene", "nodes", "springs", "steps", "mean_us", "median_us", "p99_us", "physics_us", "contact_us",
-            "steps_per_s", "under_1ms", "runs", "steps_per_s_range"]
-    heads = ["scene", "nodes", "springs", "steps", "mean step (µs)", "median step (µs)", "p99 step (µs)",
-             "median physics (µs)", "median detect+elim (µs)", "steps/s", "% steps <= 1 ms", "runs",
-             "steps/s over the runs"]
-    write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
+    cols = ["scene", "nodes", "steps", "mean_us", "median_us", "p99_us", "contact_us", "steps_per_s",
+            "realtime_factor", "steps_per_s_range"]
+    heads = ["scene", "nodes", "steps", "mean step (µs)", "median step (µs)", "p99 step (µs)", "detect+elim (µs)",
+             "steps/s", "real-time factor", "steps/s over the runs"]
+    rl.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
     with open(os.path.join(a.results, "tables", "realtime.md"), "w") as f:
-        f.write("# Real time: steps per second on one core\n\nThe bundled scenes at their default resolution, "
-                "one thread (`HARNESS_THREADS=1`), no references, no frames. steps/s = 1 / mean wall time per "
-                "step (every step counted, including the stability check every %d steps); the median step, the "
-                "99th percentile and the share of steps within the haptic period of 1 ms are beside it. The "
-                "row is the run (of %d, one after the other) with the median mean; the last column is the "
-                "range over the runs. Goal: 1000 steps/s (the haptic rate) for implant_expansion. Made by "
-                "`scripts/study.py realtime`; timings vary from run to run.\n\n" % (GUARD_EVERY, repeats)
-                + md_table(rows, cols, heads))
+        f.write("# Real time on one core\n\nThe bundled scenes with their default contact, one thread, no "
+                "references, no frames; steps/s = 1 / mean step (every step counted); real-time factor = simulated "
+                "seconds per wall second. The run (of %d) with the median mean; the range over the runs. Made by "
+                "`scripts/study.py realtime`; timings vary from run to run.\n\n" % a.repeats
+                + rl.md_table(rows, cols, heads))
     with open(os.path.join(a.results, "tables", "realtime.tex"), "w") as f:
-        tcols = ["scene", "steps", "mean_us", "median_us", "p99_us", "steps_per_s", "under_1ms", "steps_per_s_range"]
-        theads = ["scene", "steps", "mean ($\\mu$s)", "median ($\\mu$s)", "p99 ($\\mu$s)", "steps/s",
-                  "\\% $\\le$ 1 ms", "steps/s, 3 runs"]
-        texrows = [{c: ("%.0f" % r[c] if isinstance(r[c], float) else r[c]) for c in tcols} for r in rows]
-        f.write(tex_table(texrows, tcols, theads, "Steps per second on one core"))
+        tcols = ["scene", "steps", "mean_us", "median_us", "steps_per_s", "realtime_factor", "steps_per_s_range"]
+        f.write(rl.tex_table([{c: (("%.3g" % r[c]) if isinstance(r[c], float) else r[c]) for c in tcols} for r in rows],
+                             tcols, ["scene", "steps", "mean ($\\mu$s)", "median ($\\mu$s)", "steps/s",
+                                     "real-time factor", "steps/s, %d runs" % a.repeats], "Steps per second on one core"))
+
+
+STUDIES = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime"]
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("what", choices=["accuracy", "ablation", "convergence", "realtime", "all"])
+    ap.add_argument("what", choices=STUDIES + ["all"])
     ap.add_argument("--harness", default="build/bin/harness")
     ap.add_argument("--results", default="results")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("-j", dest="jobs", type=int, default=2)
+    ap.add_argument("--repeats", type=int, default=3)
     a = ap.parse_args()
     a.extra_sets = ["time.steps=300"] if a.quick else []
+    if a.quick:
+        a.repeats = 1
     for d in ["figures", "tables"]:
         os.makedirs(os.path.join(a.results, d), exist_ok=True)
-    for w in (["accuracy", "ablation", "convergence", "realtime"] if a.what == "all" else [a.what]):
+    for w in (STUDIES if a.what == "all" else [a.what]):
         print("study:", w, file=sys.stderr)
         globals()[w](a)
 

@@ -2,6 +2,7 @@
 
 #include "core/clock.hpp"
 #include "core/collision/responses/force_rules.hpp"
+#include "core/collision/responses/projection.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -44,17 +45,45 @@ int Collision::detect(const World& w) {
   return static_cast<int>(contacts_.size());
 }
 
-PairStep Collision::step(World& w, double dt) {
-  PairStep s;
-  const auto t0 = Clock::now();
+void Collision::detect_and_push(const World& w) {
   detector_->detect(w, spec_, contacts_);
   if (reverse_) reverse_->detect(w, reverse_spec_, reverse_contacts_);
-  const auto t1 = Clock::now();
+}
+
+void Collision::all_pushes(const World& w) {
   eliminator_->pushes(w, spec_, *detector_, contacts_, pushes_);
   if (reverse_) {  // the other way round's pushes after this way's
     eliminator_->pushes(w, reverse_spec_, *reverse_, reverse_contacts_, reverse_pushes_);
     pushes_.insert(pushes_.end(), reverse_pushes_.begin(), reverse_pushes_.end());
   }
+}
+
+PairStep Collision::project(World& w, double h) {
+  PairStep s;
+  const auto t0 = Clock::now();
+  detect_and_push(w);
+  const auto t1 = Clock::now();
+  all_pushes(w);
+  if (spec_.invert_push)
+    for (Push& p : pushes_) p.normal = -p.normal;
+  magnitude_.assign(pushes_.size(), 0.0);
+  s.force = project_pushes(w, pushes_, h);
+  for (std::size_t i = 0; i < pushes_.size(); ++i) magnitude_[i] = pushes_[i].depth > 0.0 ? 1.0 : 0.0;
+  stepped_ = true;
+  const auto t2 = Clock::now();
+  s.contacts = static_cast<int>(contacts_.size() + reverse_contacts_.size());
+  s.detect_us = us_between(t0, t1);
+  s.eliminate_us = us_between(t1, t2);
+  return s;
+}
+
+PairStep Collision::step(World& w, double dt) {
+  PairStep s;
+  if (projects()) return s;
+  const auto t0 = Clock::now();
+  detect_and_push(w);
+  const auto t1 = Clock::now();
+  all_pushes(w);
   switch (spec_.force_rule) {
     case ForceRule::automatic: {
       const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
@@ -67,6 +96,8 @@ PairStep Collision::step(World& w, double dt) {
       s.force = pushes_.empty() ? 0.0 : spec_.force;
       break;
   }
+  if (spec_.invert_push)
+    for (Push& p : pushes_) p.n = -p.n;
   apply_pushes(w, pushes_, magnitude_);
   stepped_ = true;
   const auto t2 = Clock::now();

@@ -40,6 +40,10 @@ class Collision {
 
   // Detect, then eliminate. dt (s) is used by the automatic force only.
   PairStep step(World& w, double dt);
+  // Projection (eliminator "projection"), after the position update: detect, then move the
+  // penetrating nodes to the surface (responses/projection.hpp). step() does nothing for it.
+  PairStep project(World& w, double h);
+  bool projects() const { return spec_.eliminator == EliminatorKind::projection; }
   // Detection only (tests, benchmarks, measurement); returns the number of contacts.
   int detect(const World& w);
 
@@ -58,6 +62,9 @@ class Collision {
   bool stepped() const { return stepped_; }  // step() ran at least once
 
  private:
+  void detect_and_push(const World& w);
+  void all_pushes(const World& w);
+
   ContactSpec spec_;
   std::unique_ptr<CollisionDetector> detector_;
   std::unique_ptr<CollisionEliminator> eliminator_;

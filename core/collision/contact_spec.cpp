@@ -5,6 +5,7 @@ namespace harness {
 const std::vector<DetectorName>& detector_names() {
   static const std::vector<DetectorName> names = {
       {DetectorKind::voxel, "voxel", false},
+      {DetectorKind::hash, "hash", false},
       {DetectorKind::cgal, "cgal", true},
       {DetectorKind::fcl, "fcl", true},
   };
@@ -15,6 +16,7 @@ const std::vector<std::pair<EliminatorKind, const char*>>& eliminator_names() {
   static const std::vector<std::pair<EliminatorKind, const char*>> names = {
       {EliminatorKind::line, "line"},
       {EliminatorKind::plane, "plane"},
+      {EliminatorKind::projection, "projection"},
   };
   return names;
 }

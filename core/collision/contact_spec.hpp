@@ -12,9 +12,10 @@ namespace harness {
 enum class Region { half, full, overlap };
 enum class HostNodes { all, surface };
 // Which detection drives elimination. `exact` detectors need the reference library.
-enum class DetectorKind { voxel, cgal, fcl };
-// The direction rule of the penalty push (responses/).
-enum class EliminatorKind { line, plane };
+enum class DetectorKind { voxel, hash, cgal, fcl };
+// The response (responses/): the direction rule of the penalty push (line, plane), or
+// position-based projection (a penetrating node moved to the surface).
+enum class EliminatorKind { line, plane, projection };
 // How large each contact's force is: the paper's constant F, `auto`, or a penalty k_c x depth
 // (force_rules.hpp).
 enum class ForceRule { constant, automatic, penalty };
@@ -34,6 +35,7 @@ struct ContactSpec {
   int guest = -1;
   DetectorKind detector = DetectorKind::voxel;
   double voxel_size = 0.0;  // requested, m; rounded down to a power of two; 0 = automatic
+  double cell_size = 0.0;   // spatial hashing's cell, m; 0 = automatic (mean host edge)
   Region region = Region::half;
   int margin = 1;  // voxels added around the region
   HostNodes host_nodes = HostNodes::all;
@@ -45,6 +47,9 @@ struct ContactSpec {
   // Also the other way round: the guest's surface keeps the host's nodes out as well (a second
   // detector with the roles swapped). The paper's model is one-sided (false).
   bool two_sided = false;
+  // Pushes the wrong way (every direction negated): a broken method, for the tests that show an
+  // accuracy threshold fails when the method is broken.
+  bool invert_push = false;
 };
 
 }  // namespace harness

@@ -21,6 +21,23 @@ void ContactEffect::add_forces(World& w, const StepContext& s) {
   }
 }
 
+void ContactEffect::after_integration(World& w, const StepContext& s) {
+  for (Pair& p : pairs_) {
+    if (!p.collision->projects()) continue;
+    const PairStep st = p.collision->project(w, s.h);
+    p.last.contacts += st.contacts;
+    p.last.detect_us += st.detect_us;
+    p.last.eliminate_us += st.eliminate_us;
+    p.last.force = std::max(p.last.force, st.force);
+  }
+}
+
+bool ContactEffect::corrects_positions() const {
+  for (const Pair& p : pairs_)
+    if (p.collision->projects()) return true;
+  return false;
+}
+
 void ContactEffect::end_step(World&, const StepContext& s) {
   if (s.substeps > 1)
     for (Pair& p : pairs_) p.last.contacts = (p.last.contacts + s.substeps - 1) / s.substeps;

@@ -17,6 +17,8 @@ class ContactEffect final : public Effect {
   void begin_step(World& w, const StepContext& s) override;
   void add_forces(World& w, const StepContext& s) override;
   void end_step(World& w, const StepContext& s) override;
+  void after_integration(World& w, const StepContext& s) override;
+  bool corrects_positions() const override;
   // Pairs with the penalty rule have stiffness: k_c n n^T between a guest node and its hosts.
   // Before the first step every guest node counts as in contact (Gershgorin: 2 k_c on its rows);
   // then the last step's pushes do, each host node with its weight.

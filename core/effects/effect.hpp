@@ -5,6 +5,7 @@
 //   begin_step   once per step, before any force: kinematic constraints (pins, drivers);
 //   add_forces   once per (sub)step: adds the effect's forces into World::f;
 //   end_step     once per step, after the last position update;
+//   after_integration  after each substep's position update (projection);
 //   add_jacobian the linearisation the implicit integrator assembles (LinearSystem);
 //   add_stiffness_rows  Gershgorin row sums of |df/dx|, for the explicit stability guard;
 //   energy       stored energy of conservative effects (J), for energy balances;
@@ -58,6 +59,10 @@ class Effect {
   virtual void begin_step(World& w, const StepContext& s) { (void)w, (void)s; }
   virtual void add_forces(World& w, const StepContext& s) { (void)w, (void)s; }
   virtual void end_step(World& w, const StepContext& s) { (void)w, (void)s; }
+  // After each substep's position update (position-based corrections); a correction that moves
+  // nodes adds its equivalent force m dx / h^2 into World::f for the energy audit.
+  virtual void after_integration(World& w, const StepContext& s) { (void)w, (void)s; }
+  virtual bool corrects_positions() const { return false; }  // after_integration does something
   virtual void add_jacobian(const World& w, LinearSystem& sys) const { (void)w, (void)sys; }
   // Adds |df/dx| row sums into rows (one per node); returns false when the effect has no
   // stiffness at all (then it adds nothing).

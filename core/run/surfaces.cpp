@@ -28,6 +28,7 @@ SurfaceState surface_state(const World& w, int step, double time, const std::vec
     const Body& body = w.bodies[b];
     s.bodies.push_back(body.name);
     s.x.emplace_back(w.x.begin() + body.begin, w.x.begin() + body.begin + body.n_surface);
+    s.x0.emplace_back(w.x0.begin() + body.begin, w.x0.begin() + body.begin + body.n_surface);
     if (b < sd.size() && static_cast<int>(sd[b].size()) == body.n_surface) s.sd.push_back(sd[b]);
     else s.sd.emplace_back(static_cast<std::size_t>(body.n_surface), kNaN);
   }
@@ -37,11 +38,13 @@ SurfaceState surface_state(const World& w, int step, double time, const std::vec
 void write_surfaces(const std::string& path, const SurfaceState& s) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error("cannot write " + path);
-  std::fprintf(f, "body,node,x,y,z,signed_distance\n");
+  std::fprintf(f, "body,node,x,y,z,x0,y0,z0,signed_distance\n");
   for (std::size_t b = 0; b < s.bodies.size(); ++b)
     for (std::size_t i = 0; i < s.x[b].size(); ++i) {
       const Vec3& p = s.x[b][i];
-      std::fprintf(f, "%s,%zu,%.17g,%.17g,%.17g,", s.bodies[b].c_str(), i, p.x(), p.y(), p.z());
+      const Vec3 q = b < s.x0.size() ? s.x0[b][i] : p;
+      std::fprintf(f, "%s,%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,", s.bodies[b].c_str(), i, p.x(), p.y(), p.z(), q.x(),
+                   q.y(), q.z());
       if (std::isfinite(s.sd[b][i])) std::fprintf(f, "%.17g", s.sd[b][i]);
       std::fputc('\n', f);
     }
@@ -55,7 +58,7 @@ SurfaceState read_surfaces(const std::string& path) {
   SurfaceState s;
   std::string line;
   std::getline(in, line);
-  if (line != "body,node,x,y,z,signed_distance") throw InputError(path + ":1", "not a surfaces.csv header");
+  if (line != "body,node,x,y,z,x0,y0,z0,signed_distance") throw InputError(path + ":1", "not a surfaces.csv header");
   int row = 1;
   while (std::getline(in, line)) {
     ++row;
@@ -65,18 +68,20 @@ SurfaceState read_surfaces(const std::string& path) {
     std::string cell;
     while (std::getline(ss, cell, ',')) f.push_back(cell);
     if (line.back() == ',') f.emplace_back();
-    if (f.size() != 6) throw InputError(path + ":" + std::to_string(row), "expected 6 fields");
+    if (f.size() != 9) throw InputError(path + ":" + std::to_string(row), "expected 9 fields");
     int b = s.body(f[0]);
     if (b < 0) {
       s.bodies.push_back(f[0]);
       s.x.emplace_back();
+      s.x0.emplace_back();
       s.sd.emplace_back();
       b = static_cast<int>(s.bodies.size()) - 1;
     }
     try {
       if (std::stoul(f[1]) != s.x[b].size()) throw std::invalid_argument("node out of order");
       s.x[b].emplace_back(std::stod(f[2]), std::stod(f[3]), std::stod(f[4]));
-      s.sd[b].push_back(f[5].empty() ? kNaN : std::stod(f[5]));
+      s.x0[b].emplace_back(std::stod(f[5]), std::stod(f[6]), std::stod(f[7]));
+      s.sd[b].push_back(f[8].empty() ? kNaN : std::stod(f[8]));
     } catch (const std::exception& e) {
       throw InputError(path + ":" + std::to_string(row), std::string("malformed row (") + e.what() + ")");
     }

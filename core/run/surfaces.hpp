@@ -1,7 +1,8 @@
 // The states a run leaves for comparison (`harness run --compare DIR`, `harness reference`):
 //   DIR/surfaces.csv    the surface vertices of every body after the last step:
-//                       body,node,x,y,z,signed_distance (node body-local; the signed distance to
-//                       the body's contact partner, m, negative inside; empty when not measured)
+//                       body,node,x,y,z,x0,y0,z0,signed_distance (node body-local; x0..z0 its rest
+//                       position; the signed distance to the body's contact partner, m, negative
+//                       inside; empty when not measured)
 //   DIR/trajectory.bin  with output.trajectory: the surface vertices at every measured step and
 //                       the last one (little-endian: "HTRJ" 1, body count, per body its name
 //                       length, name and surface vertex count; then records of the step (int32),
@@ -23,6 +24,7 @@ struct SurfaceState {
   double time = 0.0;
   std::vector<std::string> bodies;
   std::vector<Points> x;                  // per body, per surface vertex
+  std::vector<Points> x0;                 // the same at rest (surfaces.csv only)
   std::vector<std::vector<double>> sd;    // per body, per surface vertex (NaN: not measured)
 
   int body(const std::string& name) const;  // index, -1 when absent

@@ -1,5 +1,6 @@
 #include "core/collision/detectors/collision_detector.hpp"
 
+#include "core/collision/detectors/hash.hpp"
 #include "core/collision/detectors/voxel.hpp"
 
 #include <stdexcept>
@@ -9,6 +10,7 @@ namespace harness {
 std::unique_ptr<CollisionDetector> make_detector(DetectorKind kind, ExactDetectorMaker exact) {
   switch (kind) {
     case DetectorKind::voxel: return std::make_unique<VoxelDetector>();
+    case DetectorKind::hash: return std::make_unique<HashDetector>();
     case DetectorKind::cgal:
     case DetectorKind::fcl: break;
   }

@@ -3,6 +3,7 @@
 #include "core/collision/responses/force_rules.hpp"
 #include "core/collision/responses/line.hpp"
 #include "core/collision/responses/plane.hpp"
+#include "core/collision/responses/projection.hpp"
 
 #include <stdexcept>
 
@@ -12,6 +13,7 @@ std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind) {
   switch (kind) {
     case EliminatorKind::line: return std::make_unique<LineEliminator>();
     case EliminatorKind::plane: return std::make_unique<PlaneEliminator>();
+    case EliminatorKind::projection: return std::make_unique<ProjectionEliminator>();
   }
   throw std::invalid_argument("unknown eliminator kind");
 }

@@ -1,0 +1,201 @@
+#include "core/collision/detectors/hash.hpp"
+
+#include "core/collision/detectors/triangles.hpp"
+#include "core/geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace harness {
+
+namespace {
+
+constexpr long long kP1 = 73856093, kP2 = 19349663, kP3 = 83492791;
+
+bool is_prime(std::size_t n) {
+  if (n < 2) return false;
+  for (std::size_t d = 2; d * d <= n; ++d)
+    if (n % d == 0) return false;
+  return true;
+}
+
+std::size_t prime_at_least(std::size_t n) {
+  while (!is_prime(n)) ++n;
+  return n;
+}
+
+}  // namespace
+
+void HashDetector::initialize(const World& w, const ContactSpec& spec) {
+  const int nb = static_cast<int>(w.bodies.size());
+  if (spec.host < 0 || spec.host >= nb || spec.guest < 0 || spec.guest >= nb)
+    throw std::invalid_argument("hash detector: host or guest body index out of range");
+  spec_ = spec;
+  const Body& h = w.bodies[spec.host];
+  if (h.faces.empty()) throw std::invalid_argument("hash detector: the host '" + h.name + "' has no surface");
+  host_begin_ = h.begin;
+  faces_ = h.faces;
+  cell_ = spec.cell_size;
+  if (!(cell_ > 0.0)) {  // automatic: the mean edge length of the host surface at rest
+    double sum = 0.0;
+    for (const Tri& t : faces_)
+      for (int k = 0; k < 3; ++k) sum += (w.x[h.begin + t[k]] - w.x[h.begin + t[(k + 1) % 3]]).norm();
+    cell_ = sum / (3.0 * static_cast<double>(faces_.size()));
+  }
+  if (!(cell_ > 0.0) || !std::isfinite(cell_)) throw std::invalid_argument("hash detector: no positive cell size");
+  const std::size_t n = prime_at_least(std::max<std::size_t>(97, 4 * faces_.size()));
+  head_.assign(n, -1);
+  stamp_.assign(n, 0);
+  seen_.assign(faces_.size(), 0);
+  entry_tri_.reserve(8 * faces_.size());
+  entry_next_.reserve(8 * faces_.size());
+}
+
+HashDetector::Cell HashDetector::cell_of(const Vec3& x) const {
+  return {static_cast<long long>(std::floor(x.x() / cell_)), static_cast<long long>(std::floor(x.y() / cell_)),
+          static_cast<long long>(std::floor(x.z() / cell_))};
+}
+
+std::size_t HashDetector::bucket(long long i, long long j, long long k) const {
+  const long long h = (i * kP1) ^ (j * kP2) ^ (k * kP3);
+  const long long n = static_cast<long long>(head_.size());
+  return static_cast<std::size_t>(((h % n) + n) % n);
+}
+
+void HashDetector::hash_host(const World& w) {
+  if (++now_ == 0) {  // the stamps wrapped: start afresh
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    now_ = 1;
+  }
+  entry_tri_.clear();
+  entry_next_.clear();
+  lo_ = Vec3::Constant(std::numeric_limits<double>::infinity());
+  hi_ = -lo_;
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
+    const Tri& t = faces_[f];
+    Vec3 lo = w.x[host_begin_ + t[0]], hi = lo;
+    for (int k = 1; k < 3; ++k) {
+      lo = lo.cwiseMin(w.x[host_begin_ + t[k]]);
+      hi = hi.cwiseMax(w.x[host_begin_ + t[k]]);
+    }
+    lo_ = lo_.cwiseMin(lo);
+    hi_ = hi_.cwiseMax(hi);
+    const Cell a = cell_of(lo), b = cell_of(hi);
+    for (long long i = a.i; i <= b.i; ++i)
+      for (long long j = a.j; j <= b.j; ++j)
+        for (long long k = a.k; k <= b.k; ++k) {
+          const std::size_t q = bucket(i, j, k);
+          if (stamp_[q] != now_) stamp_[q] = now_, head_[q] = -1;
+          entry_tri_.push_back(static_cast<int>(f));
+          entry_next_.push_back(head_[q]);
+          head_[q] = static_cast<int>(entry_tri_.size()) - 1;
+        }
+  }
+}
+
+// The signed crossing of the ray from p towards +x with triangle t: its orientation sign in the
+// (y, z) projection when the ray passes through it beyond p, 0 when it misses; 2 when p lies on
+// the triangle (the boundary: outside). Edges are evaluated in one canonical direction, so the
+// two triangles of an edge agree on which side a tie goes (an infinitesimal shift of the ray).
+int HashDetector::crossings(const World& w, const Vec3& p, const Tri& t) const {
+  const Vec3 &a = w.x[host_begin_ + t[0]], &b = w.x[host_begin_ + t[1]], &c = w.x[host_begin_ + t[2]];
+  const double area2 = (b.y() - a.y()) * (c.z() - a.z()) - (b.z() - a.z()) * (c.y() - a.y());
+  if (area2 == 0.0) return 0;  // parallel to x: its neighbours carry the crossing
+  const int s = area2 > 0.0 ? 1 : -1;
+  auto edge_side = [&](int ip, int iq) {
+    const bool canon = ip < iq;
+    const Vec3& P = w.x[host_begin_ + (canon ? ip : iq)];
+    const Vec3& Q = w.x[host_begin_ + (canon ? iq : ip)];
+    const double dy = Q.y() - P.y(), dz = Q.z() - P.z();
+    double e = dy * (p.z() - P.z()) - dz * (p.y() - P.y());
+    if (e == 0.0) e = dz != 0.0 ? -dz : dy;
+    return canon ? e : -e;
+  };
+  const double eab = s * edge_side(t[0], t[1]), ebc = s * edge_side(t[1], t[2]), eca = s * edge_side(t[2], t[0]);
+  if (!(eab > 0.0 && ebc > 0.0 && eca > 0.0)) return 0;
+  const double wa = std::fabs(ebc), wb = std::fabs(eca), wc = std::fabs(eab), sum = wa + wb + wc;
+  const double x = sum > 0.0 ? (wa * a.x() + wb * b.x() + wc * c.x()) / sum : (a.x() + b.x() + c.x()) / 3.0;
+  if (x == p.x()) return 2;
+  return x > p.x() ? s : 0;
+}
+
+bool HashDetector::inside(const World& w, const Vec3& p) {
+  if (!p.allFinite() || (p.array() <= lo_.array()).any() || (p.array() >= hi_.array()).any()) return false;
+  if (++query_ == 0) std::fill(seen_.begin(), seen_.end(), 0), query_ = 1;
+  const Cell c = cell_of(p);
+  const long long end = cell_of(hi_).i;
+  int winding = 0;
+  for (long long i = c.i; i <= end; ++i) {
+    const std::size_t q = bucket(i, c.j, c.k);
+    if (stamp_[q] != now_) continue;
+    for (int e = head_[q]; e >= 0; e = entry_next_[e]) {
+      const int f = entry_tri_[e];
+      if (seen_[f] == query_) continue;
+      seen_[f] = query_;
+      const int s = crossings(w, p, faces_[f]);
+      if (s == 2) return false;  // on the surface
+      winding += s;
+    }
+  }
+  return winding >= 1;
+}
+
+int HashDetector::nearest_triangle(const World& w, const Vec3& p) {
+  if (++query_ == 0) std::fill(seen_.begin(), seen_.end(), 0), query_ = 1;
+  const Cell c = cell_of(p);
+  // Shells of cells at Chebyshev distance r: a cell of shell r + 1 is at least r cells away.
+  const Cell lo = cell_of(lo_), hi = cell_of(hi_);
+  const long long reach = std::max({std::abs(c.i - lo.i), std::abs(c.i - hi.i), std::abs(c.j - lo.j),
+                                    std::abs(c.j - hi.j), std::abs(c.k - lo.k), std::abs(c.k - hi.k)});
+  double best = std::numeric_limits<double>::infinity();
+  int best_f = -1;
+  for (long long r = 0; r <= reach; ++r) {
+    for (long long i = c.i - r; i <= c.i + r; ++i)
+      for (long long j = c.j - r; j <= c.j + r; ++j)
+        for (long long k = c.k - r; k <= c.k + r; ++k) {
+          if (std::max({std::abs(i - c.i), std::abs(j - c.j), std::abs(k - c.k)}) != r) continue;
+          const std::size_t q = bucket(i, j, k);
+          if (stamp_[q] != now_) continue;
+          for (int e = head_[q]; e >= 0; e = entry_next_[e]) {
+            const int f = entry_tri_[e];
+            if (seen_[f] == query_) continue;
+            seen_[f] = query_;
+            const Tri& t = faces_[f];
+            const double d2 =
+                (closest_on_triangle(p, w.x[host_begin_ + t[0]], w.x[host_begin_ + t[1]], w.x[host_begin_ + t[2]]) - p)
+                    .squaredNorm();
+            if (d2 < best || (d2 == best && f < best_f)) best = d2, best_f = f;
+          }
+        }
+    const double reached = static_cast<double>(r) * cell_;
+    if (best_f >= 0 && best <= reached * reached) break;
+  }
+  return best_f;
+}
+
+void HashDetector::detect(const World& w, const ContactSpec&, std::vector<Contact>& out) {
+  out.clear();
+  hash_host(w);
+  const Body& g = w.bodies[spec_.guest];
+  for (int i = g.begin; i < g.end; ++i)
+    if (inside(w, w.x[i])) out.push_back(Contact{i, nearest_triangle(w, w.x[i])});
+}
+
+int HashDetector::nearest_hosts(const World& w, const Contact& c, int k, int* out) const {
+  if (c.key < 0 || c.key >= static_cast<int>(faces_.size())) return 0;
+  return triangle_vertices_nearest_first(w, host_begin_, faces_[c.key], w.x[c.guest], k, out);
+}
+
+bool HashDetector::contact_direction(const World& w, const Contact& c, Vec3& n) const {
+  if (c.key < 0 || c.key >= static_cast<int>(faces_.size())) return false;
+  return triangle_direction(w, host_begin_, faces_[c.key], w.x[c.guest], n);
+}
+
+bool HashDetector::contact_point(const World& w, const Contact& c, ContactPoint& out) const {
+  if (c.key < 0 || c.key >= static_cast<int>(faces_.size())) return false;
+  return triangle_contact_point(w, host_begin_, faces_[c.key], w.x[c.guest], out);
+}
+
+}  // namespace harness
