@@ -123,9 +123,11 @@ def figures(s):
     }
 
 
-def repeated(a, scene, folder, sets):
-    """A configuration run --repeats times (the first gives the errors; every one its timings)."""
-    outs = [os.path.join(a.results, "sweeps", folder + ("" if r == 0 else "_r%d" % r)) for r in range(a.repeats)]
+def repeated(a, scene, folder, sets, repeats=None):
+    """A configuration run `repeats` (default --repeats) times (the first gives the errors; every one
+    its timings)."""
+    n = a.repeats if repeats is None else repeats
+    outs = [os.path.join(a.results, "sweeps", folder + ("" if r == 0 else "_r%d" % r)) for r in range(n)]
     return [(scene, o, sets) for o in outs]
 
 
@@ -315,7 +317,7 @@ def ablation(a):
         for v in ABLATION_VOXELS:
             for f in ABLATION_FORCES:
                 js = repeated(a, scene, "ablation/%s/v%g_%s" % (scene, 1e3 * v, force_label(f)),
-                              config_sets("voxel", v, elim, f, []))
+                              config_sets("voxel", v, elim, f, []), repeats=1)
                 index.append((scene, v, f, len(jobs), len(js)))
                 jobs += js
     sums = run_all(a, jobs)
@@ -324,8 +326,9 @@ def ablation(a):
                          eliminator=PAPER_ELIMINATOR[scene]))
     md = ["# Ablation: force rule and magnitude by voxel size (the voxel model)\n\n",
           "The paper's voxel model with its eliminator for the scenario; constant force F (N per contact), "
-          "`auto`, and the depth penalty k (N/m), by voxel size. Errors against the reference (mm), stability "
-          "and time as in `accuracy_time.md`. Made by `scripts/study.py ablation`.\n"]
+          "`auto`, and the depth penalty k (N/m), by voxel size. Errors against the reference (mm) and "
+          "stability as in `accuracy_time.md`; time: the median step of one run (the accuracy study has the "
+          "medians of several). Made by `scripts/study.py ablation`.\n"]
     reasons = ["% The voxel model's defaults chosen by the rule (made by scripts/study.py)\n"]
     for scene in SCENES:
         sr = [r for r in rows if r["scene"] == scene]
