@@ -28,7 +28,9 @@ SurfaceState surface_state(const World& w, int step, double time, const std::vec
     const Body& body = w.bodies[b];
     s.bodies.push_back(body.name);
     s.x.emplace_back(w.x.begin() + body.begin, w.x.begin() + body.begin + body.n_surface);
-    s.x0.emplace_back(w.x0.begin() + body.begin, w.x0.begin() + body.begin + body.n_surface);
+    // Worlds built without rest positions (tests, hand-made states) record x as x0.
+    const auto& rest = w.x0.size() == w.x.size() ? w.x0 : w.x;
+    s.x0.emplace_back(rest.begin() + body.begin, rest.begin() + body.begin + body.n_surface);
     if (b < sd.size() && static_cast<int>(sd[b].size()) == body.n_surface) s.sd.push_back(sd[b]);
     else s.sd.emplace_back(static_cast<std::size_t>(body.n_surface), kNaN);
   }

@@ -110,7 +110,7 @@ TEST_CASE("error against a reference: a hand-computed case", "[accuracy]") {
   CHECK(z.gap_max == 0.0);
 }
 
-TEST_CASE("--compare: a run against itself gives zero, another scene is refused", "[accuracy][cli]") {
+TEST_CASE("run --compare: a run against itself gives zero, another scene is refused", "[accuracy][cli]") {
   const fs::path dir = fs::temp_directory_path() / ("harness_compare_" + std::to_string(::getpid()));
   const std::string scene = std::string(HARNESS_SOURCE_DIR) + "/experiments/scenes/cylinder_press.json";
   const std::vector<std::pair<std::string, std::string>> ov = {
