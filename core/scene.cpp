@@ -3,6 +3,7 @@
 #include "core/collision/collision.hpp"
 #include "core/effects/effects.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -623,7 +624,12 @@ void apply_override(json& doc, const std::string& key, const std::string& value_
   try {
     value = json::parse(value_json);
   } catch (const json::parse_error& e) {
-    throw InputError(where, "value is not valid JSON (" + value_json + ")");
+    // A bare word (plane, auto) is taken as a JSON string, as --grid does, so shells need no
+    // extra quotes; anything else that is not JSON is an error.
+    bool word = !value_json.empty() && (std::isalpha(static_cast<unsigned char>(value_json[0])) || value_json[0] == '_');
+    for (char ch : value_json) word = word && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_');
+    if (!word) throw InputError(where, "value is not valid JSON (" + value_json + ")");
+    value = value_json;
   } catch (const json::out_of_range&) {
     // Number overflow ("1e999"): escaped as a json exception (exit 1 instead of 2).
     throw InputError(where, "malformed JSON: number overflow in the value (" + value_json + ")");

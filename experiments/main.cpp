@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
@@ -236,6 +237,16 @@ struct BenchCommand {
 
 }  // namespace
 
+// HARNESS_THREADS, when set, must be a whole number of threads from 1 to 1024.
+void check_threads_env() {
+  const char* s = std::getenv("HARNESS_THREADS");
+  if (!s) return;
+  char* end = nullptr;
+  const long v = std::strtol(s, &end, 10);
+  if (!*s || *end != '\0' || v < 1 || v > 1024)
+    throw InputError("HARNESS_THREADS", std::string("expected a number of threads from 1 to 1024, got '") + s + "'");
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"harness: soft bodies as nonlinear mass-spring models, collisions by the local voxel "
                "model of Nikolaev (2013), measured against FCL and CGAL"};
@@ -260,6 +271,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    check_threads_env();
     if (list->parsed()) return cmd_list();
     if (bench.cmd->parsed()) return bench.exec();
     if (sweep.cmd->parsed()) return sweep.exec(argv[0]);

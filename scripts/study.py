@@ -11,7 +11,7 @@
   study.py convergence  convergence.csv, figures/convergence.{png,pdf}, tables/convergence.md
   study.py refinement   refinement.csv, tables/refinement.{md,tex}: settled shape against mesh resolution
   study.py realtime     realtime.csv, tables/realtime.{md,tex}: steps per second, one core
-  study.py all          every one of them, in this order
+  study.py all          every one of them, in this order (or name several: study.py accuracy realtime)
 Options: --harness PATH (default build/bin/harness), --results DIR (default results),
          --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
          --repeats N (runs per configuration for the timings, default 3).
@@ -543,7 +543,7 @@ STUDIES = ["references", "accuracy", "ablation", "convergence", "refinement", "r
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("what", choices=STUDIES + ["all"])
+    ap.add_argument("what", nargs="+", choices=STUDIES + ["all"])
     ap.add_argument("--harness", default="build/bin/harness")
     ap.add_argument("--results", default="results")
     ap.add_argument("--quick", action="store_true")
@@ -555,7 +555,7 @@ def main():
         a.repeats = 1
     for d in ["figures", "tables"]:
         os.makedirs(os.path.join(a.results, d), exist_ok=True)
-    for w in (STUDIES if a.what == "all" else [a.what]):
+    for w in (STUDIES if "all" in a.what else a.what):
         print("study:", w, file=sys.stderr)
         globals()[w](a)
 

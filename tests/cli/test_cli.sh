@@ -48,7 +48,14 @@ bad_case steps "steps.json: time.steps" "${good/\"steps\":2/\"steps\":-2}"
 "$H" run "$T/nonexistent.json" --out "$T/run" --quiet 2>"$T/err"; rc=$?
 [[ $rc -eq 2 ]] && grep -q "nonexistent.json" "$T/err" && ok || bad "missing scene file: exit $rc"
 "$H" run cylinder_press --out "$T/run" --set time.dt=abc --quiet 2>"$T/err"; rc=$?
-[[ $rc -eq 2 ]] && grep -q -- "--set time.dt" "$T/err" && ok || bad "bad --set: exit $rc"
+[[ $rc -eq 2 ]] && grep -q -- "time.dt" "$T/err" && ok || bad "bad --set: exit $rc"
+"$H" run cylinder_press --out "$T/run" --set 'time.dt={x' --quiet 2>"$T/err"; rc=$?
+[[ $rc -eq 2 ]] && grep -q -- "--set time.dt: value is not valid JSON" "$T/err" && ok || bad "--set not JSON: exit $rc"
+HARNESS_THREADS=abc "$H" run cylinder_press --out "$T/run" --quiet 2>"$T/err"; rc=$?
+[[ $rc -eq 2 ]] && grep -q "HARNESS_THREADS" "$T/err" && ok || bad "HARNESS_THREADS=abc: exit $rc"
+# A bare word is a string for --set, as for --grid.
+"$H" run cylinder_press --out "$T/bare" --steps 2 --set contacts.0.eliminator=plane --set 'references.solvers=[]' \
+  --quiet 2>"$T/err" && grep -q '"eliminator": "plane"' "$T/bare/summary.json" && ok || { bad "--set bare word"; cat "$T/err"; }
 "$H" run cylinder_press --out "$T/run" --bogus 2>"$T/err"; rc=$?
 [[ $rc -eq 2 ]] && ok || bad "unknown option: exit $rc"
 cmp -s "$T/run/summary.json" "$T/summary.before" && ok || bad "summary survived bad inputs"

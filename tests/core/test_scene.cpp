@@ -168,5 +168,11 @@ TEST_CASE("overrides given with --set apply before validation", "[scene][set]") 
   };
   CHECK(msg("contacts.5.force", "1").find("--set contacts.5.force: index 5 out of range") != std::string::npos);
   CHECK(msg("time.dt", "{oops").find("--set time.dt: value is not valid JSON") != std::string::npos);
+  // A bare word is a string, as --grid takes it; a word the key does not accept is refused by
+  // the loader, and what is neither JSON nor a word is refused as JSON.
+  CHECK(msg("time.integrator", "implicit_euler").empty());
+  CHECK(msg("time.integrator", "sideways").find("scene.json: time.integrator") != std::string::npos);
+  CHECK(msg("time.dt", "1e-3x").find("--set time.dt: value is not valid JSON") != std::string::npos);
+  CHECK(msg("time.dt", "fast").find("scene.json: time.dt") != std::string::npos);
   CHECK(msg("time.dtt", "1").find("scene.json: time.dtt: unknown key") != std::string::npos);
 }
