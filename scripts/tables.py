@@ -178,6 +178,14 @@ def constraints_text(b, effects):
     return "; ".join(out) if out else "free"
 
 
+def stiffness_text(m):
+    """E in kPa (and the shell's thickness) when the material gives Young's modulus, else k in N/m."""
+    if "youngs_modulus" in m:
+        t = " t %g mm" % (1e3 * m["thickness"]) if "thickness" in m else ""
+        return "E %g kPa%s" % (m["youngs_modulus"] / 1e3, t)
+    return "k %g N/m" % m["stiffness"]
+
+
 def scene_tables(root, data):
     rows = []
     crow = []
@@ -192,21 +200,24 @@ def scene_tables(root, data):
                 role = "host" if b["name"] == c["host"] else ("guest" if b["name"] == c["guest"] else "")
                 law = m["law"] + ("" if m["law"] == "linear" else " (beta %g)" % m["nonlinearity"])
                 rows.append([r["title"].split(",")[0], "%s (%s)" % (b["name"], role), shape_text(b["shape"]),
-                             b["shape"].get("fill", "volume"), "%g" % m["density"], "%g" % m["stiffness"], law,
+                             b["shape"].get("fill", "volume"), "%g" % m["density"], stiffness_text(m), law,
                              "%g" % m["damping"], constraints_text(b, sc["effects"])])
         if r["elim"] == rl.ELIMINATORS[0]:
             c = sc["contacts"][0]
-            force = "auto" if c["force"] == "auto" else "%g N" % c["force"]
+            f = c["force"]
+            force = "auto" if f == "auto" else ("k %g N/m" % f["stiffness"] if isinstance(f, dict) else "%g N" % f)
             crow.append([r["title"], "%g" % (sc["time"]["dt"] * 1e6), "%d" % r["steps"], ", ".join(sc["effects"]),
-                         c["host"], c["guest"], "%g" % (c["voxel_size"] * 1000.0), "%.4g" % (r["voxel"] * 1000.0),
+                         c["host"], c["guest"],
+                         c["voxel_size"] if isinstance(c["voxel_size"], str) else "%g" % (c["voxel_size"] * 1000.0),
+                         "%.4g" % (r["voxel"] * 1000.0),
                          c["region"], "%d" % c["margin"], force,
                          "%d" % sc["references"]["every"]])
     write_table(
         root, "scenes_bodies",
         "Bodies of the bundled scenes (experiments/scenes/*.json, resolved): shape, fill, density "
-        "(kg/m^3), spring stiffness k (N/m), spring law, dashpot damping (N s/m), constraints.",
-        ["scenario", "body", "shape", "fill", "density", "k (N/m)", "law", "damping", "constraints"],
-        rows, tex_header=["scenario", "body", "shape", "fill", "$\\rho$", "$k$", "law", "$c$", "constraints"],
+        "(kg/m^3), Young's modulus E (or spring stiffness k), spring law, dashpot damping (N s/m), constraints.",
+        ["scenario", "body", "shape", "fill", "density", "stiffness", "law", "damping", "constraints"],
+        rows, tex_header=["scenario", "body", "shape", "fill", "$\\rho$", "$E$ or $k$", "law", "$c$", "constraints"],
         align="llp{3.2cm}lrrlrp{4.2cm}")
     write_table(
         root, "scenes_contacts",
