@@ -30,8 +30,18 @@ bool finite_state(const World& w, int& bad) {
 
 // The output folder: a previous run's summary is removed first, so that an interrupted run
 // never looks complete; its frames are removed too, so the series is this run's only.
+// A folder that cannot be made or written is bad input (exit 2), found before anything is written.
 void prepare_output(const fs::path& dir, bool frames) {
-  fs::create_directories(dir);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) throw InputError("--out " + dir.string(), "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+  {
+    const fs::path probe = dir / ".harness_write_test";
+    std::FILE* f = std::fopen(probe.c_str(), "w");
+    if (!f) throw InputError("--out " + dir.string(), "the output folder is not writable");
+    std::fclose(f);
+    fs::remove(probe, ec);
+  }
   fs::remove(dir / "summary.json");
   const fs::path fr = dir / "frames";
   if (fs::exists(fr))
@@ -52,26 +62,78 @@ void write_frames(const fs::path& dir, const Simulation& sim, const Recorder& re
               rec.penetration(static_cast<int>(b), step));
 }
 
+// Progress on stderr: on a terminal one updating line with an ETA; otherwise (a batch log) one
+// line at every tenth of the steps and every tenth of the settling budget, which logs keep.
 class ProgressLine {
  public:
-  explicit ProgressLine(bool on) : on_(on && isatty(2)) {}
+  explicit ProgressLine(bool on) : on_(on), tty_(on && isatty(2)) {}
   void update(const Simulation& sim) {
     if (!on_) return;
+    const Scene& sc = sim.scene();
+    const int s = sim.step_index(), n = sc.steps;
     const auto now = Clock::now();
-    const int s = sim.step_index(), n = sim.scene().steps;
-    if (now - last_ > std::chrono::milliseconds(200) || s == n) {
-      last_ = now;
-      std::fprintf(stderr, "\r%s: step %d/%d (%.0f us/step)   ", sim.scene().name.c_str(), s, n, sim.last().step_us);
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const bool settling = s > n;
+    const int budget = settling ? sc.settle.max_steps : n;
+    const int done = settling ? s - n : s;
+    const double frac = budget > 0 ? static_cast<double>(done) / budget : 1.0;
+    char what[160];
+    if (settling)
+      std::snprintf(what, sizeof what, "%s: settling, step %d (+%d of at most %d), residual %.3g", sc.name.c_str(), s,
+                    done, budget, sim.residual());
+    else
+      std::snprintf(what, sizeof what, "%s: step %d/%d, ETA %.0f s", sc.name.c_str(), s, n,
+                    frac > 0.0 ? elapsed * (1.0 - frac) / frac : 0.0);
+    if (tty_) {
+      if (now - last_ > std::chrono::milliseconds(200)) {
+        last_ = now;
+        std::fprintf(stderr, "\r%s (%.0f us/step)   ", what, sim.last().step_us);
+      }
+      return;
+    }
+    const int tenth = static_cast<int>(10.0 * frac + 1e-9);
+    if (tenth > last_tenth_ || settling != was_settling_) {
+      last_tenth_ = settling != was_settling_ ? 0 : tenth;
+      was_settling_ = settling;
+      std::fprintf(stderr, "harness: %s, %d %%, %.1f s\n", what, 10 * tenth, elapsed);
     }
   }
-  ~ProgressLine() {
-    if (on_) std::fprintf(stderr, "\n");
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+  void finish() {
+    if (tty_ && !finished_) std::fprintf(stderr, "\n");
+    finished_ = true;
   }
+  ~ProgressLine() { finish(); }
 
  private:
-  bool on_;
-  Clock::time_point last_ = Clock::now();
+  bool on_, tty_;
+  bool finished_ = false;
+  int last_tenth_ = 0;
+  bool was_settling_ = false;
+  Clock::time_point start_ = Clock::now(), last_ = Clock::now();
 };
+
+// One line at the end of a run: status, steps, settling, penetration, the error against the
+// reference when compared, wall time and the folder.
+void end_line(const Simulation& sim, const nlohmann::json& sum, const std::string& dir, double wall_s) {
+  std::string pen, err;
+  for (const auto& p : sum["pairs"]) {
+    if (p.contains("true_pen_final") && p["true_pen_final"].is_number())
+      pen += ", " + std::to_string(p["true_pen_final"].get<long long>()) + " penetrating nodes";
+    if (p.contains("error_vs_reference") && p["error_vs_reference"].is_object() &&
+        p["error_vs_reference"]["pos_err_max"].is_number()) {
+      char b[96];
+      std::snprintf(b, sizeof b, ", pos_err_max %.3g mm", 1e3 * p["error_vs_reference"]["pos_err_max"].get<double>());
+      err += b;
+    }
+  }
+  std::string settle;
+  if (sim.scene().settle.present)
+    settle = sum.value("settled", false) ? ", settled" : ", not settled";
+  std::fprintf(stderr, "harness: %s: %s, %d steps%s%s%s, %.1f s, %s\n", sim.scene().name.c_str(),
+               sum.value("status", std::string("?")).c_str(), sim.step_index(), settle.c_str(), pen.c_str(), err.c_str(),
+               wall_s, dir.c_str());
+}
 
 }  // namespace
 
@@ -146,8 +208,8 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
 
   RunStatus status;
   int exit_code = 0;
+  ProgressLine progress(opt.progress);
   {
-    ProgressLine progress(opt.progress);
     const StepsOutcome o = run_steps(sim, [&](bool last) {
       rec.record(sim, last);
       if (trajectory && rec.sd_step() == sim.step_index())
@@ -170,6 +232,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       exit_code = 3;
     }
   }
+  progress.finish();
   write_frames(dir, sim, rec, sim.step_index());
   steps.close();
   if (trajectory) trajectory->close();
@@ -180,6 +243,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   nlohmann::json sum = summary_json(sim, rec, status, opt.versions);
   if (compare) add_comparison(sum, sim, rec, *compare);
   write_summary(dir.string(), sum);
+  if (opt.progress) end_line(sim, sum, dir.string(), progress.elapsed());
   return exit_code;
 }
 

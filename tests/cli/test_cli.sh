@@ -53,6 +53,14 @@ bad_case steps "steps.json: time.steps" "${good/\"steps\":2/\"steps\":-2}"
 [[ $rc -eq 2 ]] && grep -q -- "--set time.dt: value is not valid JSON" "$T/err" && ok || bad "--set not JSON: exit $rc"
 HARNESS_THREADS=abc "$H" run cylinder_press --out "$T/run" --quiet 2>"$T/err"; rc=$?
 [[ $rc -eq 2 ]] && grep -q "HARNESS_THREADS" "$T/err" && ok || bad "HARNESS_THREADS=abc: exit $rc"
+# A run logged to a file (not a terminal): a line every tenth of the steps and an end-of-run line.
+"$H" run cylinder_press --out "$T/logged" --steps 40 --set 'references.solvers=[]' 2>"$T/log" \
+  && grep -q "step 20/40.*50 %" "$T/log" && grep -q "step 40/40.*100 %" "$T/log" \
+  && tail -1 "$T/log" | grep -q "cylinder_press: ok, 40 steps.*$T/logged" && ok || { bad "progress log lines"; cat "$T/log"; }
+# An output folder that cannot be made: exit 2 naming it.
+touch "$T/plainfile"
+"$H" run cylinder_press --out "$T/plainfile/sub" --steps 2 --quiet 2>"$T/err"; rc=$?
+[[ $rc -eq 2 ]] && grep -q -- "--out $T/plainfile/sub" "$T/err" && ok || { bad "unwritable --out: exit $rc"; cat "$T/err"; }
 # A bare word is a string for --set, as for --grid.
 "$H" run cylinder_press --out "$T/bare" --steps 2 --set contacts.0.eliminator=plane --set 'references.solvers=[]' \
   --quiet 2>"$T/err" && grep -q '"eliminator": "plane"' "$T/bare/summary.json" && ok || { bad "--set bare word"; cat "$T/err"; }
