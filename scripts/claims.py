@@ -90,6 +90,19 @@ def compare_ref(line, plane):
     return "mixed" if any(plane[k] != line[k] for k in keys) else "equal"
 
 
+def plane_verdict(rows, wins, untested):
+    """Claim (a)'s verdict over the implant rows (row[5] the comparison's result)."""
+    if not rows:
+        return untested
+    if wins == len(rows):
+        return "supported"
+    if wins > 0:
+        return "partly supported"
+    if all(r[5] == "equal" for r in rows):
+        return "inconclusive (no difference)"
+    return "not supported"
+
+
 def episode_stats(path, nodes, pen_peak):
     ep = rl.load_episodes(path)
     lengths = sorted(r["steps"] for r in ep)
@@ -154,16 +167,7 @@ def main():
         a_rows.append((key, title, force, line, plane, compare(line, plane)))
     implant = [r for r in a_rows if by[r[0]]["scene"] == "implant_expansion"]
     wins = sum(1 for r in implant if r[5] == "plane better")
-    if not implant:
-        verdict_a = "not tested (no implant runs)"
-    elif wins == len(implant):
-        verdict_a = "supported"
-    elif wins > 0:
-        verdict_a = "partly supported"
-    elif all(r[5] == "equal" for r in implant):
-        verdict_a = "inconclusive (no difference)"
-    else:
-        verdict_a = "not supported"
+    verdict_a = plane_verdict(implant, wins, "not tested (no implant runs)")
 
     # ---- claim (a) against the reference solution (both ways: position error and gap)
     r_rows = []
@@ -174,14 +178,7 @@ def main():
         r_rows.append((key, title, force, le, pe, compare_ref(le, pe)))
     r_implant = [r for r in r_rows if by[r[0]]["scene"] == "implant_expansion" and r[3] and r[4]]
     r_wins = sum(1 for r in r_implant if r[5] == "plane better")
-    if not r_implant:
-        verdict_ar = "not tested (no runs compared with a reference)"
-    elif r_wins == len(r_implant):
-        verdict_ar = "supported"
-    elif r_wins > 0:
-        verdict_ar = "partly supported"
-    else:
-        verdict_ar = "not supported"
+    verdict_ar = plane_verdict(r_implant, r_wins, "not tested (no runs compared with a reference)")
 
     # ---- claim (b)
     b_rows = []

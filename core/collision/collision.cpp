@@ -45,7 +45,7 @@ int Collision::detect(const World& w) {
   return static_cast<int>(contacts_.size());
 }
 
-void Collision::detect_and_push(const World& w) {
+void Collision::detect_all(const World& w) {
   detector_->detect(w, spec_, contacts_);
   if (reverse_) reverse_->detect(w, reverse_spec_, reverse_contacts_);
 }
@@ -58,17 +58,7 @@ void Collision::all_pushes(const World& w) {
   }
 }
 
-PairStep Collision::project(World& w, double h) {
-  PairStep s;
-  const auto t0 = Clock::now();
-  detect_and_push(w);
-  const auto t1 = Clock::now();
-  all_pushes(w);
-  if (spec_.invert_push)
-    for (Push& p : pushes_) p.normal = -p.normal;
-  magnitude_.assign(pushes_.size(), 0.0);
-  s.force = project_pushes(w, pushes_, h);
-  for (std::size_t i = 0; i < pushes_.size(); ++i) magnitude_[i] = pushes_[i].depth > 0.0 ? 1.0 : 0.0;
+PairStep Collision::finish(PairStep s, Clock::time_point t0, Clock::time_point t1) {
   stepped_ = true;
   const auto t2 = Clock::now();
   s.contacts = static_cast<int>(contacts_.size() + reverse_contacts_.size());
@@ -77,11 +67,25 @@ PairStep Collision::project(World& w, double h) {
   return s;
 }
 
+PairStep Collision::project(World& w, double h) {
+  PairStep s;
+  const auto t0 = Clock::now();
+  detect_all(w);
+  const auto t1 = Clock::now();
+  all_pushes(w);
+  if (spec_.invert_push)
+    for (Push& p : pushes_) p.normal = -p.normal;
+  magnitude_.assign(pushes_.size(), 0.0);
+  s.force = project_pushes(w, pushes_, h);
+  for (std::size_t i = 0; i < pushes_.size(); ++i) magnitude_[i] = pushes_[i].depth > 0.0 ? 1.0 : 0.0;
+  return finish(s, t0, t1);
+}
+
 PairStep Collision::step(World& w, double dt) {
   PairStep s;
   if (projects()) return s;
   const auto t0 = Clock::now();
-  detect_and_push(w);
+  detect_all(w);
   const auto t1 = Clock::now();
   all_pushes(w);
   switch (spec_.force_rule) {
@@ -99,12 +103,7 @@ PairStep Collision::step(World& w, double dt) {
   if (spec_.invert_push)
     for (Push& p : pushes_) p.n = -p.n;
   apply_pushes(w, pushes_, magnitude_);
-  stepped_ = true;
-  const auto t2 = Clock::now();
-  s.contacts = static_cast<int>(contacts_.size() + reverse_contacts_.size());
-  s.detect_us = us_between(t0, t1);
-  s.eliminate_us = us_between(t1, t2);
-  return s;
+  return finish(s, t0, t1);
 }
 
 }  // namespace harness

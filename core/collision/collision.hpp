@@ -6,6 +6,7 @@
 // automatic force is derived from them.
 #pragma once
 
+#include "core/clock.hpp"
 #include "core/collision/contact_spec.hpp"
 #include "core/collision/detectors/collision_detector.hpp"
 #include "core/collision/responses/collision_eliminator.hpp"
@@ -62,8 +63,10 @@ class Collision {
   bool stepped() const { return stepped_; }  // step() ran at least once
 
  private:
-  void detect_and_push(const World& w);
+  void detect_all(const World& w);  // this way round, and the other when two-sided
   void all_pushes(const World& w);
+  // Marks the pair stepped and fills its contacts and timings (detection t0..t1, the rest t1..now).
+  PairStep finish(PairStep s, Clock::time_point t0, Clock::time_point t1);
 
   ContactSpec spec_;
   std::unique_ptr<CollisionDetector> detector_;

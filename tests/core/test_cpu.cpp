@@ -10,6 +10,8 @@
 #include "core/simulation.hpp"
 #include "core/spring_forces.hpp"
 
+#include "tests/core/scatter_reference.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -22,6 +24,8 @@
 #include <vector>
 
 using namespace harness;
+using harness::test::scatter_damping;
+using harness::test::scatter_springs;
 
 namespace {
 
@@ -216,38 +220,6 @@ TEST_CASE("points_bounds and the cell range give the scalar level's bits at ever
 }
 
 namespace {
-
-// The serial scatter the gathers replace (the definition of the spring and dashpot forces).
-void scatter_springs(const World& w, Points& f) {
-  const Springs& s = w.springs;
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    const int i = s.ends[k][0], j = s.ends[k][1];
-    const Vec3 d = w.x[j] - w.x[i];
-    const double l = d.norm();
-    if (l <= 0.0) continue;
-    const Vec3 fi = spring_force_per_length(w.body_law[s.body[k]].with(s.k[k]), s.rest[k], l) * d;
-    f[i] += fi;
-    f[j] -= fi;
-  }
-}
-
-void scatter_damping(const World& w, Points& f) {
-  const Springs& s = w.springs;
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    const double c = w.bodies[s.body[k]].material.damping;
-    if (c == 0.0) continue;
-    const int i = s.ends[k][0], j = s.ends[k][1];
-    const Vec3 d = w.x[j] - w.x[i];
-    const double l2 = d.squaredNorm();
-    if (l2 <= 0.0) continue;
-    const Vec3 fi = (c * (w.v[j] - w.v[i]).dot(d) / l2) * d;
-    f[i] += fi;
-    f[j] -= fi;
-  }
-  for (const Body& b : w.bodies)
-    if (b.material.mass_damping != 0.0)
-      for (int i = b.begin; i < b.end; ++i) f[i] -= (b.material.mass_damping * w.m[i]) * w.v[i];
-}
 
 void add_spring(World& w, int i, int j, double rest, int body) {
   w.springs.ends.push_back({i, j});
