@@ -7,11 +7,15 @@
 #include "core/run/recorder.hpp"
 #include "core/run/summary.hpp"
 #include "core/run/surfaces.hpp"
+#include "core/run/warnings.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -46,21 +50,118 @@ void prepare_output(const fs::path& dir, bool frames) {
   const fs::path fr = dir / "frames";
   if (fs::exists(fr))
     for (const auto& e : fs::directory_iterator(fr))
-      if (e.path().extension() == ".vtk") fs::remove(e.path());
+      if (e.path().extension() == ".vtk" || e.path().extension() == ".vtp" || e.path().extension() == ".vtu" ||
+          e.path().extension() == ".pvd")
+        fs::remove(e.path());
   if (frames) fs::create_directories(fr);
 }
 
-void write_frames(const fs::path& dir, const Simulation& sim, const Recorder& rec, int step) {
-  const Scene& sc = sim.scene();
-  if (sc.frames_every <= 0) return;
-  char num[16];
-  std::snprintf(num, sizeof num, "%06d", step);
+// Contact force on each node in the last step, N (zero where none acted; NaN on the bodies of a
+// pair whose response is projection, which applies no force).
+Points contact_forces(const Simulation& sim) {
   const World& w = sim.world();
-  for (std::size_t b = 0; b < w.bodies.size(); ++b)
-    write_vtk((dir / "frames" / (w.bodies[b].name + "_" + num + ".vtk")).string(), w, static_cast<int>(b),
-              "harness " + sc.name + " body " + w.bodies[b].name + " step " + num,
-              rec.penetration(static_cast<int>(b), step));
+  Points f(static_cast<std::size_t>(w.num_nodes()), Vec3::Zero());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Pair& pair : sim.pairs()) {
+    if (!pair.collision || !pair.collision->stepped()) continue;
+    const Collision& c = *pair.collision;
+    if (c.projects()) {
+      for (int b : {pair.spec.host, pair.spec.guest})
+        for (int i = w.bodies[b].begin; i < w.bodies[b].end; ++i) f[i] = Vec3::Constant(nan);
+      continue;
+    }
+    for (std::size_t i = 0; i < c.pushes().size() && i < c.magnitudes().size(); ++i) {
+      const Push& p = c.pushes()[i];
+      if (p.count == 0) continue;
+      const Vec3 fi = c.magnitudes()[i] * p.n;
+      f[p.guest] += fi;
+      for (int k = 0; k < p.count; ++k) f[p.hosts[k]] -= p.weight[k] * fi;
+    }
+  }
+  return f;
 }
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
+
+// The frames of a run (run/frames.hpp): one file per body and frame, and with the XML formats a
+// ParaView collection per body carrying each frame's physical time.
+class FrameWriter {
+ public:
+  FrameWriter(const fs::path& dir, const Simulation& sim) : dir_(dir / "frames"), series_(sim.world().bodies.size()) {}
+  void write(const Simulation& sim, const Recorder& rec, int step) {
+    const Scene& sc = sim.scene();
+    if (sc.frames_every <= 0) return;
+    char num[16];
+    std::snprintf(num, sizeof num, "%06d", step);
+    const World& w = sim.world();
+    const FrameFormat fmt = sc.frame_format;
+    const char* ext = fmt == FrameFormat::vtp ? ".vtp" : fmt == FrameFormat::vtu ? ".vtu" : ".vtk";
+    Points force;
+    if (fmt != FrameFormat::vtk) force = contact_forces(sim);
+    for (std::size_t b = 0; b < w.bodies.size(); ++b) {
+      const Body& body = w.bodies[b];
+      const int bi = static_cast<int>(b);
+      const std::string file = body.name + "_" + num + ext;
+      if (fmt == FrameFormat::vtk) {
+        write_vtk((dir_ / file).string(), w, bi, "harness " + sc.name + " body " + body.name + " step " + num,
+                  rec.penetration(bi, step));
+        continue;
+      }
+      FrameData d;
+      d.contact_force.assign(force.begin() + body.begin, force.begin() + body.begin + body.n_surface);
+      if (rec.sd_step() == step && b < rec.signed_distance().size() && !rec.signed_distance()[b].empty())
+        d.signed_distance = &rec.signed_distance()[b];
+      d.penetrating = rec.penetration(bi, step);
+      write_vtk_xml((dir_ / file).string(), w, bi, d, fmt == FrameFormat::vtu);
+      auto& series = series_[b];
+      if (series.empty() || series.back().second != xml_escape(file)) series.emplace_back(sim.time(), xml_escape(file));
+      write_pvd((dir_ / (body.name + ".pvd")).string(), series);
+    }
+  }
+
+ private:
+  fs::path dir_;
+  std::vector<std::vector<std::pair<double, std::string>>> series_;
+};
+
+// SIGINT and SIGTERM while a run steps: the loop stops after the current step and the run writes
+// its outputs with status "interrupted" (exit 128 + signal). A second signal acts as usual.
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void on_stop_signal(int sig) { g_signal = sig; }
+
+class StopSignals {
+ public:
+  StopSignals() {
+    g_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
 
 // Progress on stderr: on a terminal one updating line with an ETA; otherwise (a batch log) one
 // line at every tenth of the steps and every tenth of the settling budget, which logs keep.
@@ -120,6 +221,8 @@ void end_line(const Simulation& sim, const nlohmann::json& sum, const std::strin
   for (const auto& p : sum["pairs"]) {
     if (p.contains("true_pen_final") && p["true_pen_final"].is_number())
       pen += ", " + std::to_string(p["true_pen_final"].get<long long>()) + " penetrating nodes";
+    if (p.contains("tunnelled") && p["tunnelled"].is_number() && p["tunnelled"].get<long long>() > 0)
+      pen += ", " + std::to_string(p["tunnelled"].get<long long>()) + " tunnelled";
     if (p.contains("error_vs_reference") && p["error_vs_reference"].is_object() &&
         p["error_vs_reference"]["pos_err_max"].is_number()) {
       char b[96];
@@ -176,7 +279,9 @@ StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on
     below = sim.residual() <= settle.tolerance ? below + 1 : 0;
     o.settle_steps = std::max(0, s - sc.steps);
     o.settled = settle.present && s >= sc.steps && below >= kSettleWindow;
-    const bool last = s >= sc.steps && (!settle.present || o.settled || s >= sc.steps + settle.max_steps);
+    o.signal = g_signal;
+    const bool last =
+        o.signal != 0 || (s >= sc.steps && (!settle.present || o.settled || s >= sc.steps + settle.max_steps));
     on_step(last);
     if (last) return o;
   }
@@ -194,6 +299,12 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
                            "reference.levels); the errors are against an unconverged state\n",
                    opt.compare_dir.c_str());
   }
+  std::vector<std::string> warnings;
+  for (const Warning& wn : start_warnings(sim)) {
+    if (opt.strict) throw InputError(scene.file + ": " + wn.key, wn.message + " (--strict)");
+    std::fprintf(stderr, "harness: warning: %s: %s\n", wn.key.c_str(), wn.message.c_str());
+    warnings.push_back(wn.key + ": " + wn.message);
+  }
   RecorderOptions ro;
   ro.measurer = opt.measurer;
   ro.compare = compare.get();
@@ -202,7 +313,8 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   const fs::path dir(opt.out_dir);
   prepare_output(dir, scene.frames_every > 0);
   StepsWriter steps((dir / "steps.csv").string());
-  write_frames(dir, sim, rec, 0);
+  FrameWriter frames(dir, sim);
+  frames.write(sim, rec, 0);
   std::unique_ptr<TrajectoryWriter> trajectory;
   if (scene.trajectory) trajectory = std::make_unique<TrajectoryWriter>((dir / "trajectory.bin").string(), sim.world());
 
@@ -210,6 +322,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   int exit_code = 0;
   ProgressLine progress(opt.progress);
   {
+    const StopSignals stop_signals;
     const StepsOutcome o = run_steps(sim, [&](bool last) {
       rec.record(sim, last);
       if (trajectory && rec.sd_step() == sim.step_index())
@@ -218,7 +331,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       for (std::size_t p = 0; p < sim.pairs().size(); ++p)
         steps.row({sim, &sim.pairs()[p], rec.measurement(p), rec.figures(p), rec.kinetic_energy(), rec.potential_energy()});
       const int s = sim.step_index();
-      if (scene.frames_every > 0 && s % scene.frames_every == 0 && !last) write_frames(dir, sim, rec, s);
+      if (scene.frames_every > 0 && s % scene.frames_every == 0 && !last) frames.write(sim, rec, s);
       progress.update(sim);
     });
     status.settled = o.settled;
@@ -230,10 +343,15 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       status.status = "error";
       status.finite = false;
       exit_code = 3;
+    } else if (o.signal) {
+      status.status = "interrupted";
+      status.error = std::string(o.signal == SIGINT ? "SIGINT" : "SIGTERM") + " after step " +
+                     std::to_string(sim.step_index()) + "; outputs hold the state after it";
+      exit_code = 128 + o.signal;
     }
   }
   progress.finish();
-  write_frames(dir, sim, rec, sim.step_index());
+  frames.write(sim, rec, sim.step_index());
   steps.close();
   if (trajectory) trajectory->close();
   write_surfaces((dir / "surfaces.csv").string(),
@@ -242,6 +360,18 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   if (rec.references() && scene.references.cgal) write_episodes(dir.string(), sim, rec);
   nlohmann::json sum = summary_json(sim, rec, status, opt.versions);
   if (compare) add_comparison(sum, sim, rec, *compare);
+  for (std::size_t p = 0; p < sim.pairs().size(); ++p) {
+    const auto& pj = sum["pairs"][p];
+    if (pj.contains("tunnelled") && pj["tunnelled"].is_number() && pj["tunnelled"].get<long long>() > 0) {
+      const std::string wn = "contacts." + std::to_string(p) + ": " + std::to_string(pj["tunnelled"].get<long long>()) +
+                             " guest nodes tunnelled through the host (beyond its far side)";
+      std::fprintf(stderr, "harness: warning: %s\n", wn.c_str());
+      warnings.push_back(wn);
+      if (opt.strict && exit_code == 0) exit_code = 2;
+    }
+  }
+  sum["warnings"] = warnings;
+  if (opt.strict && exit_code == 2) sum["status"] = "error", sum["error"] = "--strict: " + warnings.back();
   write_summary(dir.string(), sum);
   if (opt.progress) end_line(sim, sum, dir.string(), progress.elapsed());
   return exit_code;

@@ -20,10 +20,14 @@ struct RunOptions {
   ExactDetectorMaker exact_detectors = nullptr;  // empty: detectors "cgal", "fcl" unavailable
   std::map<std::string, std::string> versions;  // extra library versions (FCL, CGAL)
   std::string compare_dir;                      // --compare: a reference or a finished run
+  bool strict = false;                          // --strict: a warning is an error (exit 2)
 };
 
-// Exit status: 0 done, 3 the state became non-finite (last good state and summary written).
-// Throws InputError before anything is written when the scene cannot be built.
+// Exit status: 0 done, 3 the state became non-finite (last good state and summary written),
+// 130 / 143 stopped by SIGINT / SIGTERM (outputs written, summary status "interrupted"),
+// 2 with `strict` when a warning was found at the end (tunnelled nodes; outputs written).
+// Throws InputError before anything is written when the scene cannot be built, or with
+// `strict` when a start warning (run/warnings.hpp) is found.
 int run_scene(const Scene& scene, const RunOptions& options);
 
 // One step with the run's checks: the state before it is kept, and when the step throws (the
@@ -33,12 +37,14 @@ std::string checked_step(Simulation& sim, Points& good_x, Points& good_v);
 
 // The steps of a run: time.steps, then with time.settle until the force residual has been
 // within its tolerance for kSettleWindow steps in a row, or max_steps more steps. After each
-// completed step, on_step(last) (last: the run ends with it). Stops at the first failed step.
+// completed step, on_step(last) (last: the run ends with it). Stops at the first failed step, and
+// (run_scene's handlers installed) after a step during which SIGINT or SIGTERM arrived.
 struct StepsOutcome {
   std::string failure;  // empty: every step went through
   int failed_step = 0;
   bool settled = false;
   int settle_steps = 0;  // taken after time.steps
+  int signal = 0;        // SIGINT or SIGTERM stopped the run after the last step (run_scene only)
 };
 StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on_step);
 

@@ -559,6 +559,8 @@ void read_output(const Ctx& c, Obj& top, Scene& s) {
   Obj o(c, oj ? *oj : empty, "output", s.resolved["output"]);
   s.frames_every = static_cast<int>(o.integer("frames_every", 0, 0, 2000000000));
   s.trajectory = o.boolean("trajectory", false);
+  const std::string fmt = o.choice("format", std::string("vtp"), {"vtp", "vtu", "vtk"});
+  s.frame_format = fmt == "vtu" ? FrameFormat::vtu : fmt == "vtk" ? FrameFormat::vtk : FrameFormat::vtp;
   o.finish();
 }
 

@@ -20,6 +20,7 @@ namespace harness {
 
 enum class Integrator { symplectic_euler, implicit_euler };
 enum class Guard { refuse, substep };
+enum class FrameFormat { vtp, vtu, vtk };
 
 // Effects a scene may list; exactly the listed ones are simulated (effects/effects.hpp has the
 // table of their names and makers).
@@ -125,6 +126,9 @@ struct Scene {
   std::vector<ContactPairSpec> contacts;
   ReferenceSpec references;
   int frames_every = 0;
+  // output.format: frames as VTK XML PolyData .vtp (default), XML UnstructuredGrid .vtu (what
+  // meshio reads), or legacy ASCII .vtk; the XML ones with a ParaView collection per body.
+  FrameFormat frame_format = FrameFormat::vtp;
   bool trajectory = false;  // output.trajectory: DIR/trajectory.bin (run/surfaces.hpp)
   nlohmann::json resolved;  // the scene with every default written in
 

@@ -5,6 +5,7 @@
 #include "experiments/bench.hpp"
 #include "experiments/reference.hpp"
 #include "experiments/sweep.hpp"
+#include "scene_schema.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
 #include "reference/reference.hpp"
@@ -117,7 +118,7 @@ struct RunCommand {
   std::string scene, out = "out";
   std::vector<std::string> sets;
   int steps = -1, threads = 0;
-  bool quiet = false;
+  bool quiet = false, strict = false;
   std::string compare;
   int dt_divide = 1;
 
@@ -128,6 +129,7 @@ struct RunCommand {
     cmd->add_option("--set", sets, "override a scene value: KEY=JSON (dotted key, list indices)");
     cmd->add_option("--steps", steps, "run exactly N steps: override time.steps and turn time.settle off");
     cmd->add_flag("--quiet", quiet, "no progress line");
+    cmd->add_flag("--strict", strict, "warnings are errors (exit 2): a rounded voxel size, tunnelling expected or found");
     cmd->add_option("--threads", threads,
                     "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
     cmd->add_option("--dt-divide", dt_divide, "run at dt / N over the same physical time (every step count times N)");
@@ -145,6 +147,7 @@ struct RunCommand {
     opt.out_dir = out;
     opt.progress = !quiet;
     opt.compare_dir = compare;
+    opt.strict = strict;
     return run_scene(sc, opt);
   }
 };
@@ -254,6 +257,7 @@ int main(int argc, char** argv) {
   RunCommand run;
   run.setup(app);
   CLI::App* list = app.add_subcommand("list", "list the bundled scenes");
+  CLI::App* schema = app.add_subcommand("schema", "print the scene format's JSON Schema (draft 2020-12)");
   SweepCommand sweep;
   sweep.setup(app);
   BenchCommand bench;
@@ -273,6 +277,7 @@ int main(int argc, char** argv) {
   try {
     check_threads_env();
     if (list->parsed()) return cmd_list();
+    if (schema->parsed()) return std::fputs(kSceneSchema, stdout) < 0 ? 1 : 0;
     if (bench.cmd->parsed()) return bench.exec();
     if (sweep.cmd->parsed()) return sweep.exec(argv[0]);
     if (reference.cmd->parsed()) return reference.exec();

@@ -121,7 +121,7 @@ std::string shell_quote(const std::string& s) {
 }
 
 std::vector<std::string> run_args(const SweepOptions& opt, const SweepPoint& p, const std::string& scene) {
-  std::vector<std::string> a = {opt.self, "run", scene, "--out", (fs::path(opt.out_dir) / point_name(p)).string(), "--quiet"};
+  std::vector<std::string> a = {opt.self, "run", scene, "--out", (fs::path(opt.out_dir) / point_name(p)).string()};
   for (const std::string& s : opt.sets) a.insert(a.end(), {"--set", s});
   for (const auto& [k, v] : p) a.insert(a.end(), {"--set", k + "=" + v});
   if (!opt.compare.empty()) a.insert(a.end(), {"--compare", opt.compare});
@@ -296,6 +296,15 @@ int run_sweep(const SweepOptions& opt) {
     std::fprintf(stderr, "sweep: [%zu/%zu] %s: %s\n", done, todo.size(), point_name(points[i]).c_str(),
                  rc == 0 ? "ok" : rc == 3 ? "simulation failed (exit 3)" : ("exit " + std::to_string(rc)).c_str());
     if (rc != 0 && rc != 3) worst = std::max(worst, 1);
+    // The point's own log (POINT/stderr.log: progress every 10 %, the end-of-run line): all of it
+    // for a single --index job (a scheduler's per-job log), else its last line.
+    std::ifstream log(fs::path(opt.out_dir) / point_name(points[i]) / "stderr.log");
+    std::string line, last;
+    while (std::getline(log, line)) {
+      if (opt.index >= 0) std::fprintf(stderr, "%s\n", line.c_str());
+      last = line;
+    }
+    if (opt.index < 0 && !last.empty()) std::fprintf(stderr, "  %s\n", last.c_str());
   };
   while (next < todo.size() || !running.empty()) {
     while (next < todo.size() && static_cast<int>(running.size()) < std::max(1, opt.jobs)) {

@@ -1,18 +1,21 @@
 #!/usr/bin/env python3
 """Figures of the reproduction, from results/runs/* (see results/README.md).
 
-Usage: figures.py [RESULTS_DIR]     (default: results; writes RESULTS_DIR/figures/*.png)
+Usage: figures.py [RESULTS_DIR]     (default: results; writes RESULTS_DIR/figures/<name>.{pdf,png})
 
-  snapshots_<scene>.png   both surfaces in 3D at four instants, line (top) and plane (bottom):
-                          truly penetrating vertices marked (POINT_DATA of the frames), the voxel
-                          region of that step drawn as a box (region_* columns of steps.csv)
-  section_<scene>.png     cross-section (triangles cut by a plane: sphere z = 0, cylinder x = 0,
-                          implant y = 0 showing the tissue dome lifted by the implant), the rest
-                          state in grey
-  timeseries_<scene>.png  true penetrations (guest, host), detected contacts, maximum residual
-                          depth and contact force per step, line against plane
-  episodes.png            how many steps a node stays truly penetrating, line against plane
-Deterministic: fixed run order, no dates, fixed sizes and resolution.
+  snapshots_<scene>   both surfaces in 3D at four instants, line (top) and plane (bottom):
+                      truly penetrating vertices marked (POINT_DATA of the frames), the voxel
+                      region of that step drawn as a box (region_* columns of steps.csv)
+  section_<scene>     cross-section (triangles cut by a plane: sphere z = 0, cylinder x = 0,
+                      implant y = 0 showing the tissue dome lifted by the implant), the rest
+                      state in grey
+  timeseries_<scene>  true penetrations (guest, host), detected contacts, maximum residual
+                      depth and contact force per step, line against plane
+  episodes            how many steps a node stays truly penetrating, line against plane
+Each figure is drawn at the size paper/main.tex prints it (resultslib.TEXT: the text width;
+resultslib.HALF: half of it, the time series), with 8 pt text (7 pt at the least), and written
+as a vector PDF (what the report includes; the 3D surfaces inside it rasterised at 300 dpi) and
+a 300 dpi PNG. Deterministic: fixed run order, no dates, fixed sizes and resolution.
 """
 
 import os
@@ -21,41 +24,27 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import resultslib as rl  # noqa: E402
 
+plt = rl.pyplot()
 import matplotlib  # noqa: E402
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.lines  # noqa: E402
+import matplotlib.patches  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection  # noqa: E402
-
-plt.rcParams.update({
-    "font.size": 9,
-    "axes.titlesize": 9,
-    "axes.labelsize": 9,
-    "legend.fontsize": 8,
-    "figure.dpi": 100,
-    "savefig.dpi": 110,
-    "svg.hashsalt": "harness",
-})
-SAVE_META = {"Software": None}
 
 HOST_COLOR = "#8fb3d9"
 GUEST_COLOR = "#e8b27a"
-PEN_GUEST = "#d62728"
-PEN_HOST = "#6a0dad"
-REGION_COLOR = "#2ca02c"
+PEN_GUEST = "#D55E00"
+PEN_HOST = "#000000"
+REGION_COLOR = "#009E73"
 # Surface opacity (host, guest): the implant lies under the tissue, so the tissue is fainter.
 ALPHA = {"implant_expansion": (0.55, 0.15)}
 VIEW = {"sphere_collision": (22, -62), "cylinder_press": (24, -58), "implant_expansion": (28, -60)}
 
 
-def save(fig, root, name):
-    d = os.path.join(root, "figures")
-    os.makedirs(d, exist_ok=True)
-    fig.savefig(os.path.join(d, name), metadata=SAVE_META)
-    plt.close(fig)
-    print("figures: wrote %s" % os.path.join(d, name))
+def save(fig, root, name, width):
+    rl.save(fig, os.path.join(root, "figures", name), width=width)
 
 
 def by_scene(runs):
@@ -112,52 +101,81 @@ def snapshot_figure(root, key, info):
     hi += pad
     elev, azim = VIEW.get(info["scene"], (25, -60))
     ncol = len(steps)
-    fig = plt.figure(figsize=(3.3 * ncol, 3.4 * len(elims) + 0.6))
+    # Printed at the text width: a row of panels per eliminator (named at its left), the instants
+    # above the columns, the key below. Orthographic views without axes; a scale bar in the
+    # first column gives the size.
+    side = 0.2
+    panel = (rl.TEXT - side) / ncol
+    # Row height from the view: the height over the width of the scene's box seen from (elev, azim)
+    # (orthographic), so that flat scenes leave no empty band.
+    ea, aa = np.radians(elev), np.radians(azim)
+    box = (hi - lo) / (hi - lo).max()
+    corners = np.array([[x, y, z] for x in (0, box[0]) for y in (0, box[1]) for z in (0, box[2])])
+    sx = -np.sin(aa) * corners[:, 0] + np.cos(aa) * corners[:, 1]
+    sy = (-np.cos(aa) * corners[:, 0] - np.sin(aa) * corners[:, 1]) * np.sin(ea) + np.cos(ea) * corners[:, 2]
+    rowh = panel * min(1.0, max(0.45, 0.9 * np.ptp(sy) / np.ptp(sx)))
+    titles = [0.30] + [0.16] * (len(elims) - 1)  # two lines of title above the first row, one after
+    foot = 0.36
+    height = sum(titles) + rowh * len(elims) + foot
+    fig = plt.figure(figsize=(rl.TEXT, height))
+    mm = 1000.0
+    ext = (hi - lo) * mm
+    bar = [b * 10 ** k for k in range(-1, 4) for b in (1, 2, 5) if b * 10 ** k <= ext[0] / 2.5][-1]
+    top = height
     for r, e in enumerate(elims):
+        top -= titles[r]
+        fig.text(0.04 / rl.TEXT, (top - rowh / 2) / height, e, rotation=90, ha="left", va="center",
+                 fontweight="bold")
         for c, s in enumerate(steps):
-            ax = fig.add_subplot(len(elims), ncol, r * ncol + c + 1, projection="3d")
+            ax = fig.add_axes([(side + c * panel) / rl.TEXT, (top - rowh) / height, panel / rl.TEXT, rowh / height],
+                              projection="3d", proj_type="ortho")
             ax.computed_zorder = False  # markers drawn over the translucent surfaces
             (ph, th, penh), (pg, tg, peng), reg, tpg, tph = data[(e, s)]
-            mm = 1000.0
             ah, ag = ALPHA.get(info["scene"], (0.35, 0.35))
-            ax.add_collection3d(Poly3DCollection(ph[th] * mm, facecolor=HOST_COLOR, edgecolor="#4a6f96",
-                                                 linewidths=0.08, alpha=ah))
-            ax.add_collection3d(Poly3DCollection(pg[tg] * mm, facecolor=GUEST_COLOR, edgecolor="#9a6a35",
-                                                 linewidths=0.08, alpha=ag))
+            for pts, tri, fc, ec, al in ((ph, th, HOST_COLOR, "#4a6f96", ah), (pg, tg, GUEST_COLOR, "#9a6a35", ag)):
+                pc = Poly3DCollection(pts[tri] * mm, facecolor=fc, edgecolor=ec, linewidths=0.05, alpha=al)
+                pc.set_rasterized(True)  # thousands of triangles: an image inside the PDF
+                ax.add_collection3d(pc)
             if reg is not None:
                 ax.add_collection3d(Line3DCollection(np.array(box_edges(reg[0], reg[1])) * mm,
-                                                     colors=REGION_COLOR, linewidths=0.9, linestyles="--"))
+                                                     colors=REGION_COLOR, linewidths=0.8, linestyles="--"))
             measured = penh is not None or peng is not None
             for pts, pen, col, mk in ((pg, peng, PEN_GUEST, "o"), (ph, penh, PEN_HOST, "^")):
                 if pen is not None and pen.sum() > 0:
                     q = pts[pen == 1] * mm
-                    ax.scatter(q[:, 0], q[:, 1], q[:, 2], s=7, c=col, marker=mk, depthshade=False, zorder=10)
+                    ax.scatter(q[:, 0], q[:, 1], q[:, 2], s=4, c=col, marker=mk, depthshade=False, zorder=10,
+                               linewidths=0)
+            if c == 0:
+                x0, y0, z0 = lo * mm
+                ax.plot([x0, x0 + bar], [y0, y0], [z0, z0], color="k", lw=1.2, zorder=11)
+                ax.text(x0 + bar / 2, y0, z0 - 0.06 * ext.max(), "%g mm" % bar, fontsize=rl.SMALL, ha="center", va="top",
+                        zorder=11)
             ax.set_xlim(lo[0] * mm, hi[0] * mm)
             ax.set_ylim(lo[1] * mm, hi[1] * mm)
             ax.set_zlim(lo[2] * mm, hi[2] * mm)
-            ax.set_box_aspect(tuple((hi - lo) / (hi - lo).max()))
+            ax.set_box_aspect(tuple((hi - lo) / (hi - lo).max()), zoom=1.2)
             ax.view_init(elev=elev, azim=azim)
-            ax.tick_params(labelsize=6, pad=0)
-            ax.set_xlabel("x (mm)", fontsize=7, labelpad=-4)
-            ax.set_ylabel("y (mm)", fontsize=7, labelpad=-4)
-            ax.set_zlabel("z (mm)", fontsize=7, labelpad=-4)
+            ax.set_axis_off()
             if measured:
-                pen_txt = "penetrating nodes: %d %s, %d %s" % (int(tpg or 0), guest, int(tph or 0), host)
+                txt = "%d %s, %d %s" % (int(tpg or 0), guest, int(tph or 0), host)
             else:
-                pen_txt = "rest state (not measured)"
-            ax.set_title("%s, step %d (t = %.1f ms)\n%s" % (e, s, s * dt * 1000.0, pen_txt), fontsize=8)
+                txt = "rest state"
+            ax.text2D(0.5, 1.0, ("step %d, t = %.0f ms\n" % (s, s * dt * 1000.0) if r == 0 else "") + txt,
+                      transform=ax.transAxes, ha="center", va="bottom", fontsize=rl.SMALL)
+        top -= rowh
     handles = [
         matplotlib.patches.Patch(facecolor=HOST_COLOR, edgecolor="#4a6f96", label="host: %s (voxel lists)" % host),
         matplotlib.patches.Patch(facecolor=GUEST_COLOR, edgecolor="#9a6a35", label="guest: %s (looked up)" % guest),
         matplotlib.lines.Line2D([], [], color=REGION_COLOR, ls="--", label="voxel region of the step"),
-        matplotlib.lines.Line2D([], [], color=PEN_GUEST, marker="o", ls="", label="truly penetrating %s surface vertex" % guest),
-        matplotlib.lines.Line2D([], [], color=PEN_HOST, marker="^", ls="", label="truly penetrating %s surface vertex" % host),
+        matplotlib.lines.Line2D([], [], color=PEN_GUEST, marker="o", ms=3, ls="",
+                                label="truly penetrating %s vertex" % guest),
+        matplotlib.lines.Line2D([], [], color=PEN_HOST, marker="^", ms=3, ls="",
+                                label="truly penetrating %s vertex" % host),
+        matplotlib.lines.Line2D([], [], ls="", label="counts: truly penetrating nodes of each body"),
     ]
-    fig.legend(handles=handles, loc="lower center", ncol=5, frameon=False)
-    fig.suptitle("%s: snapshots, line eliminator (top) and plane eliminator (bottom); force %s"
-                 % (info["title"], info["force"]), fontsize=10)
-    fig.subplots_adjust(left=0.01, right=0.99, top=0.9, bottom=0.07, wspace=0.05, hspace=0.15)
-    save(fig, root, "snapshots_%s.png" % key)
+    fig.legend(handles=handles, loc="lower center", ncol=3, frameon=False, fontsize=rl.SMALL,
+               bbox_to_anchor=(0.5, 0.0), columnspacing=1.2, handletextpad=0.5)
+    save(fig, root, "snapshots_%s" % key, rl.TEXT)
 
 
 # Cross-section of each scene: (axis normal to the plane, its value, in-plane axes (h, v)).
@@ -196,7 +214,7 @@ def mean_edge(pts, tris):
     return float(np.sqrt((e * e).sum(axis=1)).mean())
 
 
-def section_figure(root, key, info):
+def section_figure(root, key_name, info):
     elims = [e for e in rl.ELIMINATORS if e in info["runs"]]
     if not elims or info["scene"] not in SECTION:
         return
@@ -236,11 +254,20 @@ def section_figure(root, key, info):
                 lo_h, hi_h = min(lo_h, reg[0][hx]), max(hi_h, reg[1][hx])
                 lo_v, hi_v = min(lo_v, reg[0][vx]), max(hi_v, reg[1][vx])
     ext_h, ext_v = hi_h - lo_h, hi_v - lo_v
-    panel_w = 3.6
-    panel_h = (panel_w - 0.5) * ext_v / ext_h + 1.0
-    fig, axes = plt.subplots(len(elims), len(steps), figsize=(panel_w * len(steps), panel_h * len(elims) + 1.2),
-                             sharex=True, sharey=True, squeeze=False)
+    # Printed at the text width: panels of equal scale (mm), sized from the sections' extent; a
+    # row per eliminator, the instants above the columns, the key in a row of its own below.
+    ncol = len(steps)
+    panel_w = (rl.TEXT - 0.55) / ncol
+    panel_h = min(1.6, panel_w * ext_v / ext_h)
+    height = len(elims) * (panel_h + 0.3) + 0.3 + 0.5
+    fig = plt.figure(figsize=(rl.TEXT, height), layout="constrained")
+    gs = fig.add_gridspec(len(elims) + 1, ncol, height_ratios=[panel_h] * len(elims) + [0.42])
+    axes = [[None] * ncol for _ in elims]
+    for r in range(len(elims)):
+        for c in range(ncol):
+            axes[r][c] = fig.add_subplot(gs[r, c], sharex=axes[0][0], sharey=axes[0][0])
     colors = {host: "#1f5f9f", guest: "#b5651d"}
+    mm = 1000.0
     for r, e in enumerate(elims):
         path = info["runs"][e]
         cols = rl.load_steps(path)
@@ -250,59 +277,70 @@ def section_figure(root, key, info):
             for b in (host, guest):
                 seg = rest[(e, b)]
                 if len(seg):
-                    ax.add_collection(LineCollection(seg[:, :, [hx, vx]] * mm, colors="#bbbbbb", linewidths=0.8))
+                    ax.add_collection(LineCollection(seg[:, :, [hx, vx]] * mm, colors="#bbbbbb", linewidths=0.6))
             for b in (host, guest):
                 p, seg, pen = frames[(e, s, b)]
                 if len(seg):
-                    ax.add_collection(LineCollection(seg[:, :, [hx, vx]] * mm, colors=colors[b], linewidths=1.1))
+                    ax.add_collection(LineCollection(seg[:, :, [hx, vx]] * mm, colors=colors[b], linewidths=0.8))
                 if pen is not None:
                     near = (pen == 1) & (np.abs(p[:, axis] - value) <= slab[b])
                     npen += int(pen.sum())
                     if near.any():
-                        ax.plot(p[near, hx] * mm, p[near, vx] * mm, "o" if b == guest else "^", ms=3,
-                                color=PEN_GUEST if b == guest else PEN_HOST, ls="")
+                        ax.plot(p[near, hx] * mm, p[near, vx] * mm, "o" if b == guest else "^", ms=2.2,
+                                color=PEN_GUEST if b == guest else PEN_HOST, ls="", mew=0)
             reg = rl.region_at(cols, s)
             if reg is not None:
                 ax.add_patch(matplotlib.patches.Rectangle((reg[0][hx] * mm, reg[0][vx] * mm),
                                                           (reg[1][hx] - reg[0][hx]) * mm,
                                                           (reg[1][vx] - reg[0][vx]) * mm, fill=False, ls="--",
-                                                          ec=REGION_COLOR, lw=0.8))
-            if s > 0:
-                ax.set_title("%s, step %d (t = %.1f ms)\n%d penetrating surface vertices" % (e, s, s * dt * 1000.0, npen),
-                             fontsize=8)
-            else:
-                ax.set_title("%s, step 0 (rest)" % e, fontsize=8)
+                                                          ec=REGION_COLOR, lw=0.7))
+            head = ("step %d, t = %.0f ms\n" % (s, s * dt * 1000.0)) if r == 0 else ""
+            ax.set_title(head + ("%d penetrating vertices" % npen if s > 0 else "rest state"), fontsize=rl.SMALL)
             ax.set_aspect("equal")
-            ax.autoscale_view()
+            ax.tick_params(labelsize=rl.SMALL)
+            ax.xaxis.set_major_locator(MaxNLocator(4))
+            ax.yaxis.set_major_locator(MaxNLocator(4))
             if r == len(elims) - 1:
-                ax.set_xlabel("%s (mm)" % AXIS[hx])
+                ax.set_xlabel("%s (mm)" % AXIS[hx], fontsize=rl.SMALL)
+            else:
+                ax.tick_params(labelbottom=False)
             if c == 0:
-                ax.set_ylabel("%s (mm)" % AXIS[vx])
+                ax.set_ylabel("%s\n%s (mm)" % (e, AXIS[vx]), fontsize=rl.SMALL)
+            else:
+                ax.tick_params(labelleft=False)
             ax.grid(True, lw=0.3, alpha=0.5)
+    axes[0][0].set_xlim((lo_h - 0.02 * ext_h) * mm, (hi_h + 0.02 * ext_h) * mm)
+    axes[0][0].set_ylim((lo_v - 0.02 * ext_v) * mm, (hi_v + 0.02 * ext_v) * mm)
     handles = [
         matplotlib.lines.Line2D([], [], color=colors[guest], label="%s (guest)" % guest),
         matplotlib.lines.Line2D([], [], color=colors[host], label="%s (host)" % host),
         matplotlib.lines.Line2D([], [], color="#bbbbbb", label="rest state (step 0)"),
         matplotlib.lines.Line2D([], [], color=REGION_COLOR, ls="--", label="voxel region of the step"),
-        matplotlib.lines.Line2D([], [], color=PEN_GUEST, marker="o", ls="",
+        matplotlib.lines.Line2D([], [], color=PEN_GUEST, marker="o", ms=3, ls="",
                                 label="penetrating %s vertex within %.1f mm of the plane" % (guest, slab[guest] * mm)),
-        matplotlib.lines.Line2D([], [], color=PEN_HOST, marker="^", ls="",
+        matplotlib.lines.Line2D([], [], color=PEN_HOST, marker="^", ms=3, ls="",
                                 label="penetrating %s vertex within %.1f mm of the plane" % (host, slab[host] * mm)),
     ]
-    fig.legend(handles=handles, loc="lower center", ncol=3, frameon=False)
-    fig.suptitle("%s: cross-section %s = %g mm, line (top) and plane (bottom); force %s"
-                 % (info["title"], AXIS[axis], value * mm, info["force"]), fontsize=10)
-    fig.tight_layout(rect=(0, 0.1, 1, 0.95))
-    save(fig, root, "section_%s.png" % key)
+    key = fig.add_subplot(gs[len(elims), :])
+    key.axis("off")
+    key.legend(handles=handles, loc="center", ncol=3, frameon=False, fontsize=rl.SMALL, borderaxespad=0.0,
+               columnspacing=1.2)
+    save(fig, root, "section_%s" % key_name, rl.TEXT)
 
 
-def timeseries_figure(root, key, info):
+def timeseries_figure(root, key_name, info):
+    """Printed in a minipage of half the text width (rl.HALF), two to a page row."""
     elims = [e for e in rl.ELIMINATORS if e in info["runs"]]
     if not elims:
         return
     summary = rl.load_summary(info["runs"][elims[0]])
     host, guest = rl.body_names(summary)
-    fig, axes = plt.subplots(4, 1, figsize=(7.5, 8.6), sharex=True)
+    every = int(summary["resolved_scene"]["references"]["every"])
+    fig = plt.figure(figsize=(rl.HALF, 4.7), layout="constrained")
+    gs = fig.add_gridspec(5, 1, height_ratios=[0.36, 1, 1, 1, 1])
+    axes = [fig.add_subplot(gs[k + 1]) for k in range(4)]
+    for ax in axes[1:]:
+        ax.sharex(axes[0])
     for e in elims:
         path = info["runs"][e]
         cols = rl.load_steps(path)
@@ -312,38 +350,43 @@ def timeseries_figure(root, key, info):
         _, h = rl.measured(cols, "true_pen_host")
         _, dep = rl.measured(cols, "max_depth")
         tm = np.array(st, dtype=float) * float(summary["resolved_scene"]["time"]["dt"]) * 1000.0
-        axes[0].plot(tm, g, color=col, lw=1.2, label="%s: %s (guest)" % (e, guest))
-        axes[0].plot(tm, h, color=col, lw=1.0, ls="--", label="%s: %s (host)" % (e, host))
-        axes[1].plot(t, [v if v is not None else np.nan for v in cols["contacts"]], color=col, lw=0.6,
-                     label="%s" % e)
-        axes[2].plot(tm, np.array(dep) * 1000.0, color=col, lw=1.1, label="%s" % e)
-        axes[3].plot(t, [v if v is not None else np.nan for v in cols["force"]], color=col, lw=0.5,
-                     label="%s" % e)
-    axes[0].set_ylabel("truly penetrating\nnodes")
-    axes[0].set_title("True penetrations (CGAL, every %d steps)" % int(summary["resolved_scene"]["references"]["every"]))
-    axes[1].set_ylabel("detected contacts")
-    axes[1].set_title("Contacts detected by the voxel model (guest nodes in occupied voxels), every step")
-    axes[2].set_ylabel("max residual\ndepth (mm)")
-    axes[2].set_title("Maximum residual depth over the penetrating nodes of both bodies")
-    axes[3].set_ylabel("force per\ncontact (N)")
-    axes[3].set_title("Largest penalty force of a contact (force setting: %s)" % info["force"])
-    axes[3].set_xlabel("time (ms)")
-    for ax in axes:
+        axes[0].plot(tm, g, color=col, lw=1.0)
+        axes[0].plot(tm, h, color=col, lw=0.8, ls="--")
+        axes[1].plot(t, [v if v is not None else np.nan for v in cols["contacts"]], color=col, lw=0.5)
+        axes[2].plot(tm, np.array(dep) * 1000.0, color=col, lw=0.9)
+        axes[3].plot(t, [v if v is not None else np.nan for v in cols["force"]], color=col, lw=0.5)
+    titles = ["truly penetrating nodes (CGAL, every %d steps)" % every,
+              "contacts the voxel model detects",
+              "largest residual depth, both bodies",
+              "largest penalty force of a contact"]
+    ylabels = ["nodes", "contacts", "depth (mm)", "force (N)"]
+    for ax, ti, yl in zip(axes, titles, ylabels):
+        ax.set_title(ti, fontsize=rl.SMALL, loc="left", pad=2)
+        ax.set_ylabel(yl)
         ax.grid(True, lw=0.3, alpha=0.6)
-        ax.legend(loc="best", ncol=2, frameon=True, framealpha=0.8)
-    fig.suptitle("%s: line against plane eliminator" % info["title"], fontsize=10)
-    fig.tight_layout()
-    save(fig, root, "timeseries_%s.png" % key)
+        ax.yaxis.set_major_locator(MaxNLocator(4))
+    for ax in axes[:-1]:
+        ax.tick_params(labelbottom=False)
+    axes[-1].set_xlabel("time (ms)")
+    key = fig.add_subplot(gs[0])
+    key.axis("off")
+    handles = [matplotlib.lines.Line2D([], [], color=rl.ELIM_STYLE[e]["color"], label=e) for e in elims]
+    handles += [matplotlib.lines.Line2D([], [], color="0.3", lw=1.0, label="%s (guest)" % guest),
+                matplotlib.lines.Line2D([], [], color="0.3", lw=0.8, ls="--", label="%s (host)" % host)]
+    key.legend(handles=handles, loc="center", ncol=2, frameon=False, fontsize=rl.SMALL, borderaxespad=0.0,
+               columnspacing=1.0, handlelength=1.8)
+    save(fig, root, "timeseries_%s" % key_name, rl.HALF)
 
 
 def episodes_figure(root, scenes):
+    """Printed at the text width: a panel per run setting, two to a row."""
     keys = [k for k, _s, _t, _f in rl.SCENES if k in scenes]
     if not keys:
         return
     n = len(keys)
     ncol = 2
     nrow = (n + ncol - 1) // ncol
-    fig, axes = plt.subplots(nrow, ncol, figsize=(10, 3.2 * nrow), squeeze=False)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(rl.TEXT, 1.95 * nrow + 0.1), squeeze=False, layout="constrained")
     longest = 10
     for info in scenes.values():
         for path in info["runs"].values():
@@ -364,22 +407,24 @@ def episodes_figure(root, scenes):
             x = np.arange(len(counts)) + (j - 0.5) * width
             med = rl.nearest_rank(steps, 50)
             lab = "%s: %d episodes, median %s steps, %d open" % (e, len(steps), "-" if med is None else med, nopen)
-            ax.bar(x, counts, width=width, color=rl.ELIM_STYLE[e]["color"], alpha=0.85, label=lab)
+            ax.bar(x, counts, width=width, color=rl.ELIM_STYLE[e]["color"], label=lab)
         ax.set_xticks(np.arange(len(edges) - 1))
         ax.set_xticklabels([("%d-%d" % (edges[k] + 5, edges[k + 1] - 5)) if edges[k + 1] - edges[k] > 10
                             else "%d" % (edges[k] + 5) for k in range(len(edges) - 1)],
-                           rotation=30, fontsize=7)
-        ax.set_xlabel("episode length (simulation steps; measured every 10)")
-        ax.set_ylabel("number of episodes")
+                           rotation=40, ha="right", rotation_mode="anchor", fontsize=rl.SMALL)
+        ax.tick_params(axis="y", labelsize=rl.SMALL)
+        if i // ncol == nrow - 1 or i + ncol >= n:
+            ax.set_xlabel("episode length (steps; measured every %d)" % int(
+                rl.load_summary(info["runs"][elims[0]])["resolved_scene"]["references"]["every"]))
+        if i % ncol == 0:
+            ax.set_ylabel("episodes")
         ax.set_title(info["title"])
-        ax.legend(loc="best", frameon=True, fontsize=7)
+        ax.set_ylim(0, 1.55 * max(1, ax.get_ylim()[1]))  # room for the key above the bars
+        ax.legend(loc="upper right", frameon=False, fontsize=rl.SMALL, handlelength=1.0, borderaxespad=0.2)
         ax.grid(True, axis="y", lw=0.3, alpha=0.6)
     for i in range(n, nrow * ncol):
         axes[i // ncol][i % ncol].axis("off")
-    fig.suptitle("How long a node stays truly penetrating (episodes of consecutive measured steps), "
-                 "line against plane", fontsize=10)
-    fig.tight_layout()
-    save(fig, root, "episodes.png")
+    save(fig, root, "episodes", rl.TEXT)
 
 
 def main():

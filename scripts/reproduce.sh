@@ -2,24 +2,67 @@
 # The main job: installs what is missing, builds, runs the bundled scenes into results/, then
 # makes the figures, tables and the claims check from them (results/README.md lists every file).
 # Usage: scripts/reproduce.sh [--quick] [--paper]
-#   --quick  300 steps per run instead of the scenes' own (a smoke run)
-#   --paper  also installs LaTeX (Debian packages) and builds paper/main.pdf
+#        scripts/reproduce.sh --paper-only
+#   --quick       300 steps per run instead of the scenes' own (a smoke run)
+#   --paper       also installs LaTeX (Debian packages) and builds paper/main.pdf
+#   --paper-only  builds paper/main.pdf from the committed results alone: no build, no harness, no
+#                 runs (minutes, not hours). Installs LaTeX and matplotlib if missing
+#                 (install-deps.sh --latex), redraws every figure from the committed runs and CSVs
+#                 (figures.py; plot_bench.py; study.py accuracy ablation convergence --plots-only),
+#                 rewrites results/tables/counts.tex (counts.py), then runs latexmk in paper/.
+#                 The tables are the committed ones.
 # Environment: PYTHON (default /usr/bin/python3: Debian's matplotlib and numpy);
 #   HARNESS=path uses that harness binary and skips the install and build steps.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
 paper=0
+paper_only=0
 for a in "$@"; do
   case "$a" in
     --quick) quick=1 ;;
     --paper) paper=1 ;;
+    --paper-only) paper_only=1 ;;
     *) echo "reproduce.sh: unknown option '$a'" >&2; exit 2 ;;
   esac
 done
+if [[ $paper_only -eq 1 && ( $quick -eq 1 || $paper -eq 1 ) ]]; then
+  echo "reproduce.sh: --paper-only runs nothing; it takes no other option" >&2
+  exit 2
+fi
 PYTHON="${PYTHON:-/usr/bin/python3}"
 export PYTHON
 start=$(date +%s)
+
+# build_paper: paper/main.pdf from what results/ holds now (LaTeX installed when missing).
+build_paper() {
+  if ! command -v latexmk >/dev/null || ! command -v pdflatex >/dev/null; then
+    scripts/install-deps.sh --latex || echo "reproduce: LaTeX could not be installed" >&2
+  fi
+  if command -v latexmk >/dev/null && command -v pdflatex >/dev/null; then
+    (cd paper && latexmk -pdf -interaction=nonstopmode -halt-on-error -quiet main.tex)
+    echo "reproduce: paper/main.pdf built"
+  else
+    echo "reproduce: latexmk/pdflatex missing: paper/main.pdf not built (results/ are complete)" >&2
+    exit 1
+  fi
+}
+
+if [[ $paper_only -eq 1 ]]; then
+  if ! command -v latexmk >/dev/null || ! command -v pdflatex >/dev/null ||
+     ! "$PYTHON" -c "import matplotlib, numpy" 2>/dev/null; then
+    scripts/install-deps.sh --latex
+  fi
+  # Figures from the committed data only (none of these needs the harness), drawn at the size
+  # the report prints them; then the counts the text quotes.
+  "$PYTHON" scripts/figures.py results
+  [[ -f results/bench.csv ]] && "$PYTHON" scripts/plot_bench.py results/bench.csv results
+  "$PYTHON" scripts/study.py accuracy ablation convergence --plots-only --results results
+  "$PYTHON" scripts/counts.py results
+  build_paper
+  echo "reproduce: done in $(( $(date +%s) - start )) s (from the committed results)"
+  exit 0
+fi
 if [[ -n "${HARNESS:-}" ]]; then
   H="$HARNESS"
 else
@@ -42,7 +85,7 @@ run() {
   rm -rf "${out:?}/$folder"
   "$H" run "$scene" --out "$out/$folder" --quiet --compare "results/references/$scene" \
     --set 'contacts.0.detector="voxel"' --set "contacts.0.eliminator=\"$elim\"" --set "contacts.0.force=$force" \
-    --set contacts.0.two_sided=false --set 'references.solvers=["cgal"]' --set references.every=10 \
+    --set contacts.0.two_sided=false --set 'references.solvers=["cgal"]' --set references.every=10 --set output.format=vtk \
     "$@" "${extra[@]}"
 }
 # Every scenario with both eliminators and the automatic force; the implant also with a
@@ -70,14 +113,10 @@ study=(--harness "$H" --results results)
 "$PYTHON" scripts/study.py ablation accuracy convergence refinement realtime "${study[@]}"
 echo "reproduce: results written in $(( $(date +%s) - start )) s"
 
+# The counts the report quotes (runs, configurations, points), from what was just made.
+"$PYTHON" scripts/counts.py results
+
 if [[ $paper -eq 1 ]]; then
-  scripts/install-deps.sh --latex || echo "reproduce: LaTeX could not be installed" >&2
-  if command -v latexmk >/dev/null && command -v pdflatex >/dev/null; then
-    (cd paper && latexmk -pdf -interaction=nonstopmode -halt-on-error -quiet main.tex)
-    echo "reproduce: paper/main.pdf built"
-  else
-    echo "reproduce: latexmk/pdflatex missing: paper/main.pdf not built (results/ are complete)" >&2
-    exit 1
-  fi
+  build_paper
 fi
 echo "reproduce: done in $(( $(date +%s) - start )) s; outputs in results/"

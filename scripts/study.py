@@ -14,7 +14,10 @@
   study.py all          every one of them, in this order (or name several: study.py accuracy realtime)
 Options: --harness PATH (default build/bin/harness), --results DIR (default results),
          --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
-         --repeats N (runs per configuration for the timings, default 3).
+         --repeats N (runs per configuration for the timings, default 3),
+         --plots-only (runs nothing: redraws the figures of accuracy, ablation and convergence from
+         accuracy_time.csv, ablation.csv and convergence.csv in --results; the others have none).
+Every study ends by rewriting tables/counts.tex (scripts/counts.py: the counts the report quotes).
 
 Definitions (stated once, used everywhere):
   error         against the scene's reference (core/run/compare.hpp): pos_err_max (largest distance of
@@ -33,6 +36,7 @@ Definitions (stated once, used everywhere):
 import argparse, concurrent.futures, csv, json, math, os, shutil, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import counts  # noqa: E402
 import resultslib as rl  # noqa: E402
 
 plt = rl.pyplot()
@@ -43,6 +47,7 @@ PAPER_ELIMINATOR = {"sphere_collision": "line", "cylinder_press": "line", "impla
 VOXELS = [0.002, 0.004, 0.008, 0.016]
 ABLATION_VOXELS = [0.004, 0.008, 0.016, 0.032]
 CONVERGENCE_VOXELS = [0.032, 0.016, 0.008, 0.004, 0.002]
+CONVERGENCE_VOXELS_MM = [1e3 * v for v in CONVERGENCE_VOXELS]
 CONSTANT_FORCES = ["0.003", "0.01", "0.03", "0.1"]
 PENALTY = '{"stiffness":500}'
 CONSTANT = "0.01"
@@ -288,39 +293,92 @@ def accuracy(a):
     fr = [dict(r, scene=r["scene"].replace("_", " ")) for r in rows if r["front"] == "yes"]
     with open(os.path.join(a.results, "tables", "accuracy_time_front.tex"), "w") as f:
         f.write(rl.tex_table(fr, ["scene", "config", "eliminator", "force", "pos_err_max_mm", "gap_max_mm",
-                                  "t_contact_us"],
+                                  "t_contact_us", "t_contact_range"],
                              ["scenario", "method", "elim.", "force", "pos. err. (mm)", "gap (mm)",
-                              "detect+elim ($\\mu$s)"], "Pareto front of error against time"))
+                              "detect+elim ($\\mu$s)", "range (%d runs)" % a.repeats],
+                             "Pareto front of error against time"))
+
+
+DETECTOR_COLOUR = {"voxel": "#0072B2", "fcl": "#E69F00", "cgal": "#009E73", "hash": "#CC79A7", "bullet": "#D55E00"}
+ELIMINATOR_MARKER = {"line": "o", "plane": "s", "projection": "^"}
+# Errors above this (1 m) are runs that blew up: drawn at the top edge of the Pareto figures.
+PARETO_CAP_MM = 1000.0
 
 
 def plot_pareto(a, scene, rows, front):
-    fig, ax = plt.subplots(figsize=(rl.COLUMN, 2.6))
-    colors = {"voxel": "#0072B2", "fcl": "#E69F00", "cgal": "#009E73", "hash": "#CC79A7", "bullet": "#D55E00"}
-    marks = {"line": "o", "plane": "s", "projection": "^"}
+    """Error against time, one marker per configuration (colour: detector, shape: eliminator,
+    hollow: unstable); the front of the stable ones as a staircase with its points numbered
+    1, 2, ... by time and named in the key beside the axes. Printed at the text width."""
+    from matplotlib.lines import Line2D
+    fig = plt.figure(figsize=(rl.TEXT, 2.9), layout="constrained")
+    gs = fig.add_gridspec(1, 2, width_ratios=[1.3, 1.0])
+    ax = fig.add_subplot(gs[0])
+    key = fig.add_subplot(gs[1])
+    key.axis("off")
     floor = 1e-3
-    for r in rows:
-        if math.isnan(r["pos_err_max_mm"]) or math.isnan(r["t_contact_us"]):
-            continue
-        x, y = max(r["t_contact_us"], 0.1), max(r["pos_err_max_mm"], floor)
+    pts, off = [], 0
+    shown = [r for r in rows if not (math.isnan(r["pos_err_max_mm"]) or math.isnan(r["t_contact_us"]))]
+
+    def xy(r):
+        return max(r["t_contact_us"], 0.1), min(max(r["pos_err_max_mm"], floor), PARETO_CAP_MM)
+    for r in shown:
+        x, y = xy(r)
         ok = r["stable"] == "yes"
-        ax.scatter(x, y, marker=marks.get(r["eliminator"], "D"), s=22 if r in front else 12,
-                   facecolor=colors.get(r["detector"], "gray") if ok else "none",
-                   edgecolor="k" if r in front else colors.get(r["detector"], "gray"), linewidth=0.6, zorder=3)
-    fr = sorted(front, key=lambda r: r["t_contact_us"])
+        capped = r["pos_err_max_mm"] > PARETO_CAP_MM
+        off += capped
+        c = DETECTOR_COLOUR.get(r["detector"], "gray")
+        ax.scatter(x, y, marker=ELIMINATOR_MARKER.get(r["eliminator"], "D"), s=26 if r in front else 14,
+                   facecolor=c if ok else "none", edgecolor="k" if r in front else c, linewidth=0.7,
+                   zorder=4 if r in front else 3, clip_on=False)
+        if capped:
+            ax.annotate("", xy=(x, y), xytext=(0, -9), textcoords="offset points", zorder=2,
+                        arrowprops=dict(arrowstyle="->", lw=0.6, color=c, shrinkA=0, shrinkB=3))
+        pts.append((x, y))
+    fr = sorted(front, key=lambda r: (r["t_contact_us"], r["pos_err_max_mm"]))
     if fr:
-        ax.step([max(r["t_contact_us"], 0.1) for r in fr], [max(r["pos_err_max_mm"], floor) for r in fr],
-                where="post", color="k", lw=0.7, zorder=2, label="Pareto front (stable)")
-    for d in sorted({r["detector"] for r in rows}):
-        ax.scatter([], [], color=colors.get(d, "gray"), s=12, label=d)
-    ax.scatter([], [], facecolor="none", edgecolor="gray", s=12, label="unstable (hollow)")
+        ax.step([xy(r)[0] for r in fr], [xy(r)[1] for r in fr], where="post", color="k", lw=0.7, zorder=2)
     ax.set_xscale("log")
     ax.set_yscale("log")
+    rl.plain_log_ticks(ax.xaxis, ax.yaxis)
+    if off:
+        ax.set_ylim(top=2.0 * PARETO_CAP_MM)  # room above the blown-up runs, drawn at the cap
     ax.set_xlabel("detection + elimination (µs per step)")
     ax.set_ylabel("largest position error (mm)")
     ax.set_title(scene.replace("_", " "))
-    ax.legend(loc="best", ncol=2)
-    ax.grid(True, which="both", alpha=0.3)
-    rl.save(fig, os.path.join(a.results, "figures", "pareto_%s" % scene))
+    ax.grid(True, which="major", alpha=0.35)
+    ax.grid(True, which="minor", alpha=0.12)
+    # Key: what the marks mean, then the front's points by number.
+    # Two columns (the legend fills column by column): colours and hollow; shapes, front, off scale.
+    col1 = [Line2D([], [], ls="none", marker="o", ms=5, mfc=DETECTOR_COLOUR.get(d, "gray"), mec="none", label=d)
+            for d in sorted({r["detector"] for r in rows})]
+    col1.append(Line2D([], [], ls="none", marker="o", ms=5, mfc="none", mec="0.3", label="unstable (hollow)"))
+    col2 = [Line2D([], [], ls="none", marker=ELIMINATOR_MARKER[e], ms=5, mfc="0.5", mec="none", label=e)
+            for e in ELIMINATOR_MARKER if any(r["eliminator"] == e for r in rows)]
+    col2.append(Line2D([], [], color="k", lw=0.7, marker="o", ms=5, mfc="0.5", mec="k", label="front (stable)"))
+    if off:
+        col2.append(Line2D([], [], ls="none", marker="$\\uparrow$", ms=6, color="0.3",
+                           label="%d above %g m (blown up)" % (off, PARETO_CAP_MM / 1e3)))
+    n = max(len(col1), len(col2))
+    blank = [Line2D([], [], ls="none", label=" ")]
+    handles = col1 + blank * (n - len(col1)) + col2 + blank * (n - len(col2))
+    leg = key.legend(handles=handles, loc="upper left", ncol=2, frameon=False, fontsize=rl.SMALL,
+                     handletextpad=0.5, columnspacing=0.8, borderaxespad=0.0, title="marks", alignment="left",
+                     title_fontproperties={"weight": "bold", "size": rl.SMALL})
+    key.add_artist(leg)
+    labels = ["%d" % (k + 1) for k in range(len(fr))]
+    entries = [Line2D([], [], ls="none", label="%s  %s, %s, %s: %.3g mm, %s µs" % (
+        labels[k], r["config"], r["eliminator"], r["force"], r["pos_err_max_mm"],
+        ("%.0f" if r["t_contact_us"] >= 100 else "%.3g") % r["t_contact_us"])) for k, r in enumerate(fr)]
+    if entries:
+        key.legend(handles=entries, loc="lower left", frameon=False, fontsize=rl.SMALL, handlelength=0,
+                   handletextpad=0, borderaxespad=0.0, title="front, by time", alignment="left",
+                   title_fontproperties={"weight": "bold", "size": rl.SMALL})
+    stair = [xy(fr[0])] if fr else []
+    for r0, r1 in zip(fr[:-1], fr[1:]):
+        stair += [(xy(r1)[0], xy(r0)[1]), xy(r1)]
+    rl.place_labels(ax, [xy(r) for r in fr], labels, avoid=[p for p in pts if p not in [xy(r) for r in fr]],
+                    lines=[stair])
+    rl.save(fig, os.path.join(a.results, "figures", "pareto_%s" % scene), width=rl.TEXT)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -395,23 +453,29 @@ def default_text(scene, rows, best, base):
 
 
 def plot_ablation(a, scene, rows):
+    """Two heat maps (position error, gap) by force rule and voxel size; the stable settings
+    outlined. Printed at the text width."""
     forces = [force_label(f) for f in ABLATION_FORCES]
     voxels = [1e3 * v for v in ABLATION_VOXELS]
     panels = [("pos_err_max_mm", "largest position error (mm)"), ("gap_max_mm", "largest gap (mm)")]
-    fig, axes = plt.subplots(1, 2, figsize=(rl.PAGE, 2.4))
-    for ax, (key, title) in zip(axes, panels):
+    fig, axes = plt.subplots(1, 2, figsize=(rl.TEXT, 2.35), layout="constrained")
+    for k, (ax, (key, title)) in enumerate(zip(axes, panels)):
         m = [[float("nan")] * len(forces) for _ in voxels]
-        unstable = []
+        stable = []
         for r in rows:
             i, j = voxels.index(r["voxel_mm"]), forces.index(r["force"])
             m[i][j] = r[key]
-            if r["stable"] != "yes":
-                unstable.append((j, i))
-        rl.heatmap(ax, m, forces, ["%g" % v for v in voxels], title, unstable)
-        ax.set_xlabel("force rule")
-        ax.set_ylabel("voxel size (mm)")
-    fig.suptitle("%s (%s): crossed cells are unstable" % (scene.replace("_", " "), PAPER_ELIMINATOR[scene]))
-    rl.save(fig, os.path.join(a.results, "figures", "ablation_%s" % scene))
+            if r["stable"] == "yes":
+                stable.append((j, i))
+        im = rl.heatmap(ax, m, forces, ["%g" % v for v in voxels], title, stable, cap=PARETO_CAP_MM,
+                        cap_text=">1 m")
+        fig.colorbar(im, ax=ax, fraction=0.06, pad=0.02, aspect=15)
+        ax.set_xlabel("force rule (F: constant, N; k: penalty, N/m)")
+        if k == 0:
+            ax.set_ylabel("voxel size (mm)")
+    fig.suptitle("%s, %s eliminator; outlined: stable (%d of %d); >1 m: blown up" % (
+        scene.replace("_", " "), PAPER_ELIMINATOR[scene], sum(r["stable"] == "yes" for r in rows), len(rows)))
+    rl.save(fig, os.path.join(a.results, "figures", "ablation_%s" % scene), width=rl.TEXT)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -421,6 +485,39 @@ def defaults(a):
         with open(path) as f:
             return json.load(f)
     return {}
+
+
+def plot_convergence(a, rows):
+    """Error, gap and depth against voxel size, one line per scenario (hollow markers: unstable).
+    Printed at the text width."""
+    from matplotlib.lines import Line2D
+    fig = plt.figure(figsize=(rl.TEXT, 2.6), layout="constrained")
+    gs = fig.add_gridspec(2, 3, height_ratios=[1.0, 0.2])
+    axes = [fig.add_subplot(gs[0, k]) for k in range(3)]
+    keyax = fig.add_subplot(gs[1, :])
+    keyax.axis("off")
+    for k, scene in enumerate(SCENES):
+        sr = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["voxel_mm"])
+        x = [r["voxel_mm"] for r in sr]
+        c = rl.PALETTE[k]
+        for ax, key in zip(axes, ["pos_err_max_mm", "gap_max_mm", "depth_max_mm"]):
+            ax.plot(x, [r[key] for r in sr], "-", color=c, lw=1.0,
+                    label="%s (%s)" % (scene.replace("_", " "), sr[0]["force"] if sr else ""))
+            ax.scatter(x, [r[key] for r in sr], s=14, zorder=3, linewidth=0.8, edgecolor=c,
+                       facecolor=[c if r["stable"] == "yes" else "white" for r in sr])
+    for ax, t in zip(axes, ["largest position error (mm)", "largest gap (mm)", "deepest penetration (mm)"]):
+        ax.set_xscale("log", base=2)
+        ax.set_xticks(CONVERGENCE_VOXELS_MM)
+        ax.set_xticklabels(["%g" % v for v in CONVERGENCE_VOXELS_MM])
+        ax.minorticks_off()
+        ax.set_xlabel("voxel size (mm)")
+        ax.set_title(t)
+        ax.grid(True, alpha=0.35)
+    h, lab = axes[0].get_legend_handles_labels()
+    h.append(Line2D([], [], ls="none", marker="o", ms=4, mfc="white", mec="0.3"))
+    lab.append("unstable (hollow)")
+    keyax.legend(h, lab, loc="center", ncol=2, frameon=False, borderaxespad=0.0, columnspacing=3.0)
+    rl.save(fig, os.path.join(a.results, "figures", "convergence"), width=rl.TEXT)
 
 
 def convergence(a):
@@ -441,19 +538,7 @@ def convergence(a):
     cols = ["scene", "voxel_mm", "force", "stable", "pos_err_max_mm", "pos_err_rms_mm", "gap_max_mm", "depth_max_mm",
             "t_contact_us", "why_unstable"]
     rl.write_csv(os.path.join(a.results, "convergence.csv"), rows, cols)
-    fig, axes = plt.subplots(1, 3, figsize=(rl.PAGE, 2.2))
-    for scene in SCENES:
-        sr = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["voxel_mm"])
-        x = [r["voxel_mm"] for r in sr]
-        for ax, key in zip(axes, ["pos_err_max_mm", "gap_max_mm", "depth_max_mm"]):
-            ax.plot(x, [r[key] for r in sr], "o-", ms=3, label=scene.replace("_", " "))
-    for ax, t in zip(axes, ["largest position error (mm)", "largest gap (mm)", "deepest penetration (mm)"]):
-        ax.set_xscale("log", base=2)
-        ax.set_xlabel("voxel size (mm)")
-        ax.set_title(t)
-        ax.grid(True, alpha=0.3)
-    axes[0].legend()
-    rl.save(fig, os.path.join(a.results, "figures", "convergence"))
+    plot_convergence(a, rows)
     with open(os.path.join(a.results, "tables", "convergence.md"), "w") as f:
         f.write("# Convergence as the grid refines\n\nThe voxel model with each scenario's default force rule "
                 "(`defaults.json`) and its eliminator; voxel size halved from 32 to 2 mm. Errors against the "
@@ -545,11 +630,12 @@ def realtime(a):
         runs.sort(key=lambda r: r["mean_us"])
         row = dict(runs[len(runs) // 2])
         row["steps_per_s_range"] = "%.0f-%.0f" % (runs[-1]["steps_per_s"], runs[0]["steps_per_s"])
+        row["runs"] = len(runs)
         rows.append(row)
     cols = ["scene", "nodes", "steps", "mean_us", "median_us", "p99_us", "contact_us", "steps_per_s",
-            "realtime_factor", "steps_per_s_range"]
+            "realtime_factor", "steps_per_s_range", "runs"]
     heads = ["scene", "nodes", "steps", "mean step (µs)", "median step (µs)", "p99 step (µs)", "detect+elim (µs)",
-             "steps/s", "real-time factor", "steps/s over the runs"]
+             "steps/s", "real-time factor", "steps/s over the runs", "runs"]
     rl.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
     with open(os.path.join(a.results, "tables", "realtime.md"), "w") as f:
         f.write("# Real time on one core\n\nThe bundled scenes with their default contact, one thread, no "
@@ -567,6 +653,37 @@ def realtime(a):
 STUDIES = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime"]
 
 
+# ---------------------------------------------------------------------------------------------
+# --plots-only: the figures again from the committed CSVs (nothing is run).
+def read_rows(path):
+    """A study's CSV as rows: numbers as floats (nan when empty), the rest as text."""
+    text = {"scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled",
+            "t_contact_range", "front"}
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    return [{k: (v if k in text else num(v)) for k, v in r.items()} for r in rows]
+
+
+def plots_accuracy(a):
+    rows = read_rows(os.path.join(a.results, "accuracy_time.csv"))
+    for scene in SCENES:
+        sr = [r for r in rows if r["scene"] == scene]
+        plot_pareto(a, scene, sr, [r for r in sr if r["front"] == "yes"])
+
+
+def plots_ablation(a):
+    rows = read_rows(os.path.join(a.results, "ablation.csv"))
+    for scene in SCENES:
+        plot_ablation(a, scene, [r for r in rows if r["scene"] == scene])
+
+
+def plots_convergence(a):
+    plot_convergence(a, read_rows(os.path.join(a.results, "convergence.csv")))
+
+
+PLOTS = {"accuracy": plots_accuracy, "ablation": plots_ablation, "convergence": plots_convergence}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("what", nargs="+", choices=STUDIES + ["all"])
@@ -575,6 +692,9 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("-j", dest="jobs", type=int, default=2)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--plots-only", action="store_true",
+                    help="only redraw the figures of the named studies from their CSVs in --results "
+                         "(accuracy_time.csv, ablation.csv, convergence.csv); runs nothing")
     a = ap.parse_args()
     a.extra_sets = ["time.steps=300"] if a.quick else []
     if a.quick:
@@ -582,8 +702,15 @@ def main():
     for d in ["figures", "tables"]:
         os.makedirs(os.path.join(a.results, d), exist_ok=True)
     for w in (STUDIES if "all" in a.what else a.what):
+        if a.plots_only:
+            if w in PLOTS:
+                print("study: %s figures from the CSV" % w, file=sys.stderr)
+                PLOTS[w](a)
+            continue
         print("study:", w, file=sys.stderr)
         globals()[w](a)
+    if not a.plots_only:
+        counts.write(a.results)  # the report's counts follow the results
 
 
 if __name__ == "__main__":

@@ -20,13 +20,20 @@ bad() { echo "FAIL: $*"; fail=$((fail+1)); }
 head -1 "$T/run/steps.csv" | grep -q '^step,time,pair,detector,contacts,t_step_us,t_physics_us,t_detect_us,t_eliminate_us,kinetic_energy,true_pen_guest,true_pen_host,tp,fp,fn,max_depth,mean_depth,surfaces_intersect,fcl_pairs,t_cgal_us,t_fcl_us' \
   && ok || bad "steps.csv columns"
 [[ $(($(wc -l < "$T/run/steps.csv") - 1)) -eq 20 ]] && ok || bad "one row per step and pair"
-ls "$T/run/frames/" | grep -q '_000000.vtk' && ls "$T/run/frames/" | grep -q '_000020.vtk' && ok || bad "frames at 0 and last step"
+ls "$T/run/frames/" | grep -q '_000000.vtp' && ls "$T/run/frames/" | grep -q '_000020.vtp' && ok || bad "frames at 0 and last step"
+[[ -f "$T/run/frames/layer.pvd" && $(grep -c "<DataSet" "$T/run/frames/layer.pvd") -eq 3 ]] && ok || bad "layer.pvd lists 3 frames"
 grep -q '"status": "ok"' "$T/run/summary.json" && ok || bad "summary status ok"
 for k in scene status error steps_run finite effects git_commit versions resolved_scene state_hash timing_us pairs; do
   grep -q "\"$k\"" "$T/run/summary.json" && ok || bad "summary key $k"
 done
-f=$(ls "$T"/run/frames/*_000000.vtk | head -1)
-head -5 "$f" | grep -q "DATASET POLYDATA" && grep -q "^POLYGONS" "$f" && ok || bad "VTK polydata"
+f=$(ls "$T"/run/frames/*_000000.vtp | head -1)
+grep -q 'type="PolyData"' "$f" && grep -q 'Name="signed_distance"' "$f" && ok || bad "VTK XML polydata"
+# output.format "vtk": the legacy ASCII frames, no collection.
+"$H" run cylinder_press --out "$T/legacy" --steps 20 --set output.frames_every=10 --set output.format=vtk --quiet \
+  && f=$(ls "$T"/legacy/frames/*_000000.vtk | head -1) && head -5 "$f" | grep -q "DATASET POLYDATA" \
+  && grep -q "^POLYGONS" "$f" && ! ls "$T"/legacy/frames/*.pvd >/dev/null 2>&1 && ok || bad "legacy VTK polydata"
+# harness schema prints the scene format's JSON Schema.
+"$H" schema | grep -q '"$schema": "https://json-schema.org/draft/2020-12/schema"' && ok || bad "harness schema"
 
 # Bad inputs: exit 2, exactly one line on stderr naming the file, nothing touched.
 cp "$T/run/summary.json" "$T/summary.before"
@@ -64,6 +71,32 @@ touch "$T/plainfile"
 # A bare word is a string for --set, as for --grid.
 "$H" run cylinder_press --out "$T/bare" --steps 2 --set contacts.0.eliminator=plane --set 'references.solvers=[]' \
   --quiet 2>"$T/err" && grep -q '"eliminator": "plane"' "$T/bare/summary.json" && ok || { bad "--set bare word"; cat "$T/err"; }
+# SIGINT / SIGTERM: the run stops after the current step, writes its outputs with status
+# "interrupted" and exits 130 / 143.
+for sig in INT TERM; do
+  "$H" run cylinder_press --out "$T/sig$sig" --steps 1000000 --set 'references.solvers=[]' 2>"$T/err" &
+  pid=$!
+  for _ in $(seq 100); do [[ -s "$T/sig$sig/steps.csv" ]] && break; sleep 0.1; done
+  sleep 0.5; kill -s "$sig" "$pid"; wait "$pid"; rc=$?
+  want=$([[ $sig == INT ]] && echo 130 || echo 143)
+  [[ $rc -eq $want ]] && grep -q '"status": "interrupted"' "$T/sig$sig/summary.json" 2>/dev/null \
+    && tail -1 "$T/err" | grep -q "interrupted" && ok || { bad "SIG$sig: exit $rc (expected $want)"; tail -3 "$T/err"; }
+done
+# Warnings: a voxel size rounded to a power of two says from and to; --strict makes it exit 2
+# before anything is written.
+"$H" run cylinder_press --out "$T/warn" --steps 2 --set 'contacts.0.detector="voxel"' --set contacts.0.voxel_size=0.005 \
+  --set 'references.solvers=[]' --quiet 2>"$T/err" && grep -q "warning: contacts.0.voxel_size: 0.005 m rounded down to a power of two: 0.00390625 m" "$T/err" \
+  && grep -q "rounded down" "$T/warn/summary.json" && ok || { bad "voxel rounding warning"; cat "$T/err"; }
+"$H" run cylinder_press --out "$T/strict" --steps 2 --set 'contacts.0.detector="voxel"' --set contacts.0.voxel_size=0.005 \
+  --set 'references.solvers=[]' --quiet --strict 2>"$T/err"; rc=$?
+[[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 && ! -e "$T/strict/summary.json" ]] && grep -q "cylinder_press.json: contacts.0.voxel_size" "$T/err" \
+  && ok || { bad "--strict: exit $rc"; cat "$T/err"; }
+# Tunnelling: hard/fast_impact's ball (2.4 mm node spacing, 2 mm voxels) crosses the layer; the
+# start warns that it is expected, the end counts the tunnelled nodes (warning, summary, end line).
+"$H" run hard/fast_impact --out "$T/tunnel" 2>"$T/err"
+grep -q "warning: contacts.0: guest 'ball' node spacing .* coarser than the voxel" "$T/err" \
+  && grep -q "warning: contacts.0: [1-9][0-9]* guest nodes tunnelled" "$T/err" && tail -1 "$T/err" | grep -q "[1-9][0-9]* tunnelled" \
+  && grep -q '"tunnelled": [1-9]' "$T/tunnel/summary.json" && ok || { bad "tunnelling warnings"; cat "$T/err"; }
 "$H" run cylinder_press --out "$T/run" --bogus 2>"$T/err"; rc=$?
 [[ $rc -eq 2 ]] && ok || bad "unknown option: exit $rc"
 cmp -s "$T/run/summary.json" "$T/summary.before" && ok || bad "summary survived bad inputs"

@@ -1,0 +1,28 @@
+// Warnings a user needs before trusting a run, found once at the start (on the built scene):
+//   - an explicit contacts.N.voxel_size that was rounded down to a power of two (from, to);
+//   - node spacing that lets one body pass between the other's nodes (tunnelling expected): the
+//     guest's mean surface edge longer than the voxel (the voxel model reports a guest node only
+//     when a host node shares its voxel), or either body's mean surface edge longer than the
+//     other body's thinnest rest extent.
+// Printed as "harness: warning: KEY: message"; with --strict each is an error (exit 2) before
+// anything is written. Tunnelled nodes found at the end are reported by the run itself.
+#pragma once
+
+#include "core/simulation.hpp"
+
+#include <string>
+#include <vector>
+
+namespace harness {
+
+struct Warning {
+  std::string key;      // scene key path, e.g. "contacts.0.voxel_size"
+  std::string message;
+};
+
+std::vector<Warning> start_warnings(const Simulation& sim);
+
+// Mean length of a body's surface edges at rest, m (0 without faces).
+double mean_surface_edge(const World& w, int body);
+
+}  // namespace harness
