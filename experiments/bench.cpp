@@ -1,6 +1,7 @@
 #include "experiments/bench.hpp"
 
 #include "core/clock.hpp"
+#include "core/collision/detectors/hash.hpp"
 #include "core/collision/detectors/voxel.hpp"
 #include "core/cpu.hpp"
 #include "core/parallel.hpp"
@@ -211,8 +212,9 @@ __attribute__((noinline)) std::uint64_t stream_step(World& w) {
 }  // namespace
 
 const std::vector<std::string>& bench_methods() {
-  static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "stream_positions",
-                                                 "step", "stream_step", "fcl", "cgal"};
+  static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "hash_detect",
+                                                 "hash_detect_cell_x0.5", "hash_detect_cell_x2", "hash_detect_cell_x4",
+                                                 "stream_positions", "step", "stream_step", "fcl", "cgal"};
   return names;
 }
 
@@ -260,6 +262,28 @@ class BenchSize {
       std::copy(v0.begin(), v0.end(), w.v.begin());
     }
     measure("stream_step", T, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
+  }
+
+  // Spatial hashing (detectors/hash.hpp) on the same state and pair: the automatic cell (hash_detect)
+  // and the cell swept to 0.5, 2 and 4 times it. One thread (the detector is serial).
+  void hash_rows() {
+    set_threads(1);
+    World& w = sim_->world();
+    ContactSpec spec = sim_->pairs().at(0).spec;
+    spec.detector = DetectorKind::hash;
+    spec.cell_size = 0.0;
+    const Collision automatic(w, spec);
+    const double cell = dynamic_cast<const HashDetector&>(automatic.detector()).cell_size();
+    for (const auto& [method, f] : {std::pair<const char*, double>{"hash_detect", 1.0}, {"hash_detect_cell_x0.5", 0.5},
+                                    {"hash_detect_cell_x2", 2.0}, {"hash_detect_cell_x4", 4.0}}) {
+      if (!wanted(method)) continue;
+      spec.cell_size = f * cell;
+      Collision c(w, spec);
+      char note[96];
+      std::snprintf(note, sizeof note, "cell %.3g mm (%g x the automatic %.3g mm); single-threaded", 1e3 * spec.cell_size,
+                    f, 1e3 * cell);
+      measure(method, {1}, [&] { c.detect(w); }, 0, note);
+    }
   }
 
   void reference_rows() {
@@ -354,6 +378,7 @@ int run_bench(const BenchOptions& opt) {
     b.core_rows();
     set_threads(1);
     if (opt.references) b.reference_rows();
+    b.hash_rows();  // last: its large tables (0.5x cells at 10^6 nodes) must not disturb the others' timings
   }
   set_threads(threads_before);
   const bool ok = std::ferror(out) == 0;

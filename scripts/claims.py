@@ -23,9 +23,28 @@ The claim holds in a run when all three hold:
 Verdict: supported when it holds in every run, partly when in some, not supported in none.
 Percentiles are nearest-rank (an observed episode length). Lengths are measured every
 references.every (10) steps, so an episode shorter than that may be missed or counted as 10.
+
+Claims (c) and (d) are judged on results/accuracy_time.csv (scripts/study.py accuracy: every
+method against the converged reference; time = detection + elimination, median of its runs):
+Claim (c), section 2: "all methods based on restrictions are improper ... costs much time". For
+each scenario and exact detector (hash, CGAL, FCL; one-sided), the restrictions, position
+projection and the `auto` force (a one-pass velocity-level constraint), against the penalty force
+(k = 500 N/m) with the same detector. A restriction "costs much time" when it takes over 1.1 times
+the penalty's time; it is "improper" when it is unstable or its pos_err_max is over 1.1 times the
+penalty's. Verdict: supported when most comparisons with a stable penalty show either, not
+supported when none does, partly otherwise; the voxel model's projection is reported beside it.
+Claim (d), section 3: "collision search using space voxelization is one of the most fast". At
+equal error: per scenario, the voxel model's most accurate stable setting (its error e_v), and per
+exact detector the fastest stable setting with pos_err_max <= e_v (none: the detector is not
+comparable at that error, and the voxel model is faster at its own error only by being less
+accurate); also the smallest error each reaches. Verdict: supported when the voxel model is the
+fastest at equal error in every scenario, partly when it is the fastest only at errors the exact
+detectors beat, not supported otherwise.
 """
+import csv
 
 import json
+import math
 import os
 import sys
 
@@ -35,6 +54,194 @@ import resultslib as rl  # noqa: E402
 SEPARATE_MAX_FRACTION = 0.05
 P90_MAX_STEPS = 100
 OPEN_MAX_FRACTION = 0.05
+
+
+RESTRICTION_SLOWER = 1.1   # "costs much time": over 1.1 times the penalty's time
+RESTRICTION_WORSE = 1.1    # "improper": unstable, or pos_err_max over 1.1 times the penalty's
+EXACT = ["hash", "cgal", "fcl"]
+SCENE_ORDER = ["sphere_collision", "cylinder_press", "implant_expansion"]
+
+
+def accuracy_rows(root):
+    path = os.path.join(root, "accuracy_time.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        for k in ("pos_err_max_mm", "gap_max_mm", "t_contact_us", "t_step_us"):
+            try:
+                r[k] = float(r[k])
+            except (TypeError, ValueError):
+                r[k] = math.nan
+    return rows
+
+
+def scene_dt(scene):
+    """The bundled scene's time step (s), or None."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "experiments", "scenes", scene + ".json")
+    try:
+        with open(path) as f:
+            return float(json.load(f)["time"]["dt"])
+    except (OSError, KeyError, ValueError):
+        return None
+
+
+def claim_c(rows):
+    """Restrictions (projection, auto) against the penalty force per scenario and exact detector."""
+    out = []
+    for scene in SCENE_ORDER:
+        for det in EXACT:
+            g = {(r["eliminator"], r["force"]): r for r in rows if r["scene"] == scene and r["config"] == det}
+            pen = g.get(("line", "k=500"))
+            if not pen:
+                continue
+            for name, key in (("projection", ("projection", "positions")), ("auto", ("line", "auto"))):
+                r = g.get(key)
+                if not r:
+                    continue
+                ratio = r["t_contact_us"] / pen["t_contact_us"]
+                err = r["pos_err_max_mm"] / pen["pos_err_max_mm"] if pen["pos_err_max_mm"] > 0 else math.nan
+                slower = ratio > RESTRICTION_SLOWER
+                improper = r["stable"] != "yes" or not (err <= RESTRICTION_WORSE)
+                out.append(dict(scene=scene, detector=det, restriction=name, penalty_stable=pen["stable"] == "yes",
+                                stable=r["stable"] == "yes", time=r["t_contact_us"], time_pen=pen["t_contact_us"],
+                                ratio=ratio, err=r["pos_err_max_mm"], err_pen=pen["pos_err_max_mm"],
+                                slower=slower, improper=improper))
+    judged = [c for c in out if c["penalty_stable"]]
+    bad = sum(1 for c in judged if c["slower"] or c["improper"])
+    if not judged:
+        verdict = "not tested (no stable penalty run with an exact detector)"
+    elif 2 * bad > len(judged):
+        verdict = "supported"
+    elif bad == 0:
+        verdict = "not supported"
+    else:
+        verdict = "partly supported"
+    vox_proj = [r for r in rows if r["detector"] == "voxel" and r["eliminator"] == "projection"]
+    return out, judged, bad, verdict, vox_proj
+
+
+def claim_d(rows):
+    """The voxel model against the exact detectors at equal error, per scenario."""
+    out = []
+    for scene in SCENE_ORDER:
+        st = [r for r in rows if r["scene"] == scene and r["stable"] == "yes" and not math.isnan(r["pos_err_max_mm"])]
+        vox = [r for r in st if r["detector"] == "voxel"]
+        if not vox:
+            continue
+        best = min(vox, key=lambda r: (r["pos_err_max_mm"], r["t_contact_us"]))
+        row = dict(scene=scene, voxel=best, exact={})
+        for det in EXACT:
+            d = [r for r in st if r["detector"] == det]
+            at = [r for r in d if r["pos_err_max_mm"] <= best["pos_err_max_mm"]]
+            row["exact"][det] = dict(
+                fastest_at=min(at, key=lambda r: r["t_contact_us"]) if at else None,
+                best=min(d, key=lambda r: (r["pos_err_max_mm"], r["t_contact_us"])) if d else None)
+        faster = [e["fastest_at"]["t_contact_us"] / best["t_contact_us"] for e in row["exact"].values() if e["fastest_at"]]
+        row["fastest"] = all(x > 1.0 for x in faster) if faster else None
+        bests = [e["best"]["pos_err_max_mm"] for e in row["exact"].values() if e["best"]]
+        row["beaten"] = bool(bests) and min(bests) < best["pos_err_max_mm"]
+        out.append(row)
+    if not out:
+        return out, "not tested (no stable voxel setting)"
+    if all(r["fastest"] and not r["beaten"] for r in out):
+        verdict = "supported"
+    elif all(r["fastest"] is not False for r in out):
+        verdict = "partly supported"
+    else:
+        verdict = "not supported"
+    return out, verdict
+
+
+def cd_markdown(rows):
+    """claims.md sections (c) and (d), and the report's macros."""
+    md, macros = [], []
+    if not rows:
+        md += ["## (c) and (d)", "", "Not tested: results/accuracy_time.csv is missing (scripts/study.py accuracy).", ""]
+        return md, macros
+    cs, judged, bad, vc, vox_proj = claim_c(rows)
+    md += ["## (c) Restrictions are improper and cost much time", "",
+           "Projection (positions moved to the surface, velocities made consistent) and the `auto` force (a one-pass "
+           "velocity-level constraint) against the penalty force (k = 500 N/m), each with the same exact detector, "
+           "from results/accuracy_time.csv. A restriction costs much time when it takes over %g times the "
+           "penalty's detection + elimination time; it is improper when unstable or its pos_err_max is over %g "
+           "times the penalty's." % (RESTRICTION_SLOWER, RESTRICTION_WORSE), "",
+           "| scenario | detector | restriction | time (µs) | penalty time (µs) | ratio | pos. error (mm) | "
+           "penalty pos. error (mm) | stable | penalty stable | slower | improper |",
+           "|---|---|---|---:|---:|---:|---:|---:|---|---|---|---|"]
+    for c in cs:
+        md.append("| %s | %s | %s | %.0f | %.0f | %.2f | %.3g | %.3g | %s | %s | %s | %s |" % (
+            c["scene"], c["detector"], c["restriction"], c["time"], c["time_pen"], c["ratio"], c["err"], c["err_pen"],
+            "yes" if c["stable"] else "no", "yes" if c["penalty_stable"] else "no",
+            "yes" if c["slower"] else "no", "yes" if c["improper"] else "no"))
+    ratios = [c["ratio"] for c in judged]
+    vp_stable = sum(1 for r in vox_proj if r["stable"] == "yes")
+    md += ["", "**Verdict (c): %s** — of %d comparisons with a stable penalty run, %d show a restriction slower "
+           "or improper (time ratios %.2f to %.2f). With the voxel model, projection is stable in %d of %d "
+           "settings (its 'surface' is a voxel away)." % (vc, len(judged), bad, min(ratios) if ratios else math.nan,
+                                                      max(ratios) if ratios else math.nan, vp_stable, len(vox_proj)), ""]
+    macros += [("ClaimCVerdict", vc), ("ClaimCJudged", str(len(judged))), ("ClaimCBad", str(bad)),
+               ("ClaimCRatioMin", "%.2f" % (min(ratios) if ratios else math.nan)),
+               ("ClaimCRatioMax", "%.2f" % (max(ratios) if ratios else math.nan)),
+               ("ClaimCVoxProjStable", str(vp_stable)), ("ClaimCVoxProj", str(len(vox_proj)))]
+    ds, vd = claim_d(rows)
+    md += ["## (d) Space voxelization is one of the fastest collision searches", "",
+           "At equal error: per scenario the voxel model's most accurate stable setting, and per exact detector the "
+           "fastest stable setting at least as accurate (none: no stable setting of that detector is), and the "
+           "smallest error it reaches. Time: detection + elimination, µs per step.", "",
+           "| scenario | voxel setting | voxel pos. error (mm) | voxel time (µs) | detector | fastest at <= voxel error "
+           "| its error (mm) | its time (µs) | times the voxel time | smallest error (mm) |",
+           "|---|---|---:|---:|---|---|---:|---:|---:|---:|"]
+    for r in ds:
+        v = r["voxel"]
+        for det, e in r["exact"].items():
+            f = e["fastest_at"]
+            md.append("| %s | %s %s %s | %.3g | %.1f | %s | %s | %s | %s | %s | %s |" % (
+                r["scene"], v["config"], v["eliminator"], v["force"], v["pos_err_max_mm"], v["t_contact_us"], det,
+                "%s %s" % (f["eliminator"], f["force"]) if f else "none stable",
+                "%.3g" % f["pos_err_max_mm"] if f else "", "%.0f" % f["t_contact_us"] if f else "",
+                "%.1f" % (f["t_contact_us"] / v["t_contact_us"]) if f else "",
+                "%.3g" % e["best"]["pos_err_max_mm"] if e["best"] else "no stable setting"))
+    speed = [min(e["fastest_at"]["t_contact_us"] for e in r["exact"].values() if e["fastest_at"]) / r["voxel"]["t_contact_us"]
+             for r in ds if any(e["fastest_at"] for e in r["exact"].values())]
+    acc = [r["voxel"]["pos_err_max_mm"] / min(e["best"]["pos_err_max_mm"] for e in r["exact"].values() if e["best"])
+           for r in ds if any(e["best"] for e in r["exact"].values())]
+    md += ["", "**Verdict (d): %s** — the voxel model is the fastest at its own error in %d of %d scenarios (the "
+           "fastest exact detector at that error takes %.0f to %.0f times longer), but in %d of %d scenarios an "
+           "exact detector reaches an error %.1f to %.0f times smaller, which no voxel setting reaches: it is fast "
+           "by being less accurate, not at equal error." % (
+               vd, sum(1 for r in ds if r["fastest"]), len(ds), min(speed) if speed else math.nan,
+               max(speed) if speed else math.nan, sum(1 for r in ds if r["beaten"]), len(ds),
+               min(acc) if acc else math.nan, max(acc) if acc else math.nan), ""]
+    # ---- real time: simulated seconds per wall second of each stable method (its median step)
+    md += ["## Real time", "",
+           "Real-time factor = dt / median step time (physics, detection and elimination; the accuracy runs, two "
+           "at once on this two-core machine, no frames); at least 1 is real time. Per scenario, the stable methods "
+           "from the fastest step to the slowest.", "",
+           "| scenario | dt (s) | method | elim. | force | step (µs) | steps/s | real-time factor |",
+           "|---|---:|---|---|---|---:|---:|---:|"]
+    rtf = []
+    for scene in SCENE_ORDER:
+        dt = scene_dt(scene)
+        st = sorted((r for r in rows if r["scene"] == scene and r["stable"] == "yes" and r["t_step_us"] > 0),
+                    key=lambda r: r["t_step_us"])
+        for r in st:
+            f = dt / (1e-6 * r["t_step_us"]) if dt else math.nan
+            rtf.append(f)
+            md.append("| %s | %g | %s | %s | %s | %.0f | %.0f | %.3f |" % (
+                scene, dt or math.nan, r["config"], r["eliminator"], r["force"], r["t_step_us"], 1e6 / r["t_step_us"], f))
+    vr = "supported" if rtf and min(rtf) >= 1 else "partly supported" if any(f >= 1 for f in rtf) else "not supported"
+    md += ["", "**Verdict (real time): %s** at these resolutions — real-time factors %.3f to %.3f: the springs' "
+           "forces and the integration take most of a step whichever detection is used." % (
+               vr, min(rtf) if rtf else math.nan, max(rtf) if rtf else math.nan), ""]
+    macros += [("ClaimRTVerdict", vr), ("ClaimRTMin", "%.3f" % (min(rtf) if rtf else math.nan)),
+               ("ClaimRTMax", "%.3f" % (max(rtf) if rtf else math.nan))]
+    macros += [("ClaimDVerdict", vd), ("ClaimDSpeedMin", "%.0f" % (min(speed) if speed else math.nan)),
+               ("ClaimDSpeedMax", "%.0f" % (max(speed) if speed else math.nan)),
+               ("ClaimDAccMin", "%.1f" % (min(acc) if acc else math.nan)),
+               ("ClaimDAccMax", "%.0f" % (max(acc) if acc else math.nan))]
+    return md, macros
 
 
 def pen_series(path):
@@ -272,6 +479,8 @@ def main():
         verdict_b, holds, len(b_rows),
         ", ".join("%s/%s" % (k, e) for k, _t, e, st in b_rows if st["holds"]) or "none"))
     out.append("")
+    cd_md, cd_macros = cd_markdown(accuracy_rows(root))
+    out += cd_md
     with open(os.path.join(root, "claims.md"), "w") as f:
         f.write("\n".join(out))
     print("claims: wrote %s" % os.path.join(root, "claims.md"))
@@ -324,6 +533,8 @@ def main():
         f.write("\\newcommand{\\ClaimRunSteps}{%s}\n" % "; ".join(
             "%s: %s steps" % (rl.tex_escape(t), "/".join(str(steps_run[(k, e)]) for e in rl.ELIMINATORS if (k, e) in steps_run))
             for k, _s, t, _f in rl.SCENES if any((k, e) in steps_run for e in rl.ELIMINATORS)))
+        for name, v in cd_macros:
+            f.write("\\newcommand{\\%s}{%s}\n" % (name, v))
         f.write("\\newcommand{\\ClaimBSepMax}{%g}\n" % (100 * SEPARATE_MAX_FRACTION))
         f.write("\\newcommand{\\ClaimBPninetyMax}{%d}\n" % P90_MAX_STEPS)
         f.write("\\newcommand{\\ClaimBOpenMax}{%g}\n" % (100 * OPEN_MAX_FRACTION))

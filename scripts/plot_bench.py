@@ -4,9 +4,11 @@
 Usage: plot_bench.py [BENCH_CSV] [RESULTS_DIR]
        (defaults: results/bench.csv, results; run with /usr/bin/python3 or $PYTHON)
 
-  RESULTS_DIR/figures/bench_scaling.png  time per step against nodes per body, log-log: every
+  RESULTS_DIR/figures/bench_scaling.{pdf,png}
+                                         time per step against nodes per body, log-log: every
                                          method with one thread (solid) and two (dashed); the two
-                                         memory-bandwidth limits (stream_*) in grey
+                                         memory-bandwidth limits (stream_*) in grey; printed at
+                                         the report's text width (resultslib.TEXT)
   RESULTS_DIR/tables/bench.md            the ratios the performance targets are stated in, each
                                          with its target and whether it holds, then every time
 A ratio whose rows are missing (e.g. a --quick bench has no 10^6 point) is reported as n/a.
@@ -18,32 +20,34 @@ import os
 import re
 import sys
 
-import matplotlib
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import resultslib as rl  # noqa: E402
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+plt = rl.pyplot()
 
-plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "axes.labelsize": 9, "legend.fontsize": 7.5,
-                     "figure.dpi": 100, "savefig.dpi": 110})
-
-METHODS = ["voxel_detect", "voxel_detect_eliminate", "fcl", "cgal", "step", "stream_positions", "stream_step"]
-STYLE = {
-    "voxel_detect": ("#1f77b4", "o"),
-    "voxel_detect_eliminate": ("#17becf", "s"),
-    "fcl": ("#d62728", "^"),
-    "cgal": ("#9467bd", "v"),
-    "step": ("#2ca02c", "D"),
-    "stream_positions": ("#7f7f7f", "."),
-    "stream_step": ("#404040", "x"),
+METHODS = ["voxel_detect", "voxel_detect_eliminate", "hash_detect", "fcl", "cgal", "step", "stream_positions",
+           "stream_step"]
+# The spatial hash's cell-size sweep (bench.md only; the figure shows the automatic cell).
+CELL_SWEEP = ["hash_detect_cell_x0.5", "hash_detect", "hash_detect_cell_x2", "hash_detect_cell_x4"]
+STYLE = {  # colour-blind-safe (Okabe-Ito), a marker each
+    "voxel_detect": ("#0072B2", "o"),
+    "voxel_detect_eliminate": ("#56B4E9", "s"),
+    "hash_detect": ("#E69F00", "P"),
+    "fcl": ("#D55E00", "^"),
+    "cgal": ("#CC79A7", "v"),
+    "step": ("#009E73", "D"),
+    "stream_positions": ("#999999", "."),
+    "stream_step": ("#444444", "x"),
 }
 LABEL = {
     "voxel_detect": "voxel detection",
     "voxel_detect_eliminate": "voxel detection + elimination",
-    "fcl": "FCL refit + all triangle pairs",
-    "cgal": "CGAL tree + inside test of every guest node",
-    "step": "full step (springs, contact, integration)",
+    "hash_detect": "spatial hashing: triangles hashed,\ninside test of every guest node",
+    "fcl": "FCL: refit + all triangle pairs",
+    "cgal": "CGAL: tree + inside test\nof every guest node",
+    "step": "full step (springs, contact,\nintegration)",
     "stream_positions": "limit: stream over positions",
-    "stream_step": "limit: stream over what a step reads",
+    "stream_step": "limit: stream over what\na step reads",
 }
 
 
@@ -92,7 +96,8 @@ def fmt(x, digits=1):
 
 
 def figure(rows, out_dir):
-    fig, ax = plt.subplots(figsize=(10.0, 4.8))
+    from matplotlib.lines import Line2D
+    fig, ax = plt.subplots(figsize=(rl.TEXT, 3.0), layout="constrained")
     for m in METHODS:
         color, marker = STYLE[m]
         for t, ls in ((1, "-"), (2, "--")):
@@ -101,22 +106,18 @@ def figure(rows, out_dir):
                 continue
             lim = m.startswith("stream")
             ax.plot([p[0] for p in pts], [p[1] for p in pts], ls, color=color, marker=marker,
-                    markersize=4, linewidth=1.0 if lim else 1.4, alpha=0.8 if lim else 1.0,
-                    label="%s, %d thread%s" % (LABEL[m], t, "" if t == 1 else "s"))
+                    markersize=3.5, linewidth=0.9 if lim else 1.2, alpha=0.85 if lim else 1.0)
     ax.set_xscale("log")
     ax.set_yscale("log")
+    rl.plain_log_ticks(ax.xaxis, ax.yaxis)
     ax.set_xlabel("nodes per body")
     ax.set_ylabel("time per step (µs)")
-    ax.set_title("Time per step against size: host layer and guest surface in contact (harness bench)")
-    ax.grid(True, which="major", linewidth=0.4, alpha=0.5)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), ncol=1, frameon=False)
-    fig.tight_layout()
-    os.makedirs(os.path.join(out_dir, "figures"), exist_ok=True)
-    path = os.path.join(out_dir, "figures", "bench_scaling.png")
-    fig.savefig(path, metadata={"Software": None})
-    plt.close(fig)
-    print("plot_bench: wrote %s" % path)
-
+    ax.grid(True, which="major", alpha=0.4)
+    methods = [m for m in METHODS if any(r["method"] == m for r in rows)]
+    handles = [Line2D([], [], color=STYLE[m][0], marker=STYLE[m][1], markersize=3.5, label=LABEL[m]) for m in methods]
+    handles += [Line2D([], [], color="0.3", ls="-", label="1 thread"), Line2D([], [], color="0.3", ls="--", label="2 threads")]
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), ncol=1, frameon=False, borderaxespad=0.0)
+    rl.save(fig, os.path.join(out_dir, "figures", "bench_scaling"), width=rl.TEXT)
 
 
 def table(rows, out_dir, csv_path):
@@ -182,6 +183,16 @@ def table(rows, out_dir, csv_path):
             if all(v is None for v in vals):
                 continue
             lines.append("| %s | %d | %s |" % (m, t, " | ".join(fmt(v) for v in vals)))
+    if any(r["method"] == "hash_detect_cell_x2" for r in rows):
+        lines += ["", "Spatial hashing's cell size (one thread; times the automatic cell, the host's mean surface "
+                  "edge), µs per step, and against the voxel model's detection and CGAL:", "",
+                  "| cell | " + " | ".join("%d" % n for n in sizes) + " |", "|---|" + "---|" * len(sizes)]
+        for m in CELL_SWEEP:
+            label = {"hash_detect": "x1 (automatic)"}.get(m, m.replace("hash_detect_cell_", ""))
+            lines.append("| %s | %s |" % (label, " | ".join(fmt(us(rows, m, n, 1)) for n in sizes)))
+        for other in ("voxel_detect", "cgal"):
+            lines.append("| hash x1 / %s | %s |" % (other, " | ".join(
+                fmt(ratio(us(rows, "hash_detect", n, 1), us(rows, other, n, 1))) for n in sizes)))
     os.makedirs(os.path.join(out_dir, "tables"), exist_ok=True)
     path = os.path.join(out_dir, "tables", "bench.md")
     with open(path, "w") as f:

@@ -17,6 +17,9 @@ for m in voxel_detect voxel_detect_eliminate stream_positions step stream_step; 
     grep -q "^$m,1000,$t,[0-9.]*,[0-9]*," "$T/bench.csv" && ok || bad "row $m threads $t"
   done
 done
+for m in hash_detect hash_detect_cell_x0.5 hash_detect_cell_x2 hash_detect_cell_x4; do
+  grep -q "^$m,1000,1,[0-9.]*,[0-9]*,.*single-threaded" "$T/bench.csv" && ok || bad "row $m"
+done
 if "$H" --help 2>/dev/null | grep -q bench && grep -q "^fcl,1000,1," "$T/bench.csv"; then
   grep -q "^cgal,1000,1," "$T/bench.csv" && ok || bad "cgal row"
 fi
