@@ -40,6 +40,12 @@ comparable at that error, and the voxel model is faster at its own error only by
 accurate); also the smallest error each reaches. Verdict: supported when the voxel model is the
 fastest at equal error in every scenario, partly when it is the fastest only at errors the exact
 detectors beat, not supported otherwise.
+Claim (e), section 3: "if voxels are built for large space area near penetrating bodies then
+collisions are detected for any deformations", on results/region.csv (scripts/study.py region):
+supported when the full region's recall is at least that of half and overlap (within 0.01) and at
+least RECALL_ALL in every scene and margin; partly when it is at least theirs everywhere or reaches
+RECALL_ALL somewhere; not supported otherwise. Which body carries the grid (left open by the
+paper), on results/swap.csv: a finding, not a verdict (stable first, then pos_err_max, ties 5 %).
 """
 import csv
 
@@ -241,6 +247,119 @@ def cd_markdown(rows):
                ("ClaimDSpeedMax", "%.0f" % (max(speed) if speed else math.nan)),
                ("ClaimDAccMin", "%.1f" % (min(acc) if acc else math.nan)),
                ("ClaimDAccMax", "%.0f" % (max(acc) if acc else math.nan))]
+    return md, macros
+
+
+def read_csv_rows(root, name, numeric):
+    path = os.path.join(root, name)
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        for k in numeric:
+            try:
+                r[k] = float(r[k])
+            except (TypeError, ValueError, KeyError):
+                r[k] = math.nan
+    return rows
+
+
+SWAP_TIE = 0.05  # host/guest swap: position errors within 5 % of each other are a tie
+RECALL_ALL = 0.9  # claim (e): "collisions are detected": at least 90 % of the penetrating guest nodes
+
+
+def swap_region_markdown(root):
+    """claims.md sections: host and guest swapped (swap.csv) and claim (e) (region.csv)."""
+    md, macros = [], []
+    num = ["pos_err_max_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "recall", "true_pen_final",
+           "t_contact_us", "voxel_mm", "margin"]
+    sw = read_csv_rows(root, "swap.csv", num)
+    if sw:
+        md += ["## Which body carries the grid (host and guest swapped)", "",
+               "The paper leaves open which body carries the grid. The voxel model as the scene has it and with the "
+               "roles swapped, against the reference (scripts/study.py swap, results/tables/swap.md).", "",
+               "| scenario | elim. | force | voxel (mm) | grid on | pos. error (mm) | gap (mm) | peak depth (mm) | "
+               "recall | stable | better |", "|---|---|---|---:|---|---:|---:|---:|---:|---|---|"]
+        settings = {}
+        for r in sw:
+            settings.setdefault((r["scene"], r["eliminator"], r["force"], r["voxel_mm"]), {})[r["swapped"]] = r
+        wins = {"no": 0, "yes": 0}
+        for key, pair in settings.items():
+            if "no" not in pair or "yes" not in pair:
+                continue
+            a, b = pair["no"], pair["yes"]
+            # Better: stable where the other is not; else a pos_err_max smaller by over SWAP_TIE (a tie otherwise).
+            if (a["stable"] == "yes") != (b["stable"] == "yes"):
+                better = "no" if a["stable"] == "yes" else "yes"
+            elif a["pos_err_max_mm"] < (1 - SWAP_TIE) * b["pos_err_max_mm"]:
+                better = "no"
+            elif b["pos_err_max_mm"] < (1 - SWAP_TIE) * a["pos_err_max_mm"]:
+                better = "yes"
+            else:
+                better = None
+            if better:
+                wins[better] += 1
+            for r in (a, b):
+                md.append("| %s | %s | %s | %g | %s | %.3g | %.3g | %.3g | %.3g | %s | %s |" % (
+                    r["scene"], r["eliminator"], r["force"], r["voxel_mm"], r["host"], r["pos_err_max_mm"],
+                    r["gap_max_mm"], r["max_depth_peak_mm"], r["recall"], r["stable"],
+                    "yes" if better == r["swapped"] else ""))
+        n = wins["no"] + wins["yes"]
+        n = len([1 for p in settings.values() if "no" in p and "yes" in p])
+        md += ["", "**Finding:** the grid as the scenes place it (on the left sphere, the layer, the implant) is "
+               "better (stable where the other is not, else a position error smaller by over %d %%) in %d of %d "
+               "settings, swapped in %d, a tie in %d." % (100 * SWAP_TIE, wins["no"], n, wins["yes"],
+                                                         n - wins["no"] - wins["yes"]), ""]
+        macros += [("SwapSceneWins", str(wins["no"])), ("SwapSwappedWins", str(wins["yes"])), ("SwapSettings", str(n)),
+                   ("SwapTies", str(n - wins["no"] - wins["yes"]))]
+    rg = read_csv_rows(root, "region.csv", num)
+    if rg:
+        md += ["## (e) A large region detects collisions under any deformation", "",
+               "The voxel model's grid over half of the host's box (facing the guest), the whole box, or the boxes' "
+               "overlap, with 0, 1 or 3 voxels of margin, on the two scenes whose bodies deform most "
+               "(scripts/study.py region, results/tables/region.md). Collisions count as detected when at least "
+               "%d %% of the truly penetrating guest nodes are reported (recall, CGAL every 10 steps)." % (100 * RECALL_ALL),
+               "", "| scenario | margin | recall half | recall full | recall overlap | pos. error half (mm) | "
+               "full | overlap | time half (µs) | full | overlap |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        cells = {}
+        for r in rg:
+            cells.setdefault((r["scene"], int(r["margin"])), {})[r["region"]] = r
+        full_best, full_all, total, region_matters = 0, 0, 0, 0
+        recalls = []
+        for (scene, m), g in sorted(cells.items()):
+            if not all(k in g for k in ("half", "full", "overlap")):
+                continue
+            total += 1
+            rf = g["full"]["recall"]
+            recalls.append(rf)
+            if rf >= max(g["half"]["recall"], g["overlap"]["recall"]) - 0.01:
+                full_best += 1
+            if rf >= RECALL_ALL:
+                full_all += 1
+            rs = [g[k]["recall"] for k in ("half", "full", "overlap")]
+            if max(rs) - min(rs) > 0.01:
+                region_matters += 1
+            md.append("| %s | %d | %.3f | %.3f | %.3f | %.3g | %.3g | %.3g | %.0f | %.0f | %.0f |" % (
+                scene, m, g["half"]["recall"], rf, g["overlap"]["recall"], g["half"]["pos_err_max_mm"],
+                g["full"]["pos_err_max_mm"], g["overlap"]["pos_err_max_mm"], g["half"]["t_contact_us"],
+                g["full"]["t_contact_us"], g["overlap"]["t_contact_us"]))
+        if total and full_all == total and full_best == total:
+            ve = "supported"
+        elif total and (full_best == total or full_all > 0):
+            ve = "partly supported"
+        else:
+            ve = "not supported"
+        md += ["", "**Verdict (e): %s** — the full region detects at least as many of the penetrating nodes as half "
+               "and overlap in %d of %d scene-margin settings, and at least %d %% of them in %d (its recall %.2f to "
+               "%.2f)." % (ve, full_best, total, 100 * RECALL_ALL, full_all, min(recalls) if recalls else math.nan,
+                           max(recalls) if recalls else math.nan), ""]
+        md += ["The region changes the recall by more than 0.01 in %d of %d settings." % (region_matters, total), ""]
+        macros += [("ClaimERegionMatters", str(region_matters))]
+        macros += [("ClaimEVerdict", ve), ("ClaimEFullBest", str(full_best)), ("ClaimEAll", str(full_all)),
+                   ("ClaimESettings", str(total)),
+                   ("ClaimERecallMin", "%.2f" % (min(recalls) if recalls else math.nan)),
+                   ("ClaimERecallMax", "%.2f" % (max(recalls) if recalls else math.nan))]
     return md, macros
 
 
@@ -481,6 +600,9 @@ def main():
     out.append("")
     cd_md, cd_macros = cd_markdown(accuracy_rows(root))
     out += cd_md
+    sr_md, sr_macros = swap_region_markdown(root)
+    out += sr_md
+    cd_macros += sr_macros
     with open(os.path.join(root, "claims.md"), "w") as f:
         f.write("\n".join(out))
     print("claims: wrote %s" % os.path.join(root, "claims.md"))
