@@ -1,6 +1,7 @@
 #include "core/run.hpp"
 
 #include "core/clock.hpp"
+#include "core/collision/responses/force_rules.hpp"
 #include "core/run/columns.hpp"
 #include "core/run/frames.hpp"
 #include "core/run/compare.hpp"
@@ -70,13 +71,7 @@ Points contact_forces(const Simulation& sim) {
         for (int i = w.bodies[b].begin; i < w.bodies[b].end; ++i) f[i] = Vec3::Constant(nan);
       continue;
     }
-    for (std::size_t i = 0; i < c.pushes().size() && i < c.magnitudes().size(); ++i) {
-      const Push& p = c.pushes()[i];
-      if (p.count == 0) continue;
-      const Vec3 fi = c.magnitudes()[i] * p.n;
-      f[p.guest] += fi;
-      for (int k = 0; k < p.count; ++k) f[p.hosts[k]] -= p.weight[k] * fi;
-    }
+    scatter_pushes(f, c.pushes(), c.magnitudes());
   }
   return f;
 }

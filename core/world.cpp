@@ -41,4 +41,13 @@ double mean_rest_length(const World& w, int body) {
   return sum / (b.spring_end - b.spring_begin);
 }
 
+double mean_surface_edge(const World& w, int body, const Points& x) {
+  const Body& b = w.bodies[body];
+  if (b.faces.empty()) return 0.0;
+  double sum = 0.0;
+  for (const Tri& t : b.faces)
+    for (int k = 0; k < 3; ++k) sum += (x[b.begin + t[k]] - x[b.begin + t[(k + 1) % 3]]).norm();
+  return sum / (3.0 * static_cast<double>(b.faces.size()));
+}
+
 }  // namespace harness

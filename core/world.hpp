@@ -90,5 +90,8 @@ Vec3 vertex_normal(const World& w, int body, int s);
 double enclosed_volume(const World& w, int body);
 // Mean rest length of a body's springs, m (0 without springs).
 double mean_rest_length(const World& w, int body);
+// Mean length of a body's surface edges (faces' edges, each interior edge counted from both of its
+// faces: the mean is unchanged) at positions x (w.x or w.x0), m; 0 without faces.
+double mean_surface_edge(const World& w, int body, const Points& x);
 
 }  // namespace harness

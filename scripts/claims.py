@@ -69,18 +69,7 @@ SCENE_ORDER = ["sphere_collision", "cylinder_press", "implant_expansion"]
 
 
 def accuracy_rows(root):
-    path = os.path.join(root, "accuracy_time.csv")
-    if not os.path.exists(path):
-        return []
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    for r in rows:
-        for k in ("pos_err_max_mm", "gap_max_mm", "t_contact_us", "t_step_us"):
-            try:
-                r[k] = float(r[k])
-            except (TypeError, ValueError):
-                r[k] = math.nan
-    return rows
+    return read_csv_rows(root, "accuracy_time.csv", ["pos_err_max_mm", "gap_max_mm", "t_contact_us", "t_step_us"])
 
 
 def scene_dt(scene):

@@ -7,19 +7,6 @@
 
 namespace harness {
 
-double mean_surface_edge(const World& w, int body) {
-  const Body& b = w.bodies[body];
-  const Points& x = w.x0.empty() ? w.x : w.x0;
-  double sum = 0.0;
-  long long n = 0;
-  for (const Tri& t : b.faces)
-    for (int k = 0; k < 3; ++k) {
-      sum += (x[b.begin + t[k]] - x[b.begin + t[(k + 1) % 3]]).norm();
-      ++n;  // each interior edge twice: the mean is unchanged
-    }
-  return n ? sum / static_cast<double>(n) : 0.0;
-}
-
 namespace {
 
 std::string mm(double m) {
@@ -50,7 +37,8 @@ std::vector<Warning> start_warnings(const Simulation& sim) {
       out.push_back({key + ".voxel_size", b});
     }
     const int host = pair.spec.host, guest = pair.spec.guest;
-    const double hg = mean_surface_edge(w, guest), hh = mean_surface_edge(w, host);
+    const Points& rest = w.x0.empty() ? w.x : w.x0;
+    const double hg = mean_surface_edge(w, guest, rest), hh = mean_surface_edge(w, host, rest);
     if (used > 0.0 && hg > used)
       out.push_back({key, "guest '" + w.bodies[guest].name + "' node spacing " + mm(hg) + " is coarser than the voxel " +
                               mm(used) + ": host nodes can pass between guest nodes undetected (tunnelling expected)"});

@@ -22,7 +22,4 @@ struct Warning {
 
 std::vector<Warning> start_warnings(const Simulation& sim);
 
-// Mean length of a body's surface edges at rest, m (0 without faces).
-double mean_surface_edge(const World& w, int body);
-
 }  // namespace harness

@@ -38,12 +38,7 @@ void HashDetector::initialize(const World& w, const ContactSpec& spec) {
   host_begin_ = h.begin;
   faces_ = h.faces;
   cell_ = spec.cell_size;
-  if (!(cell_ > 0.0)) {  // automatic: the mean edge length of the host surface at rest
-    double sum = 0.0;
-    for (const Tri& t : faces_)
-      for (int k = 0; k < 3; ++k) sum += (w.x[h.begin + t[k]] - w.x[h.begin + t[(k + 1) % 3]]).norm();
-    cell_ = sum / (3.0 * static_cast<double>(faces_.size()));
-  }
+  if (!(cell_ > 0.0)) cell_ = mean_surface_edge(w, spec.host, w.x);  // automatic: the host's mean surface edge
   if (!(cell_ > 0.0) || !std::isfinite(cell_)) throw std::invalid_argument("hash detector: no positive cell size");
   const std::size_t n = prime_at_least(std::max<std::size_t>(97, 4 * faces_.size()));
   head_.assign(n, -1);

@@ -21,7 +21,7 @@ double penalty_contact_forces(std::vector<Push>& pushes, double k, std::vector<d
   return largest;
 }
 
-void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<double>& magnitude) {
+void scatter_pushes(Points& f_out, const std::vector<Push>& pushes, const std::vector<double>& magnitude) {
   // With threads, thread t owns the nodes of every T-th block of 4096 (blocks interleave, so the
   // host's and the guest's nodes are shared out alike) and adds, in push order, the forces on
   // its own nodes: every node receives the same additions in the same order as on one thread.
@@ -36,9 +36,9 @@ void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<d
       const Push& p = pushes[i];
       if (p.count == 0) continue;
       const Vec3 f = magnitude[i] * p.n;
-      if (mine(p.guest)) w.f[p.guest] += f;
+      if (mine(p.guest)) f_out[p.guest] += f;
       for (int k = 0; k < p.count; ++k)
-        if (mine(p.hosts[k])) w.f[p.hosts[k]] -= p.weight[k] * f;
+        if (mine(p.hosts[k])) f_out[p.hosts[k]] -= p.weight[k] * f;
     }
   }
 }

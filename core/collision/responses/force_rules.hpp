@@ -16,8 +16,13 @@ namespace harness {
 // (resized; reuse it). Returns the largest force (0 without contacts).
 double penalty_contact_forces(std::vector<Push>& pushes, double k, std::vector<double>& out);
 
-// Adds magnitude[i] * pushes[i] into w.f.
-void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<double>& magnitude);
+// Adds magnitude[i] * pushes[i] into f (one entry per world node): the guest node gets
+// magnitude n, each host node minus its weight times that.
+void scatter_pushes(Points& f, const std::vector<Push>& pushes, const std::vector<double>& magnitude);
+// scatter_pushes into w.f.
+inline void apply_pushes(World& w, const std::vector<Push>& pushes, const std::vector<double>& magnitude) {
+  scatter_pushes(w.f, pushes, magnitude);
+}
 
 // Force magnitudes (N) of `"force": "auto"`, one per push, written into `out` (resized; reuse
 // it across steps). The paper tunes one constant F by hand, with the rule that it must beat the
