@@ -64,6 +64,11 @@ Points contact_forces(const Simulation& sim) {
   Points f(static_cast<std::size_t>(w.num_nodes()), Vec3::Zero());
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const Pair& pair : sim.pairs()) {
+    if (pair.engine_contact) {  // a peer engine's position corrections: no force to report
+      for (int b : {pair.spec.host, pair.spec.guest})
+        for (int i = w.bodies[b].begin; i < w.bodies[b].end; ++i) f[i] = Vec3::Constant(nan);
+      continue;
+    }
     if (!pair.collision || !pair.collision->stepped()) continue;
     const Collision& c = *pair.collision;
     if (c.projects()) {
@@ -285,6 +290,7 @@ StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on
 int run_scene(const Scene& scene, const RunOptions& opt) {
   SimulationOptions so;
   so.exact_detectors = opt.exact_detectors;
+  so.engine = opt.engine;
   Simulation sim(scene, so);  // may throw InputError: nothing written yet
   std::unique_ptr<Comparison> compare;
   if (!opt.compare_dir.empty()) {

@@ -18,6 +18,7 @@ struct RunOptions {
   bool progress = false;                        // a progress line on stderr
   MeasurerFactory measurer;                     // empty: references unavailable in this program
   ExactDetectorMaker exact_detectors = nullptr;  // empty: detectors "cgal", "fcl" unavailable
+  EngineMaker engine = nullptr;                  // --engine: a peer engine (engine.hpp); empty: the harness's own
   std::map<std::string, std::string> versions;  // extra library versions (FCL, CGAL)
   std::string compare_dir;                      // --compare: a reference or a finished run
   bool strict = false;                          // --strict: a warning is an error (exit 2)

@@ -132,6 +132,12 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options)
   build_pairs();
   build_effects(options);
   guard_ = std::make_unique<StabilityGuard>(scene_, world_, effects_);
+  if (options.engine) {
+    engine_ = options.engine(scene_, world_);  // may throw InputError: nothing written yet
+    if (scene_.has(kContact))
+      for (Pair& p : pairs_) p.engine_contact = engine_->contact_model();
+    engine_v_prev_.assign(world_.x.size(), Vec3::Zero());
+  }
   stats_.stability = guard_->stats();
   if (audit_) {
     category_force_.assign(kCategories, Points());
@@ -203,7 +209,11 @@ void Simulation::build_pairs() {
 }
 
 void Simulation::build_effects(const SimulationOptions& options) {
-  EffectBuild b{scene_, world_, pairs_, pinned_nodes_, drivers_, loads_, options.exact_detectors};
+  // With a peer engine the engine handles contact: the pairs stay (measured, recorded) without
+  // the harness's detection and response.
+  Scene built = scene_;
+  if (options.engine) built.effects &= ~static_cast<unsigned>(kContact);
+  EffectBuild b{built, world_, pairs_, pinned_nodes_, drivers_, loads_, options.exact_detectors};
   effects_ = make_effects(b);
 }
 
@@ -224,6 +234,7 @@ void Simulation::integrate(const StepContext& s) {
 }
 
 void Simulation::step() {
+  if (engine_) return engine_step();
   const auto t0 = Clock::now();
   ++step_index_;
   World& w = world_;
@@ -257,6 +268,39 @@ void Simulation::step() {
   last_.physics_us = total - last_.detect_us - last_.eliminate_us;
   stats_.stability = guard_->stats();
   last_.step_us = us_since(t0);
+}
+
+// A peer engine's step: the kinematic effects set the nodes' state, the engine steps; then the
+// kinetic and elastic energies and the force residual, where the net force on a free node is
+// the one that changed its momentum in the step, m (v_{n+1} - v_n) / dt (the engine's contact
+// and constraint corrections included), over the same scale as the harness's own residual.
+void Simulation::engine_step() {
+  const auto t0 = Clock::now();
+  ++step_index_;
+  World& w = world_;
+  const StepContext ctx{step_index_, scene_.dt, scene_.dt, 1};
+  for (const auto& e : effects_) e->begin_step(w, ctx);
+  std::copy(w.v.begin(), w.v.end(), engine_v_prev_.begin());
+  const EngineStep es = engine_->step(w, step_index_, scene_.dt);
+  for (const auto& e : effects_) e->end_step(w, ctx);
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    pairs_[p].last = PairStep{};
+    if (p < es.contacts.size()) pairs_[p].last.contacts = es.contacts[p];
+  }
+  if (!pairs_.empty()) pairs_[0].last.detect_us = es.detect_us;  // one collision pass for all pairs
+  last_.detect_us = es.detect_us;
+  last_.eliminate_us = 0.0;  // solved with the links inside the engine's solver: in physics_us
+  if (audit_) {
+    ledger_.kinetic = kinetic_energy();
+    ledger_.elastic = elastic_energy();
+    std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
+    add_forces(ctx);
+    for (int i = 0; i < w.num_nodes(); ++i)
+      w.f[i] = w.is_free(i) ? Vec3(w.m[i] * (w.v[i] - engine_v_prev_[i]) / scene_.dt) : Vec3::Zero();
+    update_residual();
+  }
+  last_.step_us = us_since(t0);
+  last_.physics_us = last_.step_us - last_.detect_us;
 }
 
 // Forces of every effect in table order; with the audit, each category's share is kept by

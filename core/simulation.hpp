@@ -6,6 +6,7 @@
 
 #include "core/collision/collision.hpp"
 #include "core/effects/effects.hpp"
+#include "core/engine.hpp"
 #include "core/implicit.hpp"
 #include "core/scene.hpp"
 #include "core/stability.hpp"
@@ -22,6 +23,10 @@ struct SimulationOptions {
   // The energy audit and the force residual (energy.hpp): a few passes over the nodes per step;
   // they only read the state, whose bits never depend on this.
   bool audit = true;
+  // A peer engine (engine.hpp) steps the world instead of the effects and the integrator; the
+  // contact effect is then not built (the engine handles the pairs) and the energy audit keeps
+  // only the kinetic and elastic energies (no work booked) and the force residual.
+  EngineMaker engine = nullptr;
 };
 
 // Wall time of the last step, microseconds (steady_clock). physics: everything but the contact
@@ -56,6 +61,7 @@ class Simulation {
   const StepTimes& last() const { return last_; }
   const SimulationStats& stats() const { return stats_; }
   const Effects& effects() const { return effects_; }
+  const StepEngine* engine() const { return engine_.get(); }  // null: the harness's own
   // Names of the effects simulated, in canonical order.
   std::vector<std::string> effects_simulated() const;
   double kinetic_energy() const;
@@ -83,6 +89,7 @@ class Simulation {
   void book_work(double h);
   void book_interval();
   void update_residual();
+  void engine_step();
 
   Scene scene_;
   World world_;
@@ -92,6 +99,8 @@ class Simulation {
   std::vector<Pair> pairs_;
   Effects effects_;
   std::unique_ptr<StabilityGuard> guard_;
+  std::unique_ptr<StepEngine> engine_;
+  Points engine_v_prev_;  // velocities before the engine's step (its residual)
   ImplicitEuler implicit_;
   LinearSystem system_;
   int step_index_ = 0;

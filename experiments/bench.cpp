@@ -214,7 +214,7 @@ __attribute__((noinline)) std::uint64_t stream_step(World& w) {
 const std::vector<std::string>& bench_methods() {
   static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "hash_detect",
                                                  "hash_detect_cell_x0.5", "hash_detect_cell_x2", "hash_detect_cell_x4",
-                                                 "stream_positions", "step", "stream_step", "fcl", "cgal"};
+                                                 "stream_positions", "step", "stream_step", "fcl", "cgal", "bullet_collide"};
   return names;
 }
 
@@ -313,6 +313,15 @@ class BenchSize {
         for (int i = guest.begin; i < guest.end; ++i) inside += s.strictly_inside(w.x[i]);
         sink = sink + static_cast<std::uint64_t>(inside);
       }, 0, "tree rebuild + inside test of every guest node; single-threaded library", opt_.single_rep_seconds);
+    }
+    if (wanted("bullet_collide")) {
+      const auto tb = Clock::now();
+      BulletCollisionBench bullet(w, 0, 1);
+      char note[160];
+      std::snprintf(note, sizeof note, "tree refit (predictMotion at rest) + VF_SS pass; margins 0.05 x mean surface "
+                    "edge; face trees inserted; single-threaded library; built in %.1f s", seconds_since(tb));
+      measure("bullet_collide", {1}, [&] { sink = sink + static_cast<std::uint64_t>(bullet.collide()); }, 0, note,
+              opt_.single_rep_seconds);
     }
 #endif
   }

@@ -29,7 +29,10 @@
 //   stream_step             one pass reading every spring (ends, rest length) and every node's
 //                           position, velocity, force, inverse mass and kinematic flag, and
 //                           writing every position and velocity: the memory limit of a step.
-// fcl and cgal are single-threaded libraries: they are timed with one thread only.
+//   bullet_collide          Bullet's collision step on the same two bodies as soft bodies
+//                           (reference/bullet_engine.hpp, BulletCollisionBench): their node and
+//                           face trees refitted and the vertex-face (VF_SS) pass.
+// fcl, cgal and bullet_collide are single-threaded libraries: they are timed with one thread only.
 // Times are medians over repetitions (at least 3, and at least min_seconds per thread count); the
 // thread counts of a method take turns repetition by repetition, so that a slow phase of the
 // shared machine hits them alike and the speed-ups hold. A reference whose first repetition

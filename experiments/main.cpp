@@ -37,11 +37,12 @@ std::vector<fs::path> scene_roots() {
   return roots;
 }
 
-// A path that exists, or the name of a bundled scene ("cylinder_press", "hard/fast_impact").
+// A path that exists, or the name of a bundled scene ("cylinder_press", "hard/fast_impact",
+// "bullet/sphere_collision": the variants Bullet can represent, --engine bullet).
 std::string resolve_scene(const std::string& arg) {
   std::error_code ec;
   if (fs::is_regular_file(arg, ec)) return arg;
-  if (arg.find('/') == std::string::npos || arg.rfind("hard/", 0) == 0) {
+  if (arg.find('/') == std::string::npos || arg.rfind("hard/", 0) == 0 || arg.rfind("bullet/", 0) == 0) {
     for (const fs::path& root : scene_roots()) {
       for (const fs::path& cand : {root / (arg + ".json"), root / "hard" / (arg + ".json")}) {
         if (fs::is_regular_file(cand, ec)) return fs::weakly_canonical(cand).string();
@@ -67,11 +68,11 @@ int cmd_list() {
   for (const fs::path& root : scene_roots()) {
     std::error_code ec;
     if (!fs::is_directory(root, ec)) continue;
-    for (const fs::path& sub : {root, root / "hard"}) {
+    for (const fs::path& sub : {root, root / "hard", root / "bullet"}) {
       if (!fs::is_directory(sub, ec)) continue;
       for (const auto& e : fs::directory_iterator(sub)) {
         if (e.path().extension() != ".json") continue;
-        const std::string name = (sub == root ? "" : "hard/") + e.path().stem().string();
+        const std::string name = (sub == root ? "" : sub.filename().string() + "/") + e.path().stem().string();
         std::string desc;
         try {
           const Scene s = load_scene(e.path().string());
@@ -121,6 +122,8 @@ struct RunCommand {
   bool quiet = false, strict = false;
   std::string compare;
   int dt_divide = 1;
+  std::string engine = "harness";
+  BulletOptions bullet;
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
@@ -135,8 +138,17 @@ struct RunCommand {
     cmd->add_option("--dt-divide", dt_divide, "run at dt / N over the same physical time (every step count times N)");
     cmd->add_option("--compare", compare, "a reference (harness reference) or finished run of the same scene: "
                                           "error_vs_reference in summary.json, pos_err/gap columns");
+    cmd->add_option("--engine", engine, "harness (its own effects and integrator) or bullet (Bullet's soft bodies, "
+                                        "docs/architecture.md)")->capture_default_str();
+    cmd->add_option("--bullet-margin", bullet.margin, "with --engine bullet: collision margin of every body, m "
+                                                      "(default 0.05 x the body's mean surface edge)");
+    cmd->add_option("--bullet-iterations", bullet.iterations, "with --engine bullet: position iterations per step")
+        ->capture_default_str();
   }
   int exec() {
+    if (engine != "harness" && engine != "bullet") throw InputError("--engine " + engine, "expected harness or bullet");
+    if (engine != "bullet" && (cmd->count("--bullet-margin") || cmd->count("--bullet-iterations")))
+      throw InputError("--bullet-margin/--bullet-iterations", "only with --engine bullet");
     if (cmd->count("--threads")) {
       if (threads < 1) throw InputError("--threads", "must be >= 1");
       set_threads(threads);
@@ -148,6 +160,14 @@ struct RunCommand {
     opt.progress = !quiet;
     opt.compare_dir = compare;
     opt.strict = strict;
+    if (engine == "bullet") {
+#ifdef HARNESS_HAVE_BULLET
+      opt.engine = make_bullet_engine(bullet);
+      opt.versions["Bullet"] = bullet_version();
+#else
+      throw InputError("--engine bullet", "this harness was built without Bullet (libbullet-dev)");
+#endif
+    }
     return run_scene(sc, opt);
   }
 };

@@ -3,7 +3,7 @@
 # Usage: scripts/install-deps.sh [--latex]   (--latex adds what paper/ needs)
 set -euo pipefail
 pkgs=(g++ cmake ninja-build make git pkg-config libeigen3-dev libfcl-dev libccd-dev libcgal-dev
-      libgmp-dev libmpfr-dev libboost-dev catch2 nlohmann-json3-dev libcli11-dev
+      libgmp-dev libmpfr-dev libboost-dev libbullet-dev catch2 nlohmann-json3-dev libcli11-dev
       python3 python3-matplotlib python3-numpy python3-meshio python3-jsonschema snakemake)
 if [[ "${1:-}" == "--latex" ]]; then
   pkgs+=(texlive-latex-base texlive-latex-recommended texlive-latex-extra latexmk)

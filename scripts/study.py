@@ -652,7 +652,7 @@ def realtime(a):
                                      "real-time factor", "steps/s, %d runs" % a.repeats], "Steps per second on one core"))
 
 
-STUDIES = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime", "swap", "region"]
+STUDIES = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime", "swap", "region", "bullet"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -751,6 +751,106 @@ def region(a):
                        "peak depth (mm)", "pen. final", "recall", "rebuilds", "detect+elim (µs)"])]
     with open(os.path.join(a.results, "tables", "region.md"), "w") as f:
         f.write("".join(md))
+
+
+# ---------------------------------------------------------------------------------------------
+# The peer engine: Bullet's soft bodies (`--engine bullet`) on the variants of the scenes that Bullet
+# can represent (experiments/scenes/bullet/: linear springs, no dashpot), against the converged
+# reference of the same variant, beside three of the harness's methods on the same variant.
+BULLET_SCENES = ["sphere_collision", "cylinder_press"]
+BULLET_CONFIGS = [
+    ("Bullet, margin auto", ["--engine", "bullet"], []),
+    ("Bullet, margin auto, 4 iterations", ["--engine", "bullet", "--bullet-iterations", "4"], []),
+    ("Bullet, margin 0.05 mm", ["--engine", "bullet", "--bullet-margin", "5e-5"], []),
+    ("Bullet, margin 0.5 mm", ["--engine", "bullet", "--bullet-margin", "5e-4"], []),
+    ("harness cgal both ways k=500 (scene)", [], []),
+    ("harness hash line auto", [], config_sets("hash", None, "line", "auto", [])),
+    ("harness voxel 4 mm line auto", [], config_sets("voxel", 0.004, "line", "auto", [])),
+]
+
+
+def bullet_reference(a, scene):
+    """The variant's reference: results/references/bullet_<scene>, made here when missing."""
+    dest = os.path.join(a.results, "references", "bullet_" + scene)
+    if not os.path.exists(os.path.join(dest, "surfaces.csv")):
+        work = os.path.join(a.results, "sweeps", "references", "bullet_" + scene)
+        cmd = [a.harness, "reference", "bullet/" + scene, "--out", work, "--quiet"]
+        if a.quick:
+            cmd += ["--max-levels", "2", "--set", "time.steps=300", "--set", "time.settle.max_steps=400"]
+        subprocess.run(cmd, check=True, env=dict(os.environ, HARNESS_THREADS="1"))
+        os.makedirs(dest, exist_ok=True)
+        for f in ["summary.json", "surfaces.csv"]:
+            shutil.copy(os.path.join(work, f), os.path.join(dest, f))
+    return dest
+
+
+def bullet_run(a, scene, out, args, sets, ref):
+    summary = os.path.join(out, "summary.json")
+    if not os.path.exists(summary):
+        cmd = [a.harness, "run", "bullet/" + scene, "--out", out, "--quiet", "--compare", ref, "--set",
+               "output.frames_every=0", "--set", "time.settle.max_steps=%d" % (400 if a.quick else STUDY_SETTLE),
+               "--set", "references.every=50"] + args
+        for x in sets + a.extra_sets:
+            cmd += ["--set", x]
+        subprocess.run(cmd, check=False, env=dict(os.environ, HARNESS_THREADS="1"), stderr=subprocess.DEVNULL)
+    with open(summary) as f:
+        return json.load(f)
+
+
+def bullet(a):
+    jobs = []
+    for scene in BULLET_SCENES:
+        ref = bullet_reference(a, scene)
+        for label, args, sets in BULLET_CONFIGS:
+            out = os.path.join(a.results, "sweeps", "bullet", scene, label.replace(" ", "_").replace(",", "").replace("(", "").replace(")", ""))
+            jobs.append((scene, label, out, args, sets, ref))
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
+        sums = list(ex.map(lambda j: bullet_run(a, j[0], j[2], j[3], j[4], j[5]), jobs))
+    rows = []
+    for (scene, label, out, args, sets, ref), s in zip(jobs, sums):
+        p = s["pairs"][0] if s.get("pairs") else {}
+        e = s.get("engine") or {}
+        with open(os.path.join(ref, "summary.json")) as f:
+            rs = json.load(f)
+        conv = (rs.get("reference") or {}).get("converged", "")
+        f = figures(s)
+        if e.get("name") == "bullet":  # no work booked: stable = finite (figures() reads the audit as closed)
+            f["stable"] = "yes" if s.get("status") == "ok" else "no"
+        rows.append(dict(f, scene=scene, config=label, engine=e.get("name", "harness"),
+                         margin_mm=1e3 * max(e.get("margin_m") or [float("nan")]),
+                         residual=num(s.get("residual")), kinetic_energy_final=num(s.get("kinetic_energy_final")),
+                         max_depth_peak_mm=1e3 * num(p.get("max_depth_peak")),
+                         reference_converged="yes" if conv is True else "no (level 3 of an unconverged loop)"))
+    cols = ["scene", "config", "engine", "margin_mm", "stable", "settled", "steps", "residual", "kinetic_energy_final",
+            "pos_err_max_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "t_contact_us",
+            "t_step_us", "reference_converged"]
+    rl.write_csv(os.path.join(a.results, "bullet.csv"), rows, cols)
+    md = ["# The peer engine: Bullet's soft bodies\n\n",
+          "`harness run bullet/SCENE --engine bullet` (Bullet %s, reference/bullet_engine.hpp: the same nodes, "
+          "masses, pins and drivers, links of the same rest lengths with kLST = k dt^2 (1/m_a + 1/m_b) / iterations, "
+          "velocity damping kDP = mass_damping x dt, vertex-face soft-soft contact VF_SS with the margin shown) beside "
+          "three of the harness's methods, on the variants Bullet can represent (experiments/scenes/bullet/: linear "
+          "springs, no dashpot), against the reference solution of the same variant. Errors at the end of the run "
+          "(mm); residual: the force residual at the end (settled: below 1e-3 for 20 steps, within %d steps of "
+          "settling); t_contact: detection (and for the harness elimination) per step, µs, median; t_step: the "
+          "whole step. Bullet's contact response is solved inside its position solver with the links: its "
+          "t_contact is its collision pass alone. Made by `scripts/study.py bullet`.\n\n" % (
+              (next((s.get("versions", {}).get("Bullet") for s in sums if s.get("versions", {}).get("Bullet")), "?")),
+              STUDY_SETTLE),
+          rl.md_table(rows, ["scene", "config", "margin_mm", "stable", "settled", "residual", "pos_err_max_mm",
+                             "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "t_contact_us",
+                             "t_step_us", "reference_converged"],
+                      ["scene", "method", "margin (mm)", "stable", "settled", "residual", "pos. error (mm)",
+                       "gap (mm)", "depth (mm)", "peak depth (mm)", "pen. final", "contact (µs)", "step (µs)",
+                       "reference converged"])]
+    with open(os.path.join(a.results, "tables", "bullet.md"), "w") as f:
+        f.write("".join(md))
+    with open(os.path.join(a.results, "tables", "bullet.tex"), "w") as f:
+        f.write(rl.tex_table(rows, ["scene", "config", "margin_mm", "settled", "residual", "pos_err_max_mm", "gap_max_mm",
+                                    "depth_max_mm", "true_pen_final", "t_contact_us", "t_step_us"],
+                             ["scenario", "method", "margin (mm)", "settled", "residual", "pos.\\ err. (mm)",
+                              "gap (mm)", "depth (mm)", "pen.", "contact ($\\mu$s)", "step ($\\mu$s)"],
+                             "Bullet against the harness on the Bullet variants"))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -13,7 +13,7 @@ PYTHON="${PYTHON:-/usr/bin/python3}"
 steps=400
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 names=()
-for f in experiments/scenes/*.json experiments/scenes/hard/*.json; do
+for f in experiments/scenes/*.json experiments/scenes/hard/*.json experiments/scenes/bullet/*.json; do
   rel=${f#experiments/scenes/}
   n=${rel%.json}
   HARNESS_THREADS=1 "$H" run "$f" --out "$T/${n//\//_}" --steps "$steps" --set 'references.solvers=[]' \

@@ -90,6 +90,9 @@ struct Pair {
   ContactSpec spec;
   std::string label;  // "host/guest"
   std::unique_ptr<Collision> collision;
+  // Set when a peer engine (engine.hpp) handles this pair's contact: its contact model's name
+  // (collision is then null; last.contacts and last.detect_us come from the engine).
+  const char* engine_contact = nullptr;
   PairStep last;      // the last step
 };
 

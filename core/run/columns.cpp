@@ -7,6 +7,8 @@ namespace harness {
 namespace {
 
 bool contact(const StepRow& r) { return r.pair && r.pair->collision; }
+// Contact handled by the harness or by a peer engine (engine.hpp: counts and detection time only).
+bool any_contact(const StepRow& r) { return r.pair && (r.pair->collision || r.pair->engine_contact); }
 bool cgal(const StepRow& r) { return r.m && r.m->has_cgal; }
 bool fcl(const StepRow& r) { return r.m && r.m->has_fcl; }
 bool ccd(const StepRow& r) { return r.m && r.m->has_ccd; }
@@ -27,11 +29,11 @@ const std::vector<Column>& steps_columns() {
       {"step", [](O o, R r) { o.integer(r.sim.step_index()); }},
       {"time", [](O o, R r) { o.g9(r.sim.time()); }},
       {"pair", [](O o, R r) { if (r.pair) o.text(r.pair->label); }},
-      {"detector", [](O o, R r) { if (r.pair) o.text(r.pair->collision ? to_string(r.pair->spec.detector) : "none"); }},
-      {"contacts", [](O o, R r) { if (contact(r)) o.integer(r.pair->last.contacts); }},
+      {"detector", [](O o, R r) { if (r.pair) o.text(r.pair->collision ? to_string(r.pair->spec.detector) : r.pair->engine_contact ? r.pair->engine_contact : "none"); }},
+      {"contacts", [](O o, R r) { if (any_contact(r)) o.integer(r.pair->last.contacts); }},
       {"t_step_us", [](O o, R r) { o.us(r.sim.last().step_us); }},
       {"t_physics_us", [](O o, R r) { o.us(r.sim.last().physics_us); }},
-      {"t_detect_us", [](O o, R r) { if (contact(r)) o.us(r.pair->last.detect_us); }},
+      {"t_detect_us", [](O o, R r) { if (any_contact(r)) o.us(r.pair->last.detect_us); }},
       {"t_eliminate_us", [](O o, R r) { if (contact(r)) o.us(r.pair->last.eliminate_us); }},
       {"kinetic_energy", [](O o, R r) { o.g9(r.kinetic_energy); }},
       {"true_pen_guest", [](O o, R r) { if (cgal(r)) o.integer(r.m->true_pen_guest); }},

@@ -67,7 +67,9 @@ json pair_json(const Simulation& sim, const Recorder& rec, std::size_t pi) {
   auto measured = [&](json v) { return t.measured ? v : json(nullptr); };
   json pj;
   pj["pair"] = p.label;
-  pj["detector"] = p.collision ? json(to_string(p.spec.detector)) : json(nullptr);
+  pj["detector"] = p.collision        ? json(to_string(p.spec.detector))
+                   : p.engine_contact ? json(p.engine_contact)
+                                      : json(nullptr);
   pj["voxel_size_used"] =
       p.collision && p.collision->voxel_size() > 0.0 ? json(p.collision->voxel_size()) : json(nullptr);
   pj["region_rebuilds"] = p.collision ? json(p.collision->rebuilds()) : json(nullptr);
@@ -118,6 +120,14 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& s
                    {"work_external", e.work_external},    {"energy_dissipated", e.dissipated},
                    {"work_contact", e.work_contact},      {"energy_balance_error", e.balance_error()},
                    {"work_contact_peak", e.work_contact_peak}, {"energy_initial", e.initial}};
+  if (sim.engine()) {
+    // A peer engine's work is not booked (simulation.hpp): only the energies are known.
+    for (const char* k : {"work_external", "energy_dissipated", "work_contact", "energy_balance_error", "work_contact_peak"})
+      sum["energy"][k] = nullptr;
+    sum["engine"] = sim.engine()->describe();
+  } else {
+    sum["engine"] = {{"name", "harness"}};
+  }
   sum["settled"] = sc.settle.present ? json(status.settled) : json(nullptr);
   sum["residual"] = num_or_null(sim.residual());
   sum["settle_steps"] = status.settle_steps;

@@ -17,7 +17,7 @@ g = json.load(open(sys.argv[1]))
 for n, v in g["scenes"].items(): print(n, v["steps"], v["state_hash"])' "$golden")
 if [[ ${#rows[@]} -eq 0 ]]; then echo "FAIL: $golden lists no scene"; exit 1; fi
 # Every bundled scene has a golden hash (a new scene must be recorded).
-for f in "$SRC"/experiments/scenes/*.json "$SRC"/experiments/scenes/hard/*.json; do
+for f in "$SRC"/experiments/scenes/*.json "$SRC"/experiments/scenes/hard/*.json "$SRC"/experiments/scenes/bullet/*.json; do
   rel=${f#"$SRC"/experiments/scenes/}; n=${rel%.json}
   printf '%s\n' "${rows[@]}" | grep -q "^$n " || { echo "FAIL: $n has no golden hash (scripts/update-golden.sh)"; exit 1; }
 done

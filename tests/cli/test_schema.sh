@@ -129,7 +129,8 @@ def add_valid(stem, what, doc, text=None):
 
 
 for f in sorted(glob.glob(os.path.join(SRC, "experiments", "scenes", "*.json")) +
-                glob.glob(os.path.join(SRC, "experiments", "scenes", "hard", "*.json"))):
+                glob.glob(os.path.join(SRC, "experiments", "scenes", "hard", "*.json")) +
+                glob.glob(os.path.join(SRC, "experiments", "scenes", "bullet", "*.json"))):
     rel = os.path.relpath(f, os.path.join(SRC, "experiments", "scenes"))
     with open(f) as fh:
         text = fh.read()

@@ -1,0 +1,313 @@
+#include "reference/bullet_engine.hpp"
+
+#include "core/clock.hpp"
+#include "core/scene.hpp"
+#include "core/world.hpp"
+
+#include <BulletSoftBody/btSoftBody.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+#include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+
+#ifndef BT_USE_DOUBLE_PRECISION
+#error "the Bullet engine needs Bullet's double-precision build (pkg-config bullet-float64)"
+#endif
+static_assert(sizeof(btScalar) == sizeof(double), "Bullet's double-precision build expected");
+
+namespace harness {
+
+namespace {
+
+btVector3 bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
+Vec3 ev(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+
+// The world with its collision pass timed (Bullet runs VF_SS inside it).
+class TimedWorld final : public btSoftRigidDynamicsWorld {
+ public:
+  using btSoftRigidDynamicsWorld::btSoftRigidDynamicsWorld;
+  void performDiscreteCollisionDetection() override {
+    const auto t0 = Clock::now();
+    btSoftRigidDynamicsWorld::performDiscreteCollisionDetection();
+    collide_us += us_since(t0);
+  }
+  double collide_us = 0.0;
+};
+
+class BulletEngine final : public StepEngine {
+ public:
+  BulletEngine(const Scene& sc, const World& w, const BulletOptions& opt);
+  ~BulletEngine() override {
+    for (btSoftBody* b : bodies_) {
+      world_->removeSoftBody(b);
+      delete b;
+    }
+  }
+  const char* name() const override { return "bullet"; }
+  const char* contact_model() const override { return "bullet_vf_ss"; }
+  EngineStep step(World& w, int step, double dt) override;
+  nlohmann::json describe() const override { return describe_; }
+
+ private:
+  btSoftBodyRigidBodyCollisionConfiguration config_;
+  btCollisionDispatcher dispatcher_{&config_};
+  btDbvtBroadphase broadphase_;
+  btSequentialImpulseConstraintSolver solver_;
+  std::unique_ptr<TimedWorld> world_;
+  std::vector<btSoftBody*> bodies_;
+  std::vector<std::vector<int>> pair_of_;  // [body][other body] -> contact pair index, -1 none
+  std::size_t n_pairs_ = 0;
+  nlohmann::json describe_;
+};
+
+double mean_surface_edge_of(const World& w, const Body& b) {
+  double sum = 0.0;
+  int n = 0;
+  for (const Tri& t : b.faces)
+    for (int k = 0; k < 3; ++k) {
+      sum += (w.x[b.surface_node(t[k])] - w.x[b.surface_node(t[(k + 1) % 3])]).norm();
+      ++n;
+    }
+  return n ? sum / n : 0.0;
+}
+
+// What Bullet cannot represent, refused before anything is built.
+void check_representable(const Scene& sc) {
+  const auto refuse = [&](const std::string& key, const std::string& why) {
+    throw InputError(sc.file + ": " + key, why + " (--engine bullet)");
+  };
+  if (sc.bodies.size() > 30) refuse("bodies", "Bullet's collision filter masks hold at most 30 bodies");
+  for (const BodySpec& b : sc.bodies) {
+    if (sc.has(kSprings) && b.material.law != SpringLawKind::linear)
+      refuse(b.path + ".material.law", std::string("Bullet's links are linear position constraints; the ") +
+                                           to_string(b.material.law) + " law cannot be represented");
+    if (sc.has(kDamping) && b.material.damping > 0.0)
+      refuse(b.path + ".material.damping",
+             "Bullet has no dashpot along its links (only velocity damping kDP, from mass_damping); set it to 0");
+    if (sc.has(kDamping) && b.material.mass_damping * sc.dt >= 1.0)
+      refuse(b.path + ".material.mass_damping", "Bullet's velocity damping kDP = mass_damping x dt must be below 1");
+    if (sc.has(kPressure) && b.pressure.present)
+      refuse(b.path + ".pressure", "the harness's pressure ramp on a closed surface is not mapped to Bullet");
+    if (sc.has(kLoads) && !b.loads.empty())
+      refuse(b.path + ".loads", "nodal loads are not mapped to Bullet");
+  }
+}
+
+BulletEngine::BulletEngine(const Scene& sc, const World& w, const BulletOptions& opt) {
+  check_representable(sc);
+  if (opt.iterations < 1) throw InputError("--bullet-iterations", "must be at least 1");
+  if (!(opt.margin >= 0.0) || !std::isfinite(opt.margin)) throw InputError("--bullet-margin", "must be a length >= 0, m");
+  world_ = std::make_unique<TimedWorld>(&dispatcher_, &broadphase_, &solver_, &config_);
+  btSoftBodyWorldInfo& info = world_->getWorldInfo();
+  info.m_gravity = sc.has(kGravity) ? bt(sc.gravity) : btVector3(0, 0, 0);
+  world_->setGravity(info.m_gravity);
+  info.air_density = 0;
+  info.m_sparsesdf.Initialize();
+
+  const std::size_t nb = w.bodies.size();
+  pair_of_.assign(nb, std::vector<int>(nb, -1));
+  std::vector<int> mask(nb, 0);
+  if (sc.has(kContact))
+    for (std::size_t p = 0; p < sc.contacts.size(); ++p) {
+      const int h = w.find_body(sc.contacts[p].host), g = w.find_body(sc.contacts[p].guest);
+      pair_of_[h][g] = pair_of_[g][h] = static_cast<int>(p);
+      mask[h] |= 1 << g;
+      mask[g] |= 1 << h;
+    }
+  n_pairs_ = sc.contacts.size();
+
+  double klst_min = std::numeric_limits<double>::infinity(), klst_max = 0.0;
+  nlohmann::json margins = nlohmann::json::array(), kdp = nlohmann::json::array();
+  for (std::size_t bi = 0; bi < nb; ++bi) {
+    const Body& b = w.bodies[bi];
+    std::vector<btVector3> x(b.size());
+    std::vector<btScalar> m(b.size());
+    for (int i = 0; i < b.size(); ++i) x[i] = bt(w.x[b.begin + i]), m[i] = w.m[b.begin + i];
+    auto* psb = new btSoftBody(&info, b.size(), x.data(), m.data());
+    bodies_.push_back(psb);
+    for (int i = 0; i < b.size(); ++i) psb->m_nodes[i].m_v = bt(w.v[b.begin + i]);
+    if (sc.has(kSprings))
+      for (int s = b.spring_begin; s < b.spring_end; ++s) {
+        const Edge& e = w.springs.ends[s];
+        const int a = e[0] - b.begin, c = e[1] - b.begin;
+        const double klst = w.springs.k[s] * sc.dt * sc.dt * (w.inv_m[e[0]] + w.inv_m[e[1]]) / opt.iterations;
+        if (!(klst < 1.0))
+          throw InputError(sc.file + ": time.dt",
+                           "too large for Bullet's position solver: a link of " + b.name + " needs stiffness kLST = k dt^2 "
+                           "(1/m_a + 1/m_b) / iterations = " + std::to_string(klst) + " >= 1 (--engine bullet)");
+        klst_min = std::min(klst_min, klst), klst_max = std::max(klst_max, klst);
+        btSoftBody::Material* mat = psb->appendMaterial();
+        mat->m_kLST = klst;
+        mat->m_kAST = mat->m_kVST = 0;
+        psb->appendLink(a, c, mat, false);
+      }
+    for (const Tri& t : b.faces) psb->appendFace(t[0], t[1], t[2]);
+    const double margin = opt.margin > 0.0 ? opt.margin : BulletOptions::kMarginFraction * mean_surface_edge_of(w, b);
+    psb->getCollisionShape()->setMargin(margin);
+    margins.push_back(margin);
+    btSoftBody::Config& cfg = psb->m_cfg;
+    cfg.collisions = btSoftBody::fCollision::VF_SS;
+    cfg.kDF = 0;   // frictionless, as the harness's contact
+    cfg.kSHR = 1;  // soft-soft contact hardness: full correction
+    cfg.kDP = sc.has(kDamping) ? b.material.mass_damping * sc.dt : 0.0;
+    cfg.piterations = opt.iterations;
+    cfg.viterations = cfg.diterations = 0;
+    cfg.kMT = 0;
+    kdp.push_back(cfg.kDP);
+    // Bullet's constants, then the rest lengths it would otherwise take from the current state.
+    psb->updateConstants();
+    for (int s = b.spring_begin, l = 0; sc.has(kSprings) && s < b.spring_end; ++s, ++l) {
+      psb->m_links[l].m_rl = w.springs.rest[s];
+      psb->m_links[l].m_c1 = w.springs.rest[s] * w.springs.rest[s];
+    }
+    psb->m_bUpdateRtCst = false;
+    psb->m_fdbvt.clear();
+    psb->initializeFaceTree();
+    psb->setActivationState(DISABLE_DEACTIVATION);
+    world_->addSoftBody(psb, 1 << bi, mask[bi]);
+  }
+  describe_ = {{"name", "bullet"},
+               {"version", bullet_version()},
+               {"solver", "btSoftRigidDynamicsWorld::stepSimulation(dt, 0), position solver"},
+               {"contact", "VF_SS (vertex-face soft-soft), frictionless, kSHR 1"},
+               {"margin_m", margins},
+               {"margin_rule", opt.margin > 0.0 ? "--bullet-margin" : "0.05 x the body's mean surface edge"},
+               {"position_iterations", opt.iterations},
+               {"link_stiffness", "kLST = k dt^2 (1/m_a + 1/m_b) / iterations, per link"},
+               {"kLST_min", nb && std::isfinite(klst_min) ? nlohmann::json(klst_min) : nlohmann::json(nullptr)},
+               {"kLST_max", klst_max},
+               {"kDP", kdp}};
+}
+
+EngineStep BulletEngine::step(World& w, int /*step*/, double dt) {
+  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
+    const Body& b = w.bodies[bi];
+    btSoftBody* psb = bodies_[bi];
+    for (int i = 0; i < b.size(); ++i) {
+      const int g = b.begin + i;
+      btSoftBody::Node& n = psb->m_nodes[i];
+      n.m_x = bt(w.x[g]);
+      switch (w.kinematic[g]) {
+        case Kinematic::free: n.m_im = w.inv_m[g], n.m_v = bt(w.v[g]); break;
+        case Kinematic::pinned: n.m_im = 0, n.m_v = btVector3(0, 0, 0); break;
+        case Kinematic::driven: n.m_im = 0, n.m_v = bt(w.kin_v[g]); break;
+      }
+    }
+  }
+  world_->collide_us = 0.0;
+  world_->stepSimulation(dt, 0, dt);
+  EngineStep out;
+  out.detect_us = world_->collide_us;
+  out.contacts.assign(n_pairs_, 0);
+  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
+    const Body& b = w.bodies[bi];
+    btSoftBody* psb = bodies_[bi];
+    for (int i = 0; i < b.size(); ++i) {
+      const int g = b.begin + i;
+      const btSoftBody::Node& n = psb->m_nodes[i];
+      w.x[g] = ev(n.m_x);
+      w.v[g] = w.kinematic[g] == Kinematic::free ? ev(n.m_v) : w.kinematic[g] == Kinematic::driven ? w.kin_v[g] : Vec3::Zero();
+    }
+    // Contacts of this body's nodes against the faces of the others.
+    for (int c = 0; c < psb->m_scontacts.size(); ++c) {
+      const btSoftBody::Face* f = psb->m_scontacts[c].m_face;
+      for (std::size_t o = 0; o < bodies_.size(); ++o) {
+        const auto& faces = bodies_[o]->m_faces;
+        if (o == bi || faces.size() == 0 || f < &faces[0] || f > &faces[faces.size() - 1]) continue;
+        if (pair_of_[bi][o] >= 0) ++out.contacts[pair_of_[bi][o]];
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+struct BulletCollisionBench::Impl {
+  btSoftBodyRigidBodyCollisionConfiguration config;
+  btCollisionDispatcher dispatcher{&config};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  std::unique_ptr<TimedWorld> world;
+  std::vector<btSoftBody*> bodies;
+  ~Impl() {
+    for (btSoftBody* b : bodies) {
+      world->removeSoftBody(b);
+      delete b;
+    }
+  }
+};
+
+BulletCollisionBench::BulletCollisionBench(const World& w, int host, int guest) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.world = std::make_unique<TimedWorld>(&m.dispatcher, &m.broadphase, &m.solver, &m.config);
+  btSoftBodyWorldInfo& info = m.world->getWorldInfo();
+  info.m_gravity = btVector3(0, 0, 0);
+  info.air_density = 0;
+  info.m_sparsesdf.Initialize();
+  int bit = 0;
+  for (int bi : {host, guest}) {
+    const Body& b = w.bodies[bi];
+    std::vector<btVector3> x(b.size());
+    std::vector<btScalar> mass(b.size());
+    for (int i = 0; i < b.size(); ++i) x[i] = bt(w.x[b.begin + i]), mass[i] = w.m[b.begin + i];
+    auto* psb = new btSoftBody(&info, b.size(), x.data(), mass.data());
+    m.bodies.push_back(psb);
+    for (const Tri& t : b.faces) psb->appendFace(t[0], t[1], t[2]);
+    // The face tree by incremental insertion: Bullet's own initializeFaceTree (what predictMotion
+    // calls after faces were appended) pairs faces by an adjacency search quadratic in their count,
+    // hours at 10^6 faces, and its node tree needs links to terminate.
+    for (int f = 0; f < psb->m_faces.size(); ++f) {
+      btSoftBody::Face& face = psb->m_faces[f];
+      const btVector3 pts[3] = {face.m_n[0]->m_x, face.m_n[1]->m_x, face.m_n[2]->m_x};
+      face.m_leaf = psb->m_fdbvt.insert(btDbvtVolume::FromPoints(pts, 3), &face);
+    }
+    psb->m_bUpdateRtCst = false;
+    const double margin = BulletOptions::kMarginFraction * mean_surface_edge_of(w, b);
+    psb->getCollisionShape()->setMargin(margin);
+    // The node tree again with this margin: the constructor inserted the nodes with the default
+    // margin (0.25 m), which a refit never shrinks.
+    psb->m_ndbvt.clear();
+    for (int i = 0; i < psb->m_nodes.size(); ++i)
+      psb->m_nodes[i].m_leaf = psb->m_ndbvt.insert(btDbvtVolume::FromCR(psb->m_nodes[i].m_x, margin), &psb->m_nodes[i]);
+    psb->m_cfg.collisions = btSoftBody::fCollision::VF_SS;
+    psb->m_cfg.kDF = 0;
+    psb->setActivationState(DISABLE_DEACTIVATION);
+    m.world->addSoftBody(psb, 1 << bit, 1 << (1 - bit));
+    ++bit;
+  }
+}
+
+BulletCollisionBench::~BulletCollisionBench() = default;
+
+int BulletCollisionBench::collide() {
+  Impl& m = *impl_;
+  for (btSoftBody* psb : m.bodies) psb->predictMotion(1e-6);  // at rest: refits the trees, clears contacts
+  m.world->performDiscreteCollisionDetection();
+  int n = 0;
+  for (btSoftBody* psb : m.bodies) n += psb->m_scontacts.size();
+  return n;
+}
+
+std::string bullet_version() {
+  const int v = btGetVersion();
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%d.%02d (double)", v / 100, v % 100);
+  return buf;
+}
+
+EngineMaker make_bullet_engine(const BulletOptions& options) {
+  return [options](const Scene& sc, const World& w) -> std::unique_ptr<StepEngine> {
+    return std::make_unique<BulletEngine>(sc, w, options);
+  };
+}
+
+}  // namespace harness
