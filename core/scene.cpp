@@ -498,6 +498,7 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
   cs.margin = static_cast<int>(o.integer("margin", 1, 0, 64));
   cs.host_nodes = pick<HostNodes>(o, "host_nodes", "all", {{HostNodes::all, "all"}, {HostNodes::surface, "surface"}});
   cs.eliminator = pick(o, "eliminator", "line", eliminator_names());
+  cs.orient = pick<Orient>(o, "orient", "paper", {{Orient::paper, "paper"}, {Orient::guest, "guest"}, {Orient::outward, "outward"}});
   cs.two_sided = o.boolean("two_sided", false);
   cs.invert_push = o.boolean("invert_push", false);
   cs.separation_time = o.number("separation_time", Collision::kSeparationTime, 0.0, 1e6, true);

@@ -16,6 +16,8 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <numeric>
+#include <random>
 
 #ifndef BT_USE_DOUBLE_PRECISION
 #error "the Bullet engine needs Bullet's double-precision build (pkg-config bullet-float64)"
@@ -264,20 +266,31 @@ BulletCollisionBench::BulletCollisionBench(const World& w, int host, int guest) 
     for (const Tri& t : b.faces) psb->appendFace(t[0], t[1], t[2]);
     // The face tree by incremental insertion: Bullet's own initializeFaceTree (what predictMotion
     // calls after faces were appended) pairs faces by an adjacency search quadratic in their count,
-    // hours at 10^6 faces, and its node tree needs links to terminate.
-    for (int f = 0; f < psb->m_faces.size(); ++f) {
+    // hours at 10^6 faces, and its node tree needs links to terminate. Leaves go in in a shuffled
+    // (seeded) order, then the tree is rebuilt top-down: inserted in mesh order, Bullet's
+    // incremental tree degenerates (minutes at 10^6 nodes).
+    const double margin = BulletOptions::kMarginFraction * mean_surface_edge_of(w, b);
+    psb->getCollisionShape()->setMargin(margin);
+    std::mt19937 rng(12345);
+    std::vector<int> order(psb->m_faces.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (int f : order) {
       btSoftBody::Face& face = psb->m_faces[f];
       const btVector3 pts[3] = {face.m_n[0]->m_x, face.m_n[1]->m_x, face.m_n[2]->m_x};
       face.m_leaf = psb->m_fdbvt.insert(btDbvtVolume::FromPoints(pts, 3), &face);
     }
+    psb->m_fdbvt.optimizeTopDown();
     psb->m_bUpdateRtCst = false;
-    const double margin = BulletOptions::kMarginFraction * mean_surface_edge_of(w, b);
-    psb->getCollisionShape()->setMargin(margin);
     // The node tree again with this margin: the constructor inserted the nodes with the default
     // margin (0.25 m), which a refit never shrinks.
     psb->m_ndbvt.clear();
-    for (int i = 0; i < psb->m_nodes.size(); ++i)
+    order.resize(psb->m_nodes.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (int i : order)
       psb->m_nodes[i].m_leaf = psb->m_ndbvt.insert(btDbvtVolume::FromCR(psb->m_nodes[i].m_x, margin), &psb->m_nodes[i]);
+    psb->m_ndbvt.optimizeTopDown();
     psb->m_cfg.collisions = btSoftBody::fCollision::VF_SS;
     psb->m_cfg.kDF = 0;
     psb->setActivationState(DISABLE_DEACTIVATION);

@@ -19,6 +19,11 @@ enum class EliminatorKind { line, plane, projection };
 // How large each contact's force is: the paper's constant F, `auto`, or a penalty k_c x depth
 // (force_rules.hpp).
 enum class ForceRule { constant, automatic, penalty };
+// Which way the line and plane push along their direction (directions.hpp): the paper's rules
+// (line: from the nearest host node toward the guest node; plane: agreeing with the host's
+// outward normals), or both the same way: `guest` (from the host node, or the plane, toward the
+// guest node) or `outward` (agreeing with the host's outward normals at the host nodes).
+enum class Orient { paper, guest, outward };
 
 struct DetectorName {
   DetectorKind kind;
@@ -40,6 +45,7 @@ struct ContactSpec {
   int margin = 1;  // voxels added around the region
   HostNodes host_nodes = HostNodes::all;
   EliminatorKind eliminator = EliminatorKind::line;
+  Orient orient = Orient::paper;
   ForceRule force_rule = ForceRule::constant;
   double force = 1.0;      // N per contact (ForceRule::constant)
   double stiffness = 0.0;  // N/m per contact (ForceRule::penalty)

@@ -25,6 +25,9 @@
 //       Fallbacks: fewer than three host nodes in the neighbourhood, or collinear or
 //       near-collinear points (|(h1 - h0) x (h2 - h0)| < 1e-12 s^2, s the largest distance among
 //       them) -> the line rule with the nearest node h0.
+// orient (ContactSpec): `paper` as above; `guest` orients the plane's normal toward the guest
+// node (hint: guest node - centroid, then guest node - h0) as the line is; `outward` flips the
+// line's direction to agree with the host's outward hint at h (the plane as the paper's).
 // The host's box centre is recomputed from the positions once per eliminate() call (always for
 // plane, only when a degenerate contact needs it for line): eliminators work with any detector.
 // A contact for which the detector reports no host node at all gets no force (the voxel

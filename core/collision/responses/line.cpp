@@ -34,12 +34,12 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
       p.weight[0] = 1.0;
       if (det.contact_direction(w, c, p.n)) continue;  // exact detectors: their outward direction
       p.n = unit_or_zero(w.x[c.guest] - w.x[h]);
-      any = any || p.n.squaredNorm() == 0.0;
+      any = any || p.n.squaredNorm() == 0.0 || spec.orient == Orient::outward;
     }
     degenerate[part] = any;
   }
   bool have_center = false;
-  Vec3 center = Vec3::Zero();
+  Vec3 center = Vec3::Zero(), scratch;
   for (int part = 0; part < C; ++part) {
     if (!degenerate[part]) continue;
     if (!have_center) {
@@ -52,6 +52,9 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
       Push& p = out[i];
       if (p.count == 1 && p.n.squaredNorm() == 0.0)
         p.n = line_direction(w, spec.host, contacts[i].guest, p.hosts[0], center);
+      else if (p.count == 1 && spec.orient == Orient::outward && !det.contact_direction(w, contacts[i], scratch) &&
+               p.n.dot(host_outward_hint(w, spec.host, p.hosts[0], center)) < 0.0)
+        p.n = -p.n;  // oriented by the host's outward normal at its node
     }
   }
   if (spec.force_rule == ForceRule::penalty) {

@@ -23,18 +23,23 @@ void PlaneEliminator::pushes(const World& w, const ContactSpec& spec, const Coll
     const int k = det.nearest_hosts(w, c, 3, h);
     if (k < 1) continue;
     if (k == 3) {
-      const Vec3 hint = host_outward_hint(w, spec.host, h[0], center) +
-                        host_outward_hint(w, spec.host, h[1], center) +
-                        host_outward_hint(w, spec.host, h[2], center);
       const Vec3 centroid = (w.x[h[0]] + w.x[h[1]] + w.x[h[2]]) / 3.0;
-      if (plane_normal(w.x[h[0]], w.x[h[1]], w.x[h[2]], hint, centroid - center, p.n)) {
+      // The paper's and `outward`: the host's outward hints; `guest`: toward the guest node.
+      const bool to_guest = spec.orient == Orient::guest;
+      const Vec3 hint = to_guest ? Vec3(w.x[c.guest] - centroid)
+                                 : Vec3(host_outward_hint(w, spec.host, h[0], center) +
+                                        host_outward_hint(w, spec.host, h[1], center) +
+                                        host_outward_hint(w, spec.host, h[2], center));
+      const Vec3 second = to_guest ? Vec3(w.x[c.guest] - w.x[h[0]]) : Vec3(centroid - center);
+      if (plane_normal(w.x[h[0]], w.x[h[1]], w.x[h[2]], hint, second, p.n)) {
         p.count = 3;
         for (int j = 0; j < 3; ++j) p.hosts[j] = h[j], p.weight[j] = 1.0 / 3.0;
         continue;
       }
     }
-    // Too few or collinear neighbours: the line rule with the nearest node.
+    // Too few or collinear neighbours: the line rule with the nearest node (oriented as asked).
     p.n = line_direction(w, spec.host, c.guest, h[0], center);
+    if (spec.orient == Orient::outward && p.n.dot(host_outward_hint(w, spec.host, h[0], center)) < 0.0) p.n = -p.n;
     p.count = 1;
     p.hosts[0] = h[0];
     p.weight[0] = 1.0;

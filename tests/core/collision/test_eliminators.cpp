@@ -255,6 +255,49 @@ TEST_CASE("plane rule pushes a guest inside a sphere outward", "[collision][elim
   }
 }
 
+// orient (ContactSpec): a guest inside an icosahedron on the axis of a face, nearer the centre than
+// the face (so the line to the nearest vertex points inward). `outward` pushes it out with either
+// rule, `guest` pushes it along the way it came in (toward it from the host node or the plane),
+// `paper` is line inward, plane outward: the confound of claim (a). Forces sum to zero each time.
+TEST_CASE("orient decides which way line and plane push a node that crossed the surface", "[collision][eliminator]") {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> U(-1.0, 1.0), R(0.1, 0.7);
+  const std::map<std::pair<Orient, EliminatorKind>, int> expect = {
+      {{Orient::paper, EliminatorKind::line}, -1},   {{Orient::paper, EliminatorKind::plane}, +1},
+      {{Orient::guest, EliminatorKind::line}, -1},   {{Orient::guest, EliminatorKind::plane}, -1},
+      {{Orient::outward, EliminatorKind::line}, +1}, {{Orient::outward, EliminatorKind::plane}, +1}};
+  int checked = 0;
+  for (int t = 0; t < 100; ++t) {
+    const Vec3 centre(U(rng), U(rng), U(rng));
+    const Eigen::Quaterniond q = Eigen::Quaterniond(U(rng), U(rng), U(rng), U(rng)).normalized();
+    auto ico = harness::test::icosahedron(Vec3::Zero(), 1.0, false);
+    for (auto& p : ico.nodes) p = centre + q * p;
+    const Tri& face = ico.faces[t % ico.faces.size()];
+    const Vec3 g = centre + R(rng) * ((ico.nodes[face[0]] + ico.nodes[face[1]] + ico.nodes[face[2]]) / 3.0 - centre).normalized();
+    for (const auto& [key, sign] : expect) {
+      World w;
+      add_body(w, "implant", ico);
+      add_body(w, "tissue", cloud({g}));
+      ContactSpec s = pair_spec(key.second);
+      s.orient = key.first;
+      BruteForceDetector det;
+      det.initialize(w, s);
+      std::vector<Contact> contacts;
+      det.detect(w, s, contacts);
+      if (key.second == EliminatorKind::line) LineEliminator().eliminate(w, s, det, contacts, 1.0);
+      else PlaneEliminator().eliminate(w, s, det, contacts, 1.0);
+      const Vec3 f = w.f[w.bodies[1].begin];
+      Vec3 total = Vec3::Zero();
+      for (const Vec3& fi : w.f) total += fi;
+      INFO("orient " << static_cast<int>(key.first) << " eliminator " << static_cast<int>(key.second));
+      CHECK(sign * f.dot(g - centre) > 0.0);
+      CHECK(total.norm() < 1e-12);
+      ++checked;
+    }
+  }
+  CHECK(checked == 600);
+}
+
 TEST_CASE("degenerate contacts give finite forces", "[collision][eliminator]") {
   // Coincident guest and host surface vertex: the outward vertex normal.
   const auto box = harness::test::box_lattice(Vec3(0, 0, 0), Vec3(2, 2, 2), Vec3i(2, 2, 2));
