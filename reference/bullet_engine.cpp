@@ -80,6 +80,21 @@ double mean_surface_edge_of(const World& w, const Body& b) {
   return n ? sum / n : 0.0;
 }
 
+// A soft body of a world's body: its nodes at their positions with their lumped masses.
+btSoftBody* soft_body_of(btSoftBodyWorldInfo& info, const World& w, const Body& b) {
+  std::vector<btVector3> x(b.size());
+  std::vector<btScalar> m(b.size());
+  for (int i = 0; i < b.size(); ++i) x[i] = bt(w.x[b.begin + i]), m[i] = w.m[b.begin + i];
+  return new btSoftBody(&info, b.size(), x.data(), m.data());
+}
+
+// The world's soft-body settings: gravity as given, no air (no aerodynamic forces).
+void set_world_info(btSoftBodyWorldInfo& info, const btVector3& gravity) {
+  info.m_gravity = gravity;
+  info.air_density = 0;
+  info.m_sparsesdf.Initialize();
+}
+
 // What Bullet cannot represent, refused before anything is built.
 void check_representable(const Scene& sc) {
   const auto refuse = [&](const std::string& key, const std::string& why) {
@@ -108,10 +123,8 @@ BulletEngine::BulletEngine(const Scene& sc, const World& w, const BulletOptions&
   if (!(opt.margin >= 0.0) || !std::isfinite(opt.margin)) throw InputError("--bullet-margin", "must be a length >= 0, m");
   world_ = std::make_unique<TimedWorld>(&dispatcher_, &broadphase_, &solver_, &config_);
   btSoftBodyWorldInfo& info = world_->getWorldInfo();
-  info.m_gravity = sc.has(kGravity) ? bt(sc.gravity) : btVector3(0, 0, 0);
+  set_world_info(info, sc.has(kGravity) ? bt(sc.gravity) : btVector3(0, 0, 0));
   world_->setGravity(info.m_gravity);
-  info.air_density = 0;
-  info.m_sparsesdf.Initialize();
 
   const std::size_t nb = w.bodies.size();
   pair_of_.assign(nb, std::vector<int>(nb, -1));
@@ -129,10 +142,7 @@ BulletEngine::BulletEngine(const Scene& sc, const World& w, const BulletOptions&
   nlohmann::json margins = nlohmann::json::array(), kdp = nlohmann::json::array();
   for (std::size_t bi = 0; bi < nb; ++bi) {
     const Body& b = w.bodies[bi];
-    std::vector<btVector3> x(b.size());
-    std::vector<btScalar> m(b.size());
-    for (int i = 0; i < b.size(); ++i) x[i] = bt(w.x[b.begin + i]), m[i] = w.m[b.begin + i];
-    auto* psb = new btSoftBody(&info, b.size(), x.data(), m.data());
+    btSoftBody* psb = soft_body_of(info, w, b);
     bodies_.push_back(psb);
     for (int i = 0; i < b.size(); ++i) psb->m_nodes[i].m_v = bt(w.v[b.begin + i]);
     if (sc.has(kSprings))
@@ -252,16 +262,11 @@ BulletCollisionBench::BulletCollisionBench(const World& w, int host, int guest) 
   Impl& m = *impl_;
   m.world = std::make_unique<TimedWorld>(&m.dispatcher, &m.broadphase, &m.solver, &m.config);
   btSoftBodyWorldInfo& info = m.world->getWorldInfo();
-  info.m_gravity = btVector3(0, 0, 0);
-  info.air_density = 0;
-  info.m_sparsesdf.Initialize();
+  set_world_info(info, btVector3(0, 0, 0));
   int bit = 0;
   for (int bi : {host, guest}) {
     const Body& b = w.bodies[bi];
-    std::vector<btVector3> x(b.size());
-    std::vector<btScalar> mass(b.size());
-    for (int i = 0; i < b.size(); ++i) x[i] = bt(w.x[b.begin + i]), mass[i] = w.m[b.begin + i];
-    auto* psb = new btSoftBody(&info, b.size(), x.data(), mass.data());
+    btSoftBody* psb = soft_body_of(info, w, b);
     m.bodies.push_back(psb);
     for (const Tri& t : b.faces) psb->appendFace(t[0], t[1], t[2]);
     // The face tree by incremental insertion: Bullet's own initializeFaceTree (what predictMotion
