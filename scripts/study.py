@@ -863,7 +863,7 @@ def bullet(a):
                          margin_mm=1e3 * max(e.get("margin_m") or [float("nan")]),
                          residual=num(s.get("residual")), kinetic_energy_final=num(s.get("kinetic_energy_final")),
                          max_depth_peak_mm=1e3 * num(p.get("max_depth_peak")),
-                         reference_converged="yes" if conv is True else "no (level 3 of an unconverged loop)"))
+                         reference_converged="yes" if conv is True else "no"))
     cols = ["scene", "config", "engine", "margin_mm", "stable", "settled", "steps", "residual", "kinetic_energy_final",
             "pos_err_max_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "t_contact_us",
             "t_step_us", "reference_converged"]
