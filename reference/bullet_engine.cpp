@@ -43,27 +43,43 @@ class TimedWorld final : public btSoftRigidDynamicsWorld {
   double collide_us = 0.0;
 };
 
-class BulletEngine final : public StepEngine {
- public:
-  BulletEngine(const Scene& sc, const World& w, const BulletOptions& opt);
-  ~BulletEngine() override {
-    for (btSoftBody* b : bodies_) {
-      world_->removeSoftBody(b);
+// A soft-body world with its collision configuration, dispatcher, broadphase and solver, and the
+// soft bodies it owns (removed and deleted with it). No air (no aerodynamic forces).
+struct SoftWorld {
+  explicit SoftWorld(const btVector3& gravity) {
+    btSoftBodyWorldInfo& info = world.getWorldInfo();
+    info.m_gravity = gravity;
+    info.air_density = 0;
+    info.m_sparsesdf.Initialize();
+    world.setGravity(gravity);
+  }
+  ~SoftWorld() {
+    for (btSoftBody* b : bodies) {
+      world.removeSoftBody(b);
       delete b;
     }
   }
+  SoftWorld(const SoftWorld&) = delete;
+  SoftWorld& operator=(const SoftWorld&) = delete;
+
+  btSoftBodyRigidBodyCollisionConfiguration config;
+  btCollisionDispatcher dispatcher{&config};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  TimedWorld world{&dispatcher, &broadphase, &solver, &config};
+  std::vector<btSoftBody*> bodies;
+};
+
+class BulletEngine final : public StepEngine {
+ public:
+  BulletEngine(const Scene& sc, const World& w, const BulletOptions& opt);
   const char* name() const override { return "bullet"; }
   const char* contact_model() const override { return "bullet_vf_ss"; }
   EngineStep step(World& w, int step, double dt) override;
   nlohmann::json describe() const override { return describe_; }
 
  private:
-  btSoftBodyRigidBodyCollisionConfiguration config_;
-  btCollisionDispatcher dispatcher_{&config_};
-  btDbvtBroadphase broadphase_;
-  btSequentialImpulseConstraintSolver solver_;
-  std::unique_ptr<TimedWorld> world_;
-  std::vector<btSoftBody*> bodies_;
+  std::unique_ptr<SoftWorld> soft_;  // made once the scene is known to be representable
   std::vector<std::vector<int>> pair_of_;  // [body][other body] -> contact pair index, -1 none
   std::size_t n_pairs_ = 0;
   nlohmann::json describe_;
@@ -86,13 +102,6 @@ btSoftBody* soft_body_of(btSoftBodyWorldInfo& info, const World& w, const Body& 
   std::vector<btScalar> m(b.size());
   for (int i = 0; i < b.size(); ++i) x[i] = bt(w.x[b.begin + i]), m[i] = w.m[b.begin + i];
   return new btSoftBody(&info, b.size(), x.data(), m.data());
-}
-
-// The world's soft-body settings: gravity as given, no air (no aerodynamic forces).
-void set_world_info(btSoftBodyWorldInfo& info, const btVector3& gravity) {
-  info.m_gravity = gravity;
-  info.air_density = 0;
-  info.m_sparsesdf.Initialize();
 }
 
 // What Bullet cannot represent, refused before anything is built.
@@ -121,10 +130,8 @@ BulletEngine::BulletEngine(const Scene& sc, const World& w, const BulletOptions&
   check_representable(sc);
   if (opt.iterations < 1) throw InputError("--bullet-iterations", "must be at least 1");
   if (!(opt.margin >= 0.0) || !std::isfinite(opt.margin)) throw InputError("--bullet-margin", "must be a length >= 0, m");
-  world_ = std::make_unique<TimedWorld>(&dispatcher_, &broadphase_, &solver_, &config_);
-  btSoftBodyWorldInfo& info = world_->getWorldInfo();
-  set_world_info(info, sc.has(kGravity) ? bt(sc.gravity) : btVector3(0, 0, 0));
-  world_->setGravity(info.m_gravity);
+  soft_ = std::make_unique<SoftWorld>(sc.has(kGravity) ? bt(sc.gravity) : btVector3(0, 0, 0));
+  btSoftBodyWorldInfo& info = soft_->world.getWorldInfo();
 
   const std::size_t nb = w.bodies.size();
   pair_of_.assign(nb, std::vector<int>(nb, -1));
@@ -143,7 +150,7 @@ BulletEngine::BulletEngine(const Scene& sc, const World& w, const BulletOptions&
   for (std::size_t bi = 0; bi < nb; ++bi) {
     const Body& b = w.bodies[bi];
     btSoftBody* psb = soft_body_of(info, w, b);
-    bodies_.push_back(psb);
+    soft_->bodies.push_back(psb);
     for (int i = 0; i < b.size(); ++i) psb->m_nodes[i].m_v = bt(w.v[b.begin + i]);
     if (sc.has(kSprings))
       for (int s = b.spring_begin; s < b.spring_end; ++s) {
@@ -183,7 +190,7 @@ BulletEngine::BulletEngine(const Scene& sc, const World& w, const BulletOptions&
     psb->m_fdbvt.clear();
     psb->initializeFaceTree();
     psb->setActivationState(DISABLE_DEACTIVATION);
-    world_->addSoftBody(psb, 1 << bi, mask[bi]);
+    soft_->world.addSoftBody(psb, 1 << bi, mask[bi]);
   }
   describe_ = {{"name", "bullet"},
                {"version", bullet_version()},
@@ -199,9 +206,9 @@ BulletEngine::BulletEngine(const Scene& sc, const World& w, const BulletOptions&
 }
 
 EngineStep BulletEngine::step(World& w, int /*step*/, double dt) {
-  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
+  for (std::size_t bi = 0; bi < soft_->bodies.size(); ++bi) {
     const Body& b = w.bodies[bi];
-    btSoftBody* psb = bodies_[bi];
+    btSoftBody* psb = soft_->bodies[bi];
     for (int i = 0; i < b.size(); ++i) {
       const int g = b.begin + i;
       btSoftBody::Node& n = psb->m_nodes[i];
@@ -213,14 +220,14 @@ EngineStep BulletEngine::step(World& w, int /*step*/, double dt) {
       }
     }
   }
-  world_->collide_us = 0.0;
-  world_->stepSimulation(dt, 0, dt);
+  soft_->world.collide_us = 0.0;
+  soft_->world.stepSimulation(dt, 0, dt);
   EngineStep out;
-  out.detect_us = world_->collide_us;
+  out.detect_us = soft_->world.collide_us;
   out.contacts.assign(n_pairs_, 0);
-  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
+  for (std::size_t bi = 0; bi < soft_->bodies.size(); ++bi) {
     const Body& b = w.bodies[bi];
-    btSoftBody* psb = bodies_[bi];
+    btSoftBody* psb = soft_->bodies[bi];
     for (int i = 0; i < b.size(); ++i) {
       const int g = b.begin + i;
       const btSoftBody::Node& n = psb->m_nodes[i];
@@ -230,8 +237,8 @@ EngineStep BulletEngine::step(World& w, int /*step*/, double dt) {
     // Contacts of this body's nodes against the faces of the others.
     for (int c = 0; c < psb->m_scontacts.size(); ++c) {
       const btSoftBody::Face* f = psb->m_scontacts[c].m_face;
-      for (std::size_t o = 0; o < bodies_.size(); ++o) {
-        const auto& faces = bodies_[o]->m_faces;
+      for (std::size_t o = 0; o < soft_->bodies.size(); ++o) {
+        const auto& faces = soft_->bodies[o]->m_faces;
         if (o == bi || faces.size() == 0 || f < &faces[0] || f > &faces[faces.size() - 1]) continue;
         if (pair_of_[bi][o] >= 0) ++out.contacts[pair_of_[bi][o]];
         break;
@@ -244,25 +251,12 @@ EngineStep BulletEngine::step(World& w, int /*step*/, double dt) {
 }  // namespace
 
 struct BulletCollisionBench::Impl {
-  btSoftBodyRigidBodyCollisionConfiguration config;
-  btCollisionDispatcher dispatcher{&config};
-  btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  std::unique_ptr<TimedWorld> world;
-  std::vector<btSoftBody*> bodies;
-  ~Impl() {
-    for (btSoftBody* b : bodies) {
-      world->removeSoftBody(b);
-      delete b;
-    }
-  }
+  SoftWorld soft{btVector3(0, 0, 0)};
 };
 
 BulletCollisionBench::BulletCollisionBench(const World& w, int host, int guest) : impl_(std::make_unique<Impl>()) {
-  Impl& m = *impl_;
-  m.world = std::make_unique<TimedWorld>(&m.dispatcher, &m.broadphase, &m.solver, &m.config);
-  btSoftBodyWorldInfo& info = m.world->getWorldInfo();
-  set_world_info(info, btVector3(0, 0, 0));
+  SoftWorld& m = impl_->soft;
+  btSoftBodyWorldInfo& info = m.world.getWorldInfo();
   int bit = 0;
   for (int bi : {host, guest}) {
     const Body& b = w.bodies[bi];
@@ -299,7 +293,7 @@ BulletCollisionBench::BulletCollisionBench(const World& w, int host, int guest) 
     psb->m_cfg.collisions = btSoftBody::fCollision::VF_SS;
     psb->m_cfg.kDF = 0;
     psb->setActivationState(DISABLE_DEACTIVATION);
-    m.world->addSoftBody(psb, 1 << bit, 1 << (1 - bit));
+    m.world.addSoftBody(psb, 1 << bit, 1 << (1 - bit));
     ++bit;
   }
 }
@@ -307,9 +301,9 @@ BulletCollisionBench::BulletCollisionBench(const World& w, int host, int guest) 
 BulletCollisionBench::~BulletCollisionBench() = default;
 
 int BulletCollisionBench::collide() {
-  Impl& m = *impl_;
+  SoftWorld& m = impl_->soft;
   for (btSoftBody* psb : m.bodies) psb->predictMotion(1e-6);  // at rest: refits the trees, clears contacts
-  m.world->performDiscreteCollisionDetection();
+  m.world.performDiscreteCollisionDetection();
   int n = 0;
   for (btSoftBody* psb : m.bodies) n += psb->m_scontacts.size();
   return n;

@@ -135,6 +135,13 @@ def figures(s):
     }
 
 
+def run_configs(a, configs):
+    """configs: (meta, scene, folder under --results/sweeps, sets); runs them -j at once; returns
+    (meta, summary) pairs in order."""
+    sums = run_all(a, [(scene, os.path.join(a.results, "sweeps", folder), sets) for _, scene, folder, sets in configs])
+    return [(c[0], s) for c, s in zip(configs, sums)]
+
+
 def repeated(a, scene, folder, sets, repeats=None):
     """A configuration run `repeats` (default --repeats) times (the first gives the errors; every one
     its timings)."""
@@ -679,7 +686,7 @@ def swap_configs(a, scene):
 
 
 def swap(a):
-    rows, jobs, index = [], [], []
+    rows, configs = [], []
     for scene in SCENES:
         host, guest = SWAP_BODIES[scene]
         for elim, force, voxel in swap_configs(a, scene):
@@ -688,11 +695,8 @@ def swap(a):
                 sets = config_sets("voxel", voxel, elim, force, ['contacts.0.host="%s"' % h, 'contacts.0.guest="%s"' % g,
                                                                  "references.every=10"])
                 folder = "swap/%s/%s_%s_%g_%s" % (scene, elim, force_label(force), 1e3 * voxel, "swapped" if swapped else "as_scene")
-                index.append((scene, elim, force, voxel, h, g, swapped, len(jobs)))
-                jobs.append((scene, os.path.join(a.results, "sweeps", folder), sets))
-    sums = run_all(a, jobs)
-    for scene, elim, force, voxel, h, g, swapped, i in index:
-        s = sums[i]
+                configs.append(((scene, elim, force, voxel, h, g, swapped), scene, folder, sets))
+    for (scene, elim, force, voxel, h, g, swapped), s in run_configs(a, configs):
         p = s["pairs"][0] if s.get("pairs") else {}
         rows.append(dict(figures(s), scene=scene, eliminator=elim, force=force_label(force), voxel_mm=1e3 * voxel,
                          host=h, guest=g, swapped="yes" if swapped else "no", max_depth_peak_mm=1e3 * num(p.get("max_depth_peak"))))
@@ -723,17 +727,14 @@ MARGINS = [0, 1, 3]
 
 
 def region(a):
-    rows, jobs, index = [], [], []
+    rows, configs = [], []
     for scene in REGION_SCENES:
         for reg in REGIONS:
             for m in MARGINS:
                 sets = config_sets("voxel", SCENE_VOXEL[scene], PAPER_ELIMINATOR[scene], "auto",
                                    ['contacts.0.region="%s"' % reg, "contacts.0.margin=%d" % m, "references.every=10"])
-                index.append((scene, reg, m, len(jobs)))
-                jobs.append((scene, os.path.join(a.results, "sweeps", "region/%s/%s_margin%d" % (scene, reg, m)), sets))
-    sums = run_all(a, jobs)
-    for scene, reg, m, i in index:
-        s = sums[i]
+                configs.append(((scene, reg, m), scene, "region/%s/%s_margin%d" % (scene, reg, m), sets))
+    for (scene, reg, m), s in run_configs(a, configs):
         p = s["pairs"][0] if s.get("pairs") else {}
         rows.append(dict(figures(s), scene=scene, region=reg, margin=m,
                          region_rebuilds=num(p.get("region_rebuilds")),
@@ -764,18 +765,15 @@ ORIENT_VOXELS = [0.004, 0.008, 0.016]
 
 
 def orient(a):
-    rows, jobs, index = [], [], []
+    rows, configs = [], []
     for force in ORIENT_FORCES:
         for voxel in ORIENT_VOXELS:
             for elim in ["line", "plane"]:
                 for o in ["guest", "outward"]:
                     sets = config_sets("voxel", voxel, elim, force, ['contacts.0.orient="%s"' % o])
                     folder = "orient/%s/%s_%s_%g_%s" % (ORIENT_SCENE, elim, force_label(force), 1e3 * voxel, o)
-                    index.append((force, voxel, elim, o, len(jobs)))
-                    jobs.append((ORIENT_SCENE, os.path.join(a.results, "sweeps", folder), sets))
-    sums = run_all(a, jobs)
-    for force, voxel, elim, o, i in index:
-        s = sums[i]
+                    configs.append(((force, voxel, elim, o), ORIENT_SCENE, folder, sets))
+    for (force, voxel, elim, o), s in run_configs(a, configs):
         p = s["pairs"][0] if s.get("pairs") else {}
         rows.append(dict(figures(s), scene=ORIENT_SCENE, eliminator=elim, orient=o, force=force_label(force),
                          voxel_mm=1e3 * voxel, max_depth_peak_mm=1e3 * num(p.get("max_depth_peak"))))
