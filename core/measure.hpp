@@ -29,6 +29,9 @@ struct Measurement {
   // CGAL (exact predicates): nodes strictly inside the other body's closed surface.
   int true_pen_guest = 0, true_pen_host = 0;
   int tp = 0, fp = 0, fn = 0;  // detected guest nodes against truly penetrating guest nodes
+  // detected host nodes (the other way round, two-sided contact) against truly penetrating host
+  // nodes: a one-sided detector reports none, so every penetrating host node is a miss.
+  int tp_host = 0, fp_host = 0, fn_host = 0;
   double max_depth = 0.0, mean_depth = 0.0;  // m, over penetrating nodes of both bodies
   bool surfaces_intersect = false;
   double t_cgal_us = 0.0;
@@ -54,9 +57,14 @@ struct Measurement {
 class Measurer {
  public:
   virtual ~Measurer() = default;
-  // `detected` is what the pair's detector reported this step (guest nodes, global indices).
+  // `detected` is what the pair's detector reported this step (guest nodes, global indices);
+  // `detected_host` what it reported the other way round (host nodes inside the guest; empty
+  // for a one-sided pair).
   virtual void measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected,
-                       Measurement& out) = 0;
+                       const std::vector<Contact>& detected_host, Measurement& out) = 0;
+  void measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected, Measurement& out) {
+    measure(w, pair, detected, {}, out);
+  }
 };
 
 using MeasurerFactory =

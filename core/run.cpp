@@ -214,28 +214,87 @@ class ProgressLine {
   Clock::time_point start_ = Clock::now(), last_ = Clock::now();
 };
 
-// One line at the end of a run: status, steps, settling, penetration, the error against the
-// reference when compared, wall time and the folder.
+// One line at the end of a run: status, steps, settling, the stability verdict, penetration, the
+// error against the reference when compared (at the end and over the final window), wall time
+// and the folder.
 void end_line(const Simulation& sim, const nlohmann::json& sum, const std::string& dir, double wall_s) {
   std::string pen, err;
   for (const auto& p : sum["pairs"]) {
     if (p.contains("true_pen_final") && p["true_pen_final"].is_number())
       pen += ", " + std::to_string(p["true_pen_final"].get<long long>()) + " penetrating nodes";
-    if (p.contains("tunnelled") && p["tunnelled"].is_number() && p["tunnelled"].get<long long>() > 0)
-      pen += ", " + std::to_string(p["tunnelled"].get<long long>()) + " tunnelled";
+    const long long tun = p.value("tunnelled", 0LL) + p.value("tunnelled_host", 0LL);
+    if (tun > 0) pen += ", " + std::to_string(tun) + " tunnelled";
     if (p.contains("error_vs_reference") && p["error_vs_reference"].is_object() &&
         p["error_vs_reference"]["pos_err_max"].is_number()) {
-      char b[96];
-      std::snprintf(b, sizeof b, ", pos_err_max %.3g mm", 1e3 * p["error_vs_reference"]["pos_err_max"].get<double>());
+      const auto& e = p["error_vs_reference"];
+      char b[160];
+      std::snprintf(b, sizeof b, ", pos_err_max %.3g mm", 1e3 * e["pos_err_max"].get<double>());
       err += b;
+      const auto& w = e["window"]["pos_err_max"];
+      if (w.is_object() && w["mean"].is_number()) {
+        std::snprintf(b, sizeof b, " (window mean %.3g, max %.3g, amplitude %.3g mm)", 1e3 * w["mean"].get<double>(),
+                      1e3 * w["max"].get<double>(), 1e3 * w["amplitude"].get<double>());
+        err += b;
+      }
     }
   }
   std::string settle;
   if (sim.scene().settle.present)
     settle = sum.value("settled", false) ? ", settled" : ", not settled";
-  std::fprintf(stderr, "harness: %s: %s, %d steps%s%s%s, %.1f s, %s\n", sim.scene().name.c_str(),
-               sum.value("status", std::string("?")).c_str(), sim.step_index(), settle.c_str(), pen.c_str(), err.c_str(),
-               wall_s, dir.c_str());
+  std::string verdict;
+  if (sum.contains("stability_verdict") && sum["stability_verdict"].is_string()) {
+    verdict = ", " + sum["stability_verdict"].get<std::string>();
+    const auto& r = sum["window"]["contact_power_ratio"];
+    if (r.is_number()) {
+      char b[80];
+      std::snprintf(b, sizeof b, " (contact power %.3g of the input)", r.get<double>());
+      verdict += b;
+    }
+  }
+  std::fprintf(stderr, "harness: %s: %s, %d steps%s%s%s%s, %.1f s, %s\n", sim.scene().name.c_str(),
+               sum.value("status", std::string("?")).c_str(), sim.step_index(), settle.c_str(), verdict.c_str(),
+               pen.c_str(), err.c_str(), wall_s, dir.c_str());
+}
+
+// The warnings a finished run gives from its summary: tunnelled nodes, and contact that keeps
+// injecting energy or a state that grows over the final window (run/window.hpp).
+std::vector<std::string> end_warnings(const nlohmann::json& sum) {
+  std::vector<std::string> out;
+  for (std::size_t p = 0; p < sum["pairs"].size(); ++p) {
+    const auto& pj = sum["pairs"][p];
+    const long long g = pj.value("tunnelled", 0LL), h = pj.value("tunnelled_host", 0LL);
+    if (g > 0)
+      out.push_back("contacts." + std::to_string(p) + ": " + std::to_string(g) +
+                    " guest nodes tunnelled through the host (beyond its far side)");
+    if (h > 0)
+      out.push_back("contacts." + std::to_string(p) + ": " + std::to_string(h) +
+                    " host nodes tunnelled through the guest (beyond its far side)");
+  }
+  const std::string v = sum.value("stability_verdict", std::string());
+  const auto& w = sum["window"];
+  char b[320];
+  if (v == "injects" && w["kicked"] == true) {
+    std::snprintf(b, sizeof b,
+                  "contacts: contact injected energy that the bodies still move with over the final window (steps "
+                  "%d-%d): its net work %.3g J and their mean kinetic energy %.3g J against %.3g J put in or held (limit %g of it)",
+                  w["from_step"].get<int>(), w["to_step"].get<int>(), w["net_contact_work_J"].get<double>(),
+                  w["kinetic_energy"]["mean"].get<double>(), w["energy_scale_J"].get<double>(), kKickShare);
+    out.push_back(b);
+  } else if (v == "injects") {
+    std::snprintf(b, sizeof b,
+                  "contacts: contact keeps injecting energy over the final window (steps %d-%d): its mean power is %.3g "
+                  "of the power the scene put in (limit %g)",
+                  w["from_step"].get<int>(), w["to_step"].get<int>(), w["contact_power_ratio"].get<double>(),
+                  kInjectionRatio);
+    out.push_back(b);
+  } else if (v == "grows") {
+    std::snprintf(b, sizeof b,
+                  "time: the state grows over the final window (steps %d-%d): its largest kinetic energy rose %.3g times "
+                  "from the first half to the second",
+                  w["from_step"].get<int>(), w["to_step"].get<int>(), w["kinetic_growth"].get<double>());
+    out.push_back(b);
+  }
+  return out;
 }
 
 }  // namespace
@@ -322,7 +381,13 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   RunStatus status;
   int exit_code = 0;
   ProgressLine progress(opt.progress);
-  {
+  auto fail = [&](const std::string& why) {
+    std::fprintf(stderr, "harness: simulation failed: %s\n", why.c_str());
+    status.error = why;
+    status.status = "error";
+    exit_code = 3;
+  };
+  try {
     const StopSignals stop_signals;
     const StepsOutcome o = run_steps(sim, [&](bool last) {
       rec.record(sim, last);
@@ -338,18 +403,17 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
     status.settled = o.settled;
     status.settle_steps = o.settle_steps;
     if (!o.failure.empty()) {
-      status.error = "step " + std::to_string(o.failed_step) + ": " + o.failure + "; last good state is step " +
-                     std::to_string(o.failed_step - 1);
-      std::fprintf(stderr, "harness: simulation failed: %s\n", status.error.c_str());
-      status.status = "error";
+      fail("step " + std::to_string(o.failed_step) + ": " + o.failure + "; last good state is step " +
+           std::to_string(o.failed_step - 1));
       status.finite = false;
-      exit_code = 3;
     } else if (o.signal) {
       status.status = "interrupted";
       status.error = std::string(o.signal == SIGINT ? "SIGINT" : "SIGTERM") + " after step " +
                      std::to_string(sim.step_index()) + "; outputs hold the state after it";
       exit_code = 128 + o.signal;
     }
+  } catch (const ComparisonError& e) {  // a non-finite distance: never a dropped value
+    fail("step " + std::to_string(sim.step_index()) + ": --compare " + opt.compare_dir + ": " + e.what());
   }
   progress.finish();
   frames.write(sim, rec, sim.step_index());
@@ -360,16 +424,18 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
                                rec.sd_step() == sim.step_index() ? rec.signed_distance() : std::vector<std::vector<double>>{}));
   if (rec.references() && scene.references.cgal) write_episodes(dir.string(), sim, rec);
   nlohmann::json sum = summary_json(sim, rec, status, opt.versions);
-  if (compare) add_comparison(sum, sim, rec, *compare);
-  for (std::size_t p = 0; p < sim.pairs().size(); ++p) {
-    const auto& pj = sum["pairs"][p];
-    if (pj.contains("tunnelled") && pj["tunnelled"].is_number() && pj["tunnelled"].get<long long>() > 0) {
-      const std::string wn = "contacts." + std::to_string(p) + ": " + std::to_string(pj["tunnelled"].get<long long>()) +
-                             " guest nodes tunnelled through the host (beyond its far side)";
-      std::fprintf(stderr, "harness: warning: %s\n", wn.c_str());
-      warnings.push_back(wn);
-      if (opt.strict && exit_code == 0) exit_code = 2;
+  if (compare) {
+    try {
+      add_comparison(sum, sim, rec, *compare);
+    } catch (const ComparisonError& e) {
+      if (exit_code == 0) fail("--compare " + opt.compare_dir + ": " + e.what());
+      sum["status"] = status.status, sum["error"] = status.error;
     }
+  }
+  for (const std::string& wn : end_warnings(sum)) {
+    std::fprintf(stderr, "harness: warning: %s\n", wn.c_str());
+    warnings.push_back(wn);
+    if (opt.strict && exit_code == 0) exit_code = 2;
   }
   sum["warnings"] = warnings;
   if (opt.strict && exit_code == 2) sum["status"] = "error", sum["error"] = "--strict: " + warnings.back();

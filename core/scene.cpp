@@ -416,6 +416,7 @@ void read_time(const Ctx& c, Obj& top, Scene& s) {
                                   {{Integrator::symplectic_euler, "symplectic_euler"},
                                    {Integrator::implicit_euler, "implicit_euler"}});
   s.guard = pick<Guard>(t, "guard", "refuse", {{Guard::refuse, "refuse"}, {Guard::substep, "substep"}});
+  s.window = static_cast<int>(t.integer("window", 1000, 1, 2000000000));
   if (const json* st = t.get("settle"); st && !st->is_null()) {  // null: no settling (--steps)
     Obj o(c, *st, t.at("settle"), t.out()["settle"]);
     s.settle.present = true;
@@ -706,6 +707,7 @@ Scene rescale_dt(const Scene& scene, int factor) {
   };
   s["time"]["dt"] = scene.dt / factor;
   scale(s["time"]["steps"]);
+  scale(s["time"]["window"]);
   if (s["time"].contains("settle")) scale(s["time"]["settle"]["max_steps"]);
   for (json& b : s["bodies"]) {
     if (b.contains("pressure")) scale(b["pressure"]["ramp_steps"]);

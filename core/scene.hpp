@@ -120,6 +120,9 @@ struct Scene {
   Integrator integrator = Integrator::symplectic_euler;
   Guard guard = Guard::refuse;
   SettleSpec settle;
+  // time.window: the run is judged over its final `window` steps after every driver, load and
+  // pressure ramp has finished (run/window.hpp).
+  int window = 1000;
   unsigned effects = 0;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   std::vector<BodySpec> bodies;

@@ -21,6 +21,11 @@ using Effects = std::vector<std::unique_ptr<Effect>>;
 // dt_crit (s) of the effects at the current state; infinity without stiffness. Kinematic nodes
 // are skipped (they are not integrated). `rows` is scratch (pass the same vector every time).
 double critical_dt(const World& w, const Effects& effects, std::vector<Vec3>& rows);
+// The same, and without the contact effect's stiffness (the springs' alone, for the trend).
+struct CriticalDt {
+  double all, without_contact;
+};
+CriticalDt critical_dts(const World& w, const Effects& effects, std::vector<Vec3>& rows);
 
 struct StabilityStats {
   double dt_crit = 0.0;      // s, at rest
@@ -47,6 +52,7 @@ class StabilityGuard {
   bool explicit_, substep_;
   bool active_ = false;       // some built effect has stiffness
   double dt_crit_last_ = 0.0;  // at the last check
+  double elastic_last_ = 0.0;  // without contact, at the last check
   std::vector<Vec3> rows_;
   StabilityStats stats_;
 };

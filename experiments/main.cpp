@@ -187,12 +187,16 @@ struct ReferenceCommand {
     cmd->add_option("--set", sets, "override a scene value: KEY=JSON (dotted key, list indices)");
     cmd->add_option("--tolerance", ro.tolerance, "largest change of a surface node between levels, m")->capture_default_str();
     cmd->add_option("--max-levels", ro.max_levels, "levels at most")->capture_default_str();
+    cmd->add_option("--min-levels", ro.min_levels, "levels at least (3: an observed order of convergence)")->capture_default_str();
+    cmd->add_flag("--one-sided", ro.one_sided, "contact one way only: the guest's nodes kept out of the host (the paper's model)");
     cmd->add_option("--stiffness", ro.stiffness, "k_c of level 0, N/m (default: the scene's penalty stiffness)");
     cmd->add_flag("--quiet", quiet, "no progress line");
   }
   int exec() {
     if (!(ro.tolerance > 0.0)) throw InputError("--tolerance", "must be > 0");
     if (ro.max_levels < 2) throw InputError("--max-levels", "must be >= 2 (a change needs two levels)");
+    if (ro.min_levels < 2 || ro.min_levels > ro.max_levels)
+      throw InputError("--min-levels", "must be from 2 to --max-levels");
     if (cmd->count("--stiffness") && !(ro.stiffness > 0.0)) throw InputError("--stiffness", "must be > 0");
     const Scene sc = load_scene(resolve_scene(scene), parse_sets(sets));
     ro.run = run_options();

@@ -28,12 +28,14 @@ double default_stiffness(const Scene& sc) {
   return 500.0;
 }
 
-// The scene of level i: exact detection, penalty k, contact both ways, dt / 2^i, a tight settle.
-Scene level_scene(const Scene& base, int level, double k) {
+// The scene of level i: exact detection, penalty k, contact both ways (or one), dt / 2^i, the
+// guard substepping wherever dt_crit requires it, the scene's own settling tolerance.
+Scene level_scene(const Scene& base, int level, double k, bool one_sided) {
   json s = rescale_dt(base, 1 << level).resolved;
-  const double tol = base.settle.present ? base.settle.tolerance / 100.0 : 1e-5;
+  const double tol = base.settle.present ? base.settle.tolerance : 1e-5;
   const long long max_steps = base.settle.present ? 4LL * base.settle.max_steps : 20LL * std::max(1, base.steps);
   s["time"]["settle"] = {{"tolerance", tol}, {"max_steps", max_steps * (1 << level)}};
+  s["time"]["guard"] = "substep";
   bool contact = false;
   for (const auto& e : s["effects"]) contact = contact || e == "contact";
   if (!contact) s["effects"].push_back("contact");
@@ -41,7 +43,7 @@ Scene level_scene(const Scene& base, int level, double k) {
     c["detector"] = "cgal";
     c["eliminator"] = "line";
     c["force"] = {{"stiffness", k}};
-    c["two_sided"] = true;
+    c["two_sided"] = !one_sided;
   }
   return scene_from_json(s, base.file, base.dir);
 }
@@ -68,7 +70,7 @@ int run_reference(const Scene& scene, const ReferenceOptions& opt) {
   int last = -1, code = 0;
   for (int level = 0; level < opt.max_levels && !converged; ++level) {
     const double k = k0 * (1 << level);
-    const Scene sc = level_scene(scene, level, k);
+    const Scene sc = level_scene(scene, level, k, opt.one_sided);
     RunOptions ro = opt.run;
     ro.out_dir = (dir / "levels" / std::to_string(level)).string();
     ro.progress = opt.progress;
@@ -78,17 +80,33 @@ int run_reference(const Scene& scene, const ReferenceOptions& opt) {
     std::ifstream in(fs::path(ro.out_dir) / "summary.json");
     const json sum = json::parse(in);
     const SurfaceState state = read_surfaces((fs::path(ro.out_dir) / "surfaces.csv").string());
+    const json& st = sum["stability"];
     json row = {{"level", level},           {"dt", sc.dt},
                 {"stiffness", k},           {"steps_run", sum["steps_run"]},
                 {"settled", sum["settled"]}, {"residual", sum["residual"]},
-                {"wall_s", wall},           {"change_max", nullptr}};
+                {"wall_s", wall},           {"change_max", nullptr},
+                {"order", nullptr},         {"error_estimate", nullptr},
+                {"dt_crit", st["dt_crit"]}, {"dt_crit_min", st["dt_crit_min"]},
+                {"max_substeps", st["max_substeps"]}, {"guard_violations", st["guard_violations"]},
+                {"stability_verdict", sum["stability_verdict"]}};
     if (level > 0) {
       const double change = max_change(state, previous);
       row["change_max"] = change;
-      converged = change < opt.tolerance && sum["settled"] == true;
+      // The observed order from the last two changes; Richardson's estimate of this level's error.
+      if (level > 1 && levels.back()["change_max"].is_number()) {
+        const double before = levels.back()["change_max"].get<double>();
+        if (change > 0.0 && before > 0.0) {
+          const double p = std::log2(before / change);
+          row["order"] = p;
+          if (p > 0.0) row["error_estimate"] = change / (std::exp2(p) - 1.0);
+        }
+      }
+      converged = change < opt.tolerance && sum["settled"] == true && level + 1 >= opt.min_levels &&
+                  st["guard_violations"].get<int>() == 0;
     }
-    std::fprintf(stderr, "reference: level %d (dt %.3g s, k_c %.4g N/m): %s after %d steps, change %s\n", level, sc.dt, k,
-                 sum["settled"] == true ? "settled" : "NOT settled", sum["steps_run"].get<int>(),
+    std::fprintf(stderr, "reference: level %d (dt %.3g s, k_c %.4g N/m, substeps up to %d): %s after %d steps, change %s\n",
+                 level, sc.dt, k, st["max_substeps"].get<int>(), sum["settled"] == true ? "settled" : "NOT settled",
+                 sum["steps_run"].get<int>(),
                  level > 0 ? (std::to_string(row["change_max"].get<double>() * 1e3) + " mm").c_str() : "-");
     levels.push_back(row);
     previous = state;
@@ -105,8 +123,16 @@ int run_reference(const Scene& scene, const ReferenceOptions& opt) {
   }
   std::ifstream in(src / "summary.json");
   json sum = json::parse(in);
+  // The order over the levels: the last observed one (null before three levels).
+  json order = nullptr, estimate = nullptr;
+  for (const json& lv : levels)
+    if (lv["order"].is_number()) order = lv["order"], estimate = lv["error_estimate"];
   sum["reference"] = {{"converged", converged},
                       {"tolerance", opt.tolerance},
+                      {"min_levels", opt.min_levels},
+                      {"two_sided", !opt.one_sided},
+                      {"order", order},
+                      {"error_estimate", estimate},
                       {"base_dt", scene.dt},
                       {"base_stiffness", k0},
                       {"max_levels", opt.max_levels},

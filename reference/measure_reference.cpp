@@ -56,6 +56,7 @@ ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
     sd_guest_.assign(G.n_surface, 0.0);
     sd_host_.assign(H.n_surface, 0.0);
     seen_.assign(G.size(), 0);
+    seen_host_.assign(H.size(), 0);
   }
   if (spec_.fcl) {
     fc_host_.set_topology(H.n_surface, H.faces);
@@ -63,8 +64,8 @@ ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
   }
 }
 
-void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair,
-                                const std::vector<Contact>& detected, Measurement& out) {
+void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected,
+                                const std::vector<Contact>& detected_host, Measurement& out) {
   if (pair.host != host_ || pair.guest != guest_)
     throw std::invalid_argument("reference measurer: called for another pair than it was made for");
   out = Measurement{};
@@ -90,24 +91,30 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair,
       const int n_pen = out.true_pen_guest + out.true_pen_host;
       out.max_depth = max_depth;
       out.mean_depth = n_pen > 0 ? sum_depth / n_pen : 0.0;
-      // Each guest node once, however often it was reported; a node outside the guest body is
-      // a false report.
+      // Each node once, however often it was reported; a node outside its body is a false report.
       if (++stamp_ == 0) {
         std::fill(seen_.begin(), seen_.end(), 0);
+        std::fill(seen_host_.begin(), seen_host_.end(), 0);
         stamp_ = 1;
       }
-      for (const Contact& c : detected) {
-        const int li = c.guest - G.begin;
-        if (li < 0 || li >= G.size()) {
-          ++out.fp;
-          continue;
+      auto score = [&](const std::vector<Contact>& found, const Body& b, std::vector<int>& seen,
+                       const std::vector<std::uint8_t>& pen, int& tp, int& fp) {
+        for (const Contact& c : found) {
+          const int li = c.guest - b.begin;  // the node looked up (a host node the other way round)
+          if (li < 0 || li >= b.size()) {
+            ++fp;
+            continue;
+          }
+          if (seen[li] == stamp_) continue;
+          seen[li] = stamp_;
+          if (pen[li]) ++tp;
+          else ++fp;
         }
-        if (seen_[li] == stamp_) continue;
-        seen_[li] = stamp_;
-        if (pen_guest_[li]) ++out.tp;
-        else ++out.fp;
-      }
+      };
+      score(detected, G, seen_, pen_guest_, out.tp, out.fp);
+      score(detected_host, H, seen_host_, pen_host_, out.tp_host, out.fp_host);
       out.fn = out.true_pen_guest - out.tp;
+      out.fn_host = out.true_pen_host - out.tp_host;
       out.surfaces_intersect = surfaces_intersect(cg_guest_, cg_host_, /*bounded_sides=*/true);
       out.has_cgal = true;
       out.t_cgal_us = us_since(t0);

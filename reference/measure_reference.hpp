@@ -32,8 +32,9 @@ class ReferenceMeasurer final : public Measurer {
  public:
   ReferenceMeasurer(const World& w, const ContactSpec& pair, const ReferenceSpec& spec,
                     FclBv bv = FclBv::aabb, FclRefitPolicy refit = {});
+  using Measurer::measure;
   void measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected,
-               Measurement& out) override;
+               const std::vector<Contact>& detected_host, Measurement& out) override;
 
   // The CGAL surfaces as last updated (tests, diagnostics).
   const CgalSurface& cgal_surface(bool host) const { return host ? cg_host_ : cg_guest_; }
@@ -48,7 +49,8 @@ class ReferenceMeasurer final : public Measurer {
   std::vector<std::uint8_t> pen_guest_;
   std::vector<std::uint8_t> pen_host_;
   std::vector<double> sd_guest_, sd_host_;  // per surface vertex: signed distance to the other body, m
-  std::vector<int> seen_;  // per guest node: stamp of the last call that counted it as detected
+  std::vector<int> seen_;       // per guest node: stamp of the last call that counted it as detected
+  std::vector<int> seen_host_;  // the same per host node
   int stamp_ = 0;
   std::vector<TrianglePair> pairs_;
   Points hull_v_[2];

@@ -77,6 +77,13 @@ const std::vector<Column>& steps_columns() {
       {"gap_mean", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.gap_mean); }},
       {"pos_err_max", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.pos_err_max); }},
       {"pos_err_rms", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.pos_err_rms); }},
+      // Host nodes detected the other way round (two-sided contact) against those truly inside the
+      // guest; nodes that passed through the other body (recorder.hpp tunnelled_nodes).
+      {"tp_host", [](O o, R r) { if (cgal(r)) o.integer(r.m->tp_host); }},
+      {"fp_host", [](O o, R r) { if (cgal(r)) o.integer(r.m->fp_host); }},
+      {"fn_host", [](O o, R r) { if (cgal(r)) o.integer(r.m->fn_host); }},
+      {"tunnelled_guest", [](O o, R r) { if (r.fig) o.integer(r.fig->tunnelled.guest); }},
+      {"tunnelled_host", [](O o, R r) { if (r.fig) o.integer(r.fig->tunnelled.host); }},
   };
   return columns;
 }

@@ -23,6 +23,17 @@ void check_bodies(const std::string& where, const SurfaceState& ref, const World
     if (static_cast<int>(ref.x[r].size()) != w.bodies[b].n_surface)
       throw InputError(where, "body \"" + w.bodies[b].name + "\" has " + std::to_string(ref.x[r].size()) +
                                   " surface nodes there, " + std::to_string(w.bodies[b].n_surface) + " here");
+    // A reference with a non-finite node is no reference: said now, not dropped later. Signed
+    // distances are measured for a whole body or not at all (every one empty).
+    const auto& sd = ref.sd[r];
+    const bool measured = std::any_of(sd.begin(), sd.end(), [](double d) { return std::isfinite(d); });
+    for (std::size_t i = 0; i < ref.x[r].size(); ++i) {
+      if (!ref.x[r][i].allFinite())
+        throw InputError(where, "body \"" + w.bodies[b].name + "\" node " + std::to_string(i) + ": position not finite");
+      if (measured && !std::isfinite(sd[i]))
+        throw InputError(where, "body \"" + w.bodies[b].name + "\" node " + std::to_string(i) +
+                                    ": signed distance not finite (the others are measured)");
+    }
   }
 }
 
@@ -75,21 +86,45 @@ const SurfaceState* Comparison::at_step(int step) const {
   return it != steps_.end() && it->step == step ? &*it : nullptr;
 }
 
+const SurfaceState& Comparison::target(int step) const {
+  const SurfaceState* s = at_step(step);
+  return s ? *s : final_;
+}
+
+namespace {
+
+bool any_finite(const std::vector<double>& v) {
+  return std::any_of(v.begin(), v.end(), [](double d) { return std::isfinite(d); });
+}
+
+[[noreturn]] void not_finite(const SurfaceState& s, int b, std::size_t i, const char* what, const char* side) {
+  throw ComparisonError("body '" + s.bodies[b] + "' node " + std::to_string(i) + ": " + what + " not finite " + side);
+}
+
+}  // namespace
+
 ReferenceErrors Comparison::errors(const SurfaceState& state, const SurfaceState& ref, int host, int guest) {
   ReferenceErrors e;
   double sum2 = 0.0, gap_sum = 0.0;
   long long n = 0;
+  e.distances = true;
+  for (int b : {host, guest}) e.distances = e.distances && any_finite(state.sd[b]) && any_finite(ref.sd[b]);
   for (int b : {host, guest})
     for (std::size_t i = 0; i < ref.x[b].size(); ++i) {
       const double d = (state.x[b][i] - ref.x[b][i]).norm();
+      if (!std::isfinite(d))
+        not_finite(state, b, i, "position", state.x[b][i].allFinite() ? "in the reference" : "in this run");
       e.pos_err_max = std::max(e.pos_err_max, d);
       sum2 += d * d;
       ++n;
-      const double sd = state.sd[b][i];
-      if (std::isfinite(sd)) e.depth_max = std::max(e.depth_max, -sd);
-      if (std::isfinite(ref.sd[b][i]) && std::fabs(ref.sd[b][i]) <= kTouchTolerance && std::isfinite(sd)) {
+      if (!e.distances) continue;
+      const double sd = state.sd[b][i], sr = ref.sd[b][i];
+      if (!std::isfinite(sd)) not_finite(state, b, i, "signed distance", "in this run");
+      if (!std::isfinite(sr)) not_finite(state, b, i, "signed distance", "in the reference");
+      e.depth_max = std::max(e.depth_max, -sd);
+      if (std::fabs(sr) <= kTouchTolerance) {
         ++e.touching;
-        const double gap = std::max(0.0, sd - std::max(0.0, ref.sd[b][i]));
+        const double gap = std::max(0.0, sd - std::max(0.0, sr));
         e.gap_max = std::max(e.gap_max, gap);
         gap_sum += gap;
       }

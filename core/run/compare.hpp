@@ -6,10 +6,19 @@
 //                             (|signed distance| <= kTouchTolerance there): how much farther from
 //                             the other body they are in this run than there, max(0, sd - max(0,
 //                             sd_ref)) (m; a gap where the right answer has contact; 0 against
-//                             itself);
-//   depth_max                 the deepest vertex of this run inside the other body (m).
-// Settled (final) states are compared at the end; with DIR/trajectory.bin and the same dt, every
-// measured step is compared with the reference's state at the same step.
+//                             itself). Every touching vertex counts, whatever the others do: a
+//                             state with some of them inside and others apart reads both a gap
+//                             and a depth;
+//   depth_max                 the deepest vertex of this run inside the other body (m): here the
+//                             surface vertices; the recorder raises it to the deepest node of
+//                             either body (interior nodes too) that the inside test finds inside,
+//                             however far it went (recorder.hpp).
+// A non-finite position or signed distance on either side is never dropped: the comparison fails
+// with ComparisonError naming the body and the node.
+// Which reference state a step is compared with: the reference's state at the same step when its
+// DIR/trajectory.bin has it (same dt), else its final (settled) state; summary.json "compare"
+// says which. The run is judged on the mean and largest figure over its final window
+// (run/window.hpp), not on one end-of-run snapshot.
 #pragma once
 
 #include "core/run/surfaces.hpp"
@@ -17,6 +26,7 @@
 
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 namespace harness {
@@ -27,14 +37,22 @@ struct ReferenceErrors {
   double pos_err_max = 0.0, pos_err_rms = 0.0;
   double gap_max = 0.0, gap_mean = 0.0;
   double depth_max = 0.0;
-  int touching = 0;  // vertices that touch in the reference
+  int touching = 0;           // vertices that touch in the reference
+  bool distances = false;     // both states carry signed distances (gap and depth are known)
+};
+
+// A figure of the comparison could not be computed: a non-finite position or signed distance
+// (its message names the body and the node, and which side it is on).
+struct ComparisonError : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 class Comparison {
  public:
   // Reads DIR/summary.json and DIR/surfaces.csv (and DIR/trajectory.bin when there is one) and
   // checks that they describe the simulation's bodies: InputError ("--compare DIR: ...") naming
-  // the first difference (a body missing or renamed, another surface vertex count).
+  // the first difference (a body missing or renamed, another surface vertex count, a non-finite
+  // position or signed distance of a node).
   Comparison(const std::string& dir, const Simulation& sim);
 
   const std::string& dir() const { return dir_; }
@@ -43,9 +61,14 @@ class Comparison {
   std::optional<bool> converged() const { return converged_; }
   // The reference state at `step`, when the trajectory has it and the runs share dt.
   const SurfaceState* at_step(int step) const;
+  // The state step `step` is compared with: at_step(step), else the final state.
+  const SurfaceState& target(int step) const;
+  bool has_trajectory() const { return !steps_.empty(); }
   const SurfaceState& final_state() const { return final_; }
 
-  // Errors of `state` against `ref` for the pair of bodies (host, guest).
+  // Errors of `state` against `ref` for the pair of bodies (host, guest). Throws ComparisonError
+  // for a non-finite position or signed distance (a body whose distances were not measured at
+  // all, every one NaN, leaves gap and depth unknown: `distances` false).
   static ReferenceErrors errors(const SurfaceState& state, const SurfaceState& ref, int host, int guest);
 
  private:

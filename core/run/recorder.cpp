@@ -15,15 +15,35 @@ Vec3 approach_axis(const World& w, const ContactSpec& pair) {
   return n > 0.0 && std::isfinite(n) ? Vec3(a / n) : Vec3(Vec3::UnitZ());
 }
 
-int tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis) {
+namespace {
+
+// Nodes of `mover` beyond the far side of `other` along -axis (axis . x below every node of
+// `other`) and within the shadow of `other` (its extent along two directions across the axis).
+int beyond_far_side(const World& w, const Body& other, const Body& mover, const Vec3& axis) {
+  const Vec3 u = axis.unitOrthogonal(), v = axis.cross(u);
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  double lo = inf, ulo = inf, uhi = -inf, vlo = inf, vhi = -inf;
+  for (int i = other.begin; i < other.end; ++i) {
+    const Vec3& x = w.x[i];
+    lo = std::min(lo, x.dot(axis));
+    ulo = std::min(ulo, x.dot(u)), uhi = std::max(uhi, x.dot(u));
+    vlo = std::min(vlo, x.dot(v)), vhi = std::max(vhi, x.dot(v));
+  }
+  int n = 0;
+  for (int i = mover.begin; i < mover.end; ++i) {
+    const Vec3& x = w.x[i];
+    const double a = x.dot(axis), pu = x.dot(u), pv = x.dot(v);
+    if (a < lo && pu >= ulo && pu <= uhi && pv >= vlo && pv <= vhi) ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+TunnelCount tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis) {
   const Body& H = w.bodies[pair.host];
   const Body& G = w.bodies[pair.guest];
-  double lo = std::numeric_limits<double>::infinity();
-  for (int i = H.begin; i < H.end; ++i) lo = std::min(lo, w.x[i].dot(axis));
-  int n = 0;
-  for (int i = G.begin; i < G.end; ++i)
-    if (w.x[i].dot(axis) < lo) ++n;
-  return n;
+  return {beyond_far_side(w, H, G, axis), beyond_far_side(w, G, H, -axis)};
 }
 
 Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_(options) {
@@ -45,6 +65,9 @@ Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_
   }
   for (const Body& b : w.bodies) pen_flags_.emplace_back(static_cast<std::size_t>(b.size()), 0);
   ke_ = ke_peak_ = sim.kinetic_energy();
+  series_.resize(pairs.size());
+  initial_energy_ = sim.energy().initial;
+  energy_.reserve(static_cast<std::size_t>(sc.steps));
   timings_.step.reserve(static_cast<std::size_t>(sc.steps));
   timings_.physics.reserve(static_cast<std::size_t>(sc.steps));
 }
@@ -76,6 +99,13 @@ void Recorder::record(const Simulation& sim, bool last) {
   ke_ = sim.kinetic_energy();
   ke_peak_ = std::max(ke_peak_, ke_);
   pe_ = sim.potential_energy();
+  {
+    const EnergyLedger& e = sim.energy();
+    // A peer engine books no work (simulation.hpp): its contact power is unknown, not zero.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    energy_.push_back({sim.engine() ? nan : e.work_contact, sim.engine() ? nan : e.work_external, ke_, e.elastic,
+                       sim.residual()});
+  }
   timings_.step.push_back(sim.last().step_us);
   timings_.physics.push_back(sim.last().physics_us);
   if (!sim.pairs().empty() && sc.has(kContact)) {
@@ -90,7 +120,8 @@ void Recorder::record(const Simulation& sim, bool last) {
     static const std::vector<Contact> none;
     Measurement& m = meas_[p];
     m = Measurement{};
-    measurers_[p]->measure(sim.world(), pair.spec, pair.collision ? pair.collision->contacts() : none, m);
+    measurers_[p]->measure(sim.world(), pair.spec, pair.collision ? pair.collision->contacts() : none,
+                           pair.collision ? pair.collision->reverse_contacts() : none, m);
     if (m.has_cgal && m.pen_guest && m.pen_host) {
       if (pen_step_ != s)
         for (auto& f : pen_flags_) std::fill(f.begin(), f.end(), 0);
@@ -103,6 +134,9 @@ void Recorder::record(const Simulation& sim, bool last) {
       t.tp += m.tp;
       t.fp += m.fp;
       t.fn += m.fn;
+      t.tp_host += m.tp_host;
+      t.fp_host += m.fp_host;
+      t.fn_host += m.fn_host;
       t.true_pen_final = m.true_pen_guest + m.true_pen_host;
       t.max_depth_final = m.max_depth;
       t.max_depth_peak = std::max(t.max_depth_peak, m.max_depth);
@@ -113,12 +147,21 @@ void Recorder::record(const Simulation& sim, bool last) {
   if (measured_now_) pair_figures(sim);
 }
 
+TunnelCount Recorder::tunnel_count(const Simulation& sim, std::size_t p) const {
+  return tunnelled_nodes(sim.world(), sim.pairs()[p].spec, axes_[p]);
+}
+
+StabilityJudgement Recorder::judge(const Simulation& sim, bool settled) const {
+  return judge_stability(sim.scene(), energy_, initial_energy_, settled);
+}
+
 // Signed distances per body from this step's measurements (a body in several pairs: the most
-// penetrating), then per pair the signed distance of the nodes its contact pushed, and the error
-// against the reference's state at this step.
+// penetrating), then per pair the signed distance of the nodes its contact pushed, the tunnelled
+// nodes, and the error against the reference (its state at this step, or its final state).
 void Recorder::pair_figures(const Simulation& sim) {
   const World& w = sim.world();
   const auto& pairs = sim.pairs();
+  const int step = sim.step_index();
   bool any = false;
   for (auto& v : sd_) v.clear();
   for (std::size_t p = 0; p < pairs.size(); ++p) {
@@ -132,8 +175,7 @@ void Recorder::pair_figures(const Simulation& sim) {
         for (std::size_t i = 0; i < d.size(); ++i) d[i] = std::min(d[i], (*src)[i]);
     }
   }
-  if (!any) return;
-  sd_step_ = sim.step_index();
+  if (any) sd_step_ = step;
   auto sd_of = [&](int node) {
     for (std::size_t b = 0; b < w.bodies.size(); ++b) {
       const Body& body = w.bodies[b];
@@ -141,11 +183,22 @@ void Recorder::pair_figures(const Simulation& sim) {
     }
     return std::numeric_limits<double>::quiet_NaN();  // an interior node: no signed distance
   };
-  const SurfaceState* ref = opt_.compare ? opt_.compare->at_step(sim.step_index()) : nullptr;
-  const SurfaceState now = ref ? surface_state(w, sim.step_index(), sim.time(), sd_) : SurfaceState{};
+  const SurfaceState now = opt_.compare && any ? surface_state(w, step, sim.time(), sd_) : SurfaceState{};
   for (std::size_t p = 0; p < pairs.size(); ++p) {
     PairStepFigures& f = figures_[p];
+    PairSeries& ser = series_[p];
+    const Measurement& m = meas_[p];
     f = PairStepFigures{};
+    f.tunnelled = tunnel_count(sim, p);
+    ser.tunnelled.add(step, f.tunnelled.guest + f.tunnelled.host);
+    PairTotals& t = totals_[p];
+    t.tunnelled_guest_peak = std::max(t.tunnelled_guest_peak, f.tunnelled.guest);
+    t.tunnelled_host_peak = std::max(t.tunnelled_host_peak, f.tunnelled.host);
+    if (m.has_cgal) {
+      ser.depth_max.add(step, m.max_depth);
+      ser.true_pen.add(step, m.true_pen_guest + m.true_pen_host);
+    }
+    if (!any) continue;
     if (const Collision* c = pairs[p].collision.get()) {
       double sum = 0.0;
       int n = 0;
@@ -161,9 +214,16 @@ void Recorder::pair_figures(const Simulation& sim) {
       f.force_dist_mean = n ? sum / n : 0.0;
       if (!n) f.force_dist_max = 0.0;
     }
-    if (ref) {
+    if (opt_.compare) {
       f.vs_reference = true;
-      f.errors = Comparison::errors(now, *ref, pairs[p].spec.host, pairs[p].spec.guest);
+      f.errors = Comparison::errors(now, opt_.compare->target(step), pairs[p].spec.host, pairs[p].spec.guest);
+      if (m.has_cgal) f.errors.depth_max = std::max(f.errors.depth_max, m.max_depth);  // interior nodes too
+      ser.pos_err_max.add(step, f.errors.pos_err_max);
+      ser.pos_err_rms.add(step, f.errors.pos_err_rms);
+      if (f.errors.distances) {
+        ser.gap_max.add(step, f.errors.gap_max);
+        ser.gap_mean.add(step, f.errors.gap_mean);
+      }
     }
   }
 }
@@ -171,18 +231,19 @@ void Recorder::pair_figures(const Simulation& sim) {
 std::vector<ReferenceErrors> Recorder::final_errors(const Simulation& sim) const {
   std::vector<ReferenceErrors> out;
   if (!opt_.compare) return out;
-  const SurfaceState now = surface_state(sim.world(), sim.step_index(), sim.time(), sd_);
-  for (const Pair& p : sim.pairs())
-    out.push_back(Comparison::errors(now, opt_.compare->final_state(), p.spec.host, p.spec.guest));
+  const bool measured = sd_step_ == sim.step_index();
+  const SurfaceState now = surface_state(sim.world(), sim.step_index(), sim.time(), measured ? sd_ : std::vector<std::vector<double>>{});
+  for (std::size_t p = 0; p < sim.pairs().size(); ++p) {
+    const Pair& pair = sim.pairs()[p];
+    ReferenceErrors e = Comparison::errors(now, opt_.compare->final_state(), pair.spec.host, pair.spec.guest);
+    if (measured && meas_[p].has_cgal) e.depth_max = std::max(e.depth_max, meas_[p].max_depth);
+    out.push_back(e);
+  }
   return out;
 }
 
 const std::vector<std::uint8_t>* Recorder::penetration(int body, int step) const {
   return pen_step_ == step ? &pen_flags_[body] : nullptr;
-}
-
-int Recorder::tunnelled(const Simulation& sim, std::size_t p) const {
-  return tunnelled_nodes(sim.world(), sim.pairs()[p].spec, axes_[p]);
 }
 
 }  // namespace harness

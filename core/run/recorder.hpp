@@ -6,6 +6,7 @@
 
 #include "core/measure.hpp"
 #include "core/run/compare.hpp"
+#include "core/run/window.hpp"
 #include "core/simulation.hpp"
 
 #include <cstdint>
@@ -18,10 +19,26 @@ namespace harness {
 // Running totals of one pair over the run.
 struct PairTotals {
   long long contacts_total = 0;
-  long long tp = 0, fp = 0, fn = 0;
+  long long tp = 0, fp = 0, fn = 0;                 // guest nodes, over the measured steps
+  long long tp_host = 0, fp_host = 0, fn_host = 0;  // host nodes
   bool measured = false;  // CGAL measured at least once
   int true_pen_final = 0;  // at the last measured step, guest + host
   double max_depth_final = 0.0, max_depth_peak = 0.0;
+  int tunnelled_guest_peak = 0, tunnelled_host_peak = 0;  // over the measured steps
+};
+
+// Guest nodes beyond the host's far side, and host nodes beyond the guest's far side, along the
+// pair's approach axis at rest, within the other body's shadow (tunnelled_nodes below).
+struct TunnelCount {
+  int guest = 0, host = 0;
+};
+
+// One pair's figures over the run, one value per measured step (run/window.hpp).
+struct PairSeries {
+  Series pos_err_max, pos_err_rms, gap_max, gap_mean;  // against the compared reference, m
+  Series depth_max;                                     // deepest node of either body, m (CGAL)
+  Series true_pen;                                      // truly penetrating nodes, guest + host
+  Series tunnelled;                                     // guest + host
 };
 
 // One episode of true penetration: a node found penetrating on consecutive measured steps.
@@ -44,8 +61,9 @@ struct RecorderOptions {
 struct PairStepFigures {
   bool force_dist = false;  // some node received a contact force
   double force_dist_max = 0.0, force_dist_mean = 0.0;  // signed distance of those nodes, m
-  bool vs_reference = false;  // the reference has this step
-  ReferenceErrors errors;
+  bool vs_reference = false;  // compared with the reference (its state at this step, or its final one)
+  ReferenceErrors errors;     // depth_max: the deepest node of either body (CGAL), all nodes
+  TunnelCount tunnelled;
 };
 
 class Recorder {
@@ -69,16 +87,22 @@ class Recorder {
   // step (empty vectors before any, or without CGAL).
   const std::vector<std::vector<double>>& signed_distance() const { return sd_; }
   int sd_step() const { return sd_step_; }
-  // The final state against the compared reference, per pair (after the last step).
+  // The final state against the compared reference, per pair (after the last step); depth_max
+  // the deepest node of either body at the last measured step when it is the last step.
   std::vector<ReferenceErrors> final_errors(const Simulation& sim) const;
+  // Per pair, its figures at every measured step (window statistics, peaks).
+  const std::vector<PairSeries>& series() const { return series_; }
+  // The run's stability verdict over its final window (run/window.hpp).
+  StabilityJudgement judge(const Simulation& sim, bool settled) const;
   const std::vector<PairTotals>& totals() const { return totals_; }
   const std::vector<Episode>& episodes() const { return episodes_; }
   const RunTimings& timings() const { return timings_; }
   double kinetic_energy() const { return ke_; }
   double kinetic_energy_peak() const { return ke_peak_; }
   double potential_energy() const { return pe_; }
-  // Guest nodes beyond the host's far side along the pair's approach axis at rest.
-  int tunnelled(const Simulation& sim, std::size_t p) const;
+  // Guest nodes beyond the host's far side (and host nodes beyond the guest's) now.
+  int tunnelled(const Simulation& sim, std::size_t p) const { return tunnel_count(sim, p).guest; }
+  TunnelCount tunnel_count(const Simulation& sim, std::size_t p) const;
   bool references() const { return !measurers_.empty(); }
 
  private:
@@ -100,12 +124,18 @@ class Recorder {
   std::vector<Vec3> axes_;  // per pair: approach axis at rest
   RunTimings timings_;
   double ke_ = 0.0, ke_peak_ = 0.0, pe_ = 0.0;
+  std::vector<PairSeries> series_;
+  std::vector<StepEnergy> energy_;  // after every step
+  double initial_energy_ = 0.0;
 };
 
 // Unit vector from the host's to the guest's bounding-box centre (the approach side).
 Vec3 approach_axis(const World& w, const ContactSpec& pair);
-// Guest nodes that lie beyond the host's far side along `axis` (the approach axis at rest):
-// nodes that tunnelled through the host. summary.json: pairs[].tunnelled.
-int tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis);
+// Nodes that passed through the other body: guest nodes that lie beyond the host's far side along
+// `axis` (the approach axis at rest) and within the host's shadow (the host's current extent
+// across the axis), and host nodes beyond the guest's far side (along -axis) within the guest's
+// shadow. A node that went around the other body, outside its shadow, is not counted.
+// summary.json: pairs[].tunnelled (guest), pairs[].tunnelled_host.
+TunnelCount tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis);
 
 }  // namespace harness

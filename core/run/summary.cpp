@@ -5,6 +5,7 @@
 #include "harness_git.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -43,6 +44,35 @@ double median(std::vector<double> v) {
 
 json num_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
+// A figure over the final window (run/window.hpp): null when it was never measured there.
+json stat_json(const WindowStat& w) {
+  if (w.n == 0) return nullptr;
+  return {{"mean", num_or_null(w.mean)}, {"max", num_or_null(w.max)}, {"min", num_or_null(w.min)},
+          {"amplitude", num_or_null(w.amplitude())}, {"measured_steps", w.n}};
+}
+
+json window_json(const StabilityJudgement& j) {
+  const WindowSpan& w = j.span;
+  return {{"from_step", w.from},
+          {"to_step", w.to},
+          {"steps", w.steps()},
+          {"forcing_ends_step", w.forcing_end == INT_MAX ? json(nullptr) : json(w.forcing_end)},
+          {"after_forcing", w.after_forcing},
+          {"contact_power_W", num_or_null(j.contact_power)},
+          {"input_power_W", num_or_null(j.input_power)},
+          {"contact_power_ratio", num_or_null(j.ratio)},
+          {"injection_ratio_limit", kInjectionRatio},
+          {"kinetic_growth", num_or_null(j.growth)},
+          {"net_contact_work_J", num_or_null(j.net_contact_work)},
+          {"energy_in_J", num_or_null(j.energy_in)},
+          {"energy_scale_J", num_or_null(j.energy_scale)},
+          {"kick_share_limit", kKickShare},
+          {"kicked", j.kicked},
+          {"growth_limit", kGrowthFactor},
+          {"kinetic_energy", stat_json(j.kinetic)},
+          {"residual", stat_json(j.residual)}};
+}
+
 json stability_json(const Simulation& sim) {
   const Scene& sc = sim.scene();
   const SimulationStats& st = sim.stats();
@@ -74,15 +104,28 @@ json pair_json(const Simulation& sim, const Recorder& rec, std::size_t pi) {
       p.collision && p.collision->voxel_size() > 0.0 ? json(p.collision->voxel_size()) : json(nullptr);
   pj["region_rebuilds"] = p.collision ? json(p.collision->rebuilds()) : json(nullptr);
   pj["contacts_total"] = t.contacts_total;
-  pj["tunnelled"] = rec.tunnelled(sim, pi);
+  const TunnelCount tun = rec.tunnel_count(sim, pi);
+  pj["tunnelled"] = tun.guest;
+  pj["tunnelled_host"] = tun.host;
+  pj["tunnelled_peak"] = measured(json{{"guest", t.tunnelled_guest_peak}, {"host", t.tunnelled_host_peak}});
   pj["true_pen_final"] = measured(t.true_pen_final);
   pj["max_depth_final"] = measured(t.max_depth_final);
   pj["max_depth_peak"] = measured(t.max_depth_peak);
   // Stated values where the ratio is 0/0: nothing truly penetrated, so nothing was missed
   // (recall 1); nothing was reported, so nothing was reported falsely (precision 1). Neither
-  // says the bodies are where they should be: that is error_vs_reference.
-  pj["recall"] = t.measured ? json(t.tp + t.fn > 0 ? double(t.tp) / double(t.tp + t.fn) : 1.0) : json(nullptr);
-  pj["precision"] = t.measured ? json(t.tp + t.fp > 0 ? double(t.tp) / double(t.tp + t.fp) : 1.0) : json(nullptr);
+  // says the bodies are where they should be: that is error_vs_reference. Guest and host nodes
+  // apart: a one-sided detector reports no host node, so any penetrating host node is a miss.
+  auto ratio = [&](long long a, long long b) { return t.measured ? json(b > 0 ? double(a) / double(b) : 1.0) : json(nullptr); };
+  pj["recall"] = ratio(t.tp, t.tp + t.fn);
+  pj["precision"] = ratio(t.tp, t.tp + t.fp);
+  pj["recall_host"] = ratio(t.tp_host, t.tp_host + t.fn_host);
+  pj["precision_host"] = ratio(t.tp_host, t.tp_host + t.fp_host);
+  pj["measured_steps"] = static_cast<long long>(rec.series()[pi].tunnelled.size());
+  const WindowSpan span = rec.judge(sim, false).span;
+  const PairSeries& ser = rec.series()[pi];
+  pj["window"] = {{"depth_max", stat_json(ser.depth_max.over(span))},
+                  {"true_pen", stat_json(ser.true_pen.over(span))},
+                  {"tunnelled", stat_json(ser.tunnelled.over(span))}};
   return pj;
 }
 
@@ -111,6 +154,9 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& s
                       {"detect", num_or_null(median(t.detect))},   {"eliminate", num_or_null(median(t.eliminate))},
                       {"cgal", num_or_null(median(t.cgal))},       {"fcl", num_or_null(median(t.fcl))}};
   sum["stability"] = stability_json(sim);
+  const StabilityJudgement judged = rec.judge(sim, sc.settle.present && status.settled);
+  sum["window"] = window_json(judged);
+  sum["stability_verdict"] = status.status == "ok" || status.status == "interrupted" ? json(judged.verdict) : json("failed");
   sum["nodes"] = w.num_nodes();
   sum["springs"] = w.springs.size();
   sum["kinetic_energy_final"] = sim.kinetic_energy();
@@ -143,17 +189,35 @@ void add_comparison(json& sum, const Simulation& sim, const Recorder& rec, const
                     {"kind", cmp.is_reference() ? "reference" : "run"},
                     {"converged", conv ? json(*conv) : json(nullptr)},
                     {"touch_tolerance", kTouchTolerance},
-                    {"final_signed_distance_measured", rec.sd_step() == sim.step_index()}};
+                    {"final_signed_distance_measured", rec.sd_step() == sim.step_index()},
+                    {"against", cmp.has_trajectory() ? "the reference's state at the same step (its trajectory)"
+                                                     : "the reference's final state"}};
   const std::vector<ReferenceErrors> errs = rec.final_errors(sim);
+  const WindowSpan span = rec.judge(sim, false).span;
   for (std::size_t p = 0; p < errs.size(); ++p) {
     const ReferenceErrors& e = errs[p];
-    const bool sd = rec.sd_step() == sim.step_index();
-    sum["pairs"][p]["error_vs_reference"] = {{"pos_err_max", e.pos_err_max},
-                                             {"pos_err_rms", e.pos_err_rms},
-                                             {"gap_max", sd ? json(e.gap_max) : json(nullptr)},
-                                             {"gap_mean", sd ? json(e.gap_mean) : json(nullptr)},
-                                             {"depth_max", sd ? json(e.depth_max) : json(nullptr)},
-                                             {"touching_nodes", e.touching}};
+    const bool sd = rec.sd_step() == sim.step_index() && e.distances;
+    const PairTotals& t = rec.totals()[p];
+    const PairSeries& ser = rec.series()[p];
+    const TunnelCount tun = rec.tunnel_count(sim, p);
+    sum["pairs"][p]["error_vs_reference"] = {
+        {"pos_err_max", e.pos_err_max},
+        {"pos_err_rms", e.pos_err_rms},
+        {"gap_max", sd ? json(e.gap_max) : json(nullptr)},
+        {"gap_mean", sd ? json(e.gap_mean) : json(nullptr)},
+        {"depth_max", sd ? json(e.depth_max) : json(nullptr)},
+        {"depth_peak", t.measured ? json(std::max(t.max_depth_peak, sd ? e.depth_max : 0.0)) : json(nullptr)},
+        {"tunnelled_guest", tun.guest},
+        {"tunnelled_host", tun.host},
+        {"tunnelled_peak", t.measured ? json(std::max(t.tunnelled_guest_peak + t.tunnelled_host_peak, tun.guest + tun.host))
+                                      : json(nullptr)},
+        {"touching_nodes", e.touching},
+        {"window", {{"pos_err_max", stat_json(ser.pos_err_max.over(span))},
+                    {"pos_err_rms", stat_json(ser.pos_err_rms.over(span))},
+                    {"gap_max", stat_json(ser.gap_max.over(span))},
+                    {"gap_mean", stat_json(ser.gap_mean.over(span))},
+                    {"depth_max", stat_json(ser.depth_max.over(span))},
+                    {"tunnelled", stat_json(ser.tunnelled.over(span))}}}};
   }
 }
 

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <unistd.h>
 
@@ -159,4 +160,90 @@ TEST_CASE("run --compare: a run against itself gives zero, another scene is refu
   const std::string other = std::string(HARNESS_SOURCE_DIR) + "/experiments/scenes/sphere_collision.json";
   CHECK_THROWS_WITH(run_scene(load_scene(other, ov), opt), Catch::Contains("has no body"));
   fs::remove_all(dir);
+}
+
+TEST_CASE("a ball fired through a thin layer reads tunnelled nodes and a peak depth against a reference",
+          "[accuracy][cli]") {
+  // hard/fast_impact without contact: the ball (60 m/s) passes through the layer and ends below
+  // it, outside: at the end no node is inside anything (depth 0), which must not read as if
+  // nothing happened. Compared with a run of the same scene whose contact stops it.
+  const fs::path dir = fs::temp_directory_path() / ("harness_tunnel_" + std::to_string(::getpid()));
+  const std::string scene = std::string(HARNESS_SOURCE_DIR) + "/experiments/scenes/hard/fast_impact.json";
+  RunOptions opt;
+  opt.measurer = make_reference_measurer;
+  opt.exact_detectors = make_exact_detector;
+  opt.out_dir = (dir / "ref").string();
+  REQUIRE(run_scene(load_scene(scene, {{"contacts.0.detector", "\"cgal\""},
+                                       {"contacts.0.force", R"({"stiffness": 20000})"},
+                                       {"time.guard", "\"substep\""},
+                                       {"contacts.0.two_sided", "true"},
+                                       {"references.every", "1"}}),
+                    opt) == 0);
+  opt.out_dir = (dir / "through").string();
+  opt.compare_dir = (dir / "ref").string();
+  REQUIRE(run_scene(load_scene(scene, {{"effects", R"(["springs", "damping", "pins", "gravity"])"},
+                                       {"references.every", "1"}}),
+                    opt) == 0);
+  std::ifstream in(dir / "through" / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  const auto& e = s["pairs"][0]["error_vs_reference"];
+  INFO(e.dump());
+  CHECK(e["tunnelled_guest"].get<int>() > 0);
+  CHECK(e["tunnelled_peak"].get<int>() > 0);
+  CHECK(e["depth_max"].get<double>() == 0.0);  // outside everything at the end ...
+  CHECK(e["depth_peak"].get<double>() > 1e-3);  // ... after passing through the layer
+  CHECK(e["window"]["tunnelled"]["max"].get<double>() > 0.0);
+  CHECK(s["pairs"][0]["tunnelled"].get<int>() > 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a state with some touching nodes inside and others apart reads both a gap and a depth",
+          "[accuracy][cgal]") {
+  // The reference: a cube resting on a layer (its bottom face at z = 0, touching). The run: the
+  // cube tilted about the y axis through its bottom face's centre: the bottom face's -x half is
+  // inside the layer, its +x half above it. Both figures over the same touching nodes.
+  auto world_at = [](double tilt, World& w, ContactSpec& pair) {
+    pair.host = add_body(w, "layer", box_surface(Vec3(-2, -2, -0.5), Vec3(3, 3, 0.0), Vec3i(10, 10, 1)));
+    Surface cube = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3i(4, 4, 4));
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(tilt, Vec3::UnitY()).toRotationMatrix();
+    for (Vec3& p : cube.V) p = Vec3(0.5, 0.5, 0.0) + R * (p - Vec3(0.5, 0.5, 0.0));
+    pair.guest = add_body(w, "cube", cube);
+  };
+  World w0, w1;
+  ContactSpec p0, p1;
+  world_at(0.0, w0, p0);
+  const double tilt = 0.01;  // rad: the bottom face's edges 5 mm below and above z = 0
+  world_at(tilt, w1, p1);
+  ReferenceMeasurer m0(w0, p0, cgal_only()), m1(w1, p1, cgal_only());
+  Measurement o0, o1;
+  m0.measure(w0, p0, {}, o0);
+  m1.measure(w1, p1, {}, o1);
+  const SurfaceState ref = surface_state(w0, 0, 0.0, {*o0.sd_host, *o0.sd_guest});
+  const SurfaceState now = surface_state(w1, 0, 0.0, {*o1.sd_host, *o1.sd_guest});
+  const ReferenceErrors e = Comparison::errors(now, ref, p1.host, p1.guest);
+  const double edge = 0.5 * std::sin(tilt);  // height of the bottom face's edges, m
+  CHECK(e.touching >= 25);
+  CHECK(e.gap_max == Approx(edge).epsilon(1e-9));    // the +x edge, above the layer
+  CHECK(e.depth_max == Approx(edge).epsilon(1e-9));  // the -x edge, inside it
+  CHECK(e.gap_mean > 0.0);
+}
+
+TEST_CASE("a non-finite position or signed distance is an error naming the body and node", "[accuracy]") {
+  SurfaceState ref, now;
+  ref.bodies = now.bodies = {"a", "b"};
+  ref.x = now.x = {{Vec3(0, 0, 0), Vec3(1, 0, 0)}, {Vec3(0, 0, 1), Vec3(1, 0, 1)}};
+  ref.sd = now.sd = {{0.0, 0.5}, {0.00005, 2.0}};
+  CHECK_NOTHROW(Comparison::errors(now, ref, 0, 1));
+  SurfaceState bad = now;
+  bad.sd[1][1] = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH(Comparison::errors(bad, ref, 0, 1), Catch::Contains("body 'b' node 1") && Catch::Contains("signed distance"));
+  bad = now;
+  bad.x[0][1].y() = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(Comparison::errors(bad, ref, 0, 1), Catch::Contains("body 'a' node 1") && Catch::Contains("position"));
+  // Distances not measured at all (every one NaN): no gap or depth, positions still compared.
+  bad = now;
+  for (auto& v : bad.sd) std::fill(v.begin(), v.end(), std::numeric_limits<double>::quiet_NaN());
+  const ReferenceErrors e = Comparison::errors(bad, ref, 0, 1);
+  CHECK_FALSE(e.distances);
+  CHECK(e.pos_err_max == 0.0);
 }
