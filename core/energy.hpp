@@ -15,7 +15,9 @@
 //   balance error = (E*_n - E*_0 - (W_external - E_dissipated + W_contact)) / (largest energy),
 // which measures the error of the discrete dynamics and of the accounting, not the integrator's
 // bounded oscillation. Implicit Euler's numerical damping shows as a negative balance error.
-// The kinetic and elastic energies reported are those of the state after the step.
+// The kinetic energy reported is that of the state after the step; the elastic (and potential)
+// energy that of the step's last force evaluation (the state before its last substep: the force
+// pass evaluates it beside the forces, at no extra pass).
 #pragma once
 
 #include "core/types.hpp"
@@ -29,7 +31,8 @@ constexpr int kCategories = 5;
 
 struct EnergyLedger {
   double kinetic = 0.0;      // J, of the state after the last step
-  double elastic = 0.0;      // J, stored in the springs after the last step
+  double elastic = 0.0;      // J, stored in the springs at the last force evaluation
+  double potential = 0.0;    // J, springs and gravity at the last force evaluation
   double initial = 0.0;      // J, kinetic + elastic at the start
   double staggered = 0.0;    // J, E*_n of the last step's start (above)
   double staggered0 = 0.0;   // J, E*_0

@@ -14,7 +14,9 @@ namespace harness {
 template <class NewVelocity>
 void update_nodes(World& w, double h, NewVelocity&& new_velocity) {
   const int n = w.num_nodes();
-#pragma omp parallel for num_threads(threads_for(static_cast<std::size_t>(n))) schedule(dynamic, 8192)
+  const int T = threads_for(static_cast<std::size_t>(n));
+  // (if: one thread never enters the OpenMP runtime, whose region costs a microsecond or so)
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(dynamic, 8192)
   for (int i = 0; i < n; ++i) {
     switch (w.kinematic[i]) {
       case Kinematic::free:

@@ -4,6 +4,7 @@
 #include "core/mesh.hpp"
 #include "core/integrator.hpp"
 #include "core/shapes.hpp"
+#include "core/spring_forces.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -16,6 +17,14 @@ namespace harness {
 
 namespace {
 
+// The booking pass's partial sums (integrate_and_book, book), per chunk of kBookChunk nodes: the
+// chunks, not the threads, fix the order of the sums, so the audit and the residual (and so the
+// step at which a run settles) are the same for any thread count.
+constexpr std::size_t kBookChunk = 4096;
+enum BookSum {
+  kKeStaggered, kKeNew, kCloseExt, kCloseDiss, kCloseDrv, kPendExt, kPendDiss, kPendDrv, kNet, kApplied, kSprings2,
+  kGravityPotential, kBookSums
+};
 
 ShapeModel generate(const Scene& sc, const BodySpec& b) {
   const ShapeSpec& s = b.shape;
@@ -139,14 +148,25 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options)
     engine_v_prev_.assign(world_.x.size(), Vec3::Zero());
   }
   stats_.stability = guard_->stats();
+  const std::size_t n = world_.x.size();
+  for (const auto& e : effects_) {
+    external_ = external_ || e->category() == EffectCategory::external;
+    corrects_ = corrects_ || e->corrects_positions();
+    if (e->category() == EffectCategory::contact) contact_ = e.get();
+  }
+  drivers_built_ = scene_.has(kDrivers) && !drivers_.empty();
+  if (external_) f_ext_.assign(n, Vec3::Zero());  // sized once: no allocation per step
   if (audit_) {
-    category_force_.assign(kCategories, Points());
-    for (const auto& e : effects_)  // sized once: only the categories that are built
-      if (e->category() != EffectCategory::none)
-        category_force_[static_cast<int>(e->category())].assign(world_.x.size(), Vec3::Zero());
-    category_prev_ = category_force_;
-    driver_force_.assign(world_.x.size(), Vec3::Zero());
-    driver_prev_ = disp_prev_ = driver_force_;
+    if (scene_.has(kSprings)) f_spring_.assign(n, Vec3::Zero()), node_energy_.assign(n, 0.0);
+    if (scene_.has(kDamping)) {
+      f_dashpot_.assign(n, Vec3::Zero());
+      mass_damping_.assign(n, 0.0);
+      for (const Body& b : world_.bodies)
+        for (int i = b.begin; i < b.end; ++i) mass_damping_[i] = b.material.mass_damping;
+    }
+    disp_prev_.assign(n, Vec3::Zero());
+    v_before_.assign(n, Vec3::Zero());
+    chunk_sums_.assign(kBookSums * ((n + kBookChunk - 1) / kBookChunk + 1), 0.0);
     reset_energy();
   } else {
     residual_ = std::numeric_limits<double>::quiet_NaN();
@@ -238,31 +258,45 @@ void Simulation::step() {
   const auto t0 = Clock::now();
   ++step_index_;
   World& w = world_;
-  guard_->before_step(w, effects_, step_index_);
+  // A due check of the stability guard takes the springs' rows from the first substep's force
+  // pass (add_forces); without springs it is made here.
+  const bool due = guard_->due(step_index_);
+  const bool rows_in_pass = due && scene_.has(kSprings) && !w.springs.ends.empty();
+  if (due && !rows_in_pass) guard_->before_step(w, effects_, step_index_);
   const int substeps = guard_->substeps();
-  const StepContext ctx{step_index_, scene_.dt, scene_.dt / substeps, substeps};
-  const double ke_before = audit_ ? kinetic_energy() : 0.0;
+  StepContext ctx{step_index_, scene_.dt, scene_.dt / substeps, substeps};
+  if (rows_in_pass) {
+    std::vector<Vec3>& rows = guard_->rows();
+    rows.assign(w.x.size(), Vec3::Zero());  // sized at the guard's first check: no allocation
+    ctx.guard_rows = &rows;
+  }
+  if (audit_) {
+    ctx.f_spring = f_spring_.empty() ? nullptr : &f_spring_;
+    ctx.f_dashpot = f_dashpot_.empty() ? nullptr : &f_dashpot_;
+    ctx.spring_energy = node_energy_.empty() ? nullptr : &node_energy_;
+  }
   for (const auto& e : effects_) e->begin_step(w, ctx);
-  // Drivers starting their nodes (before the first step E*_0 holds it already).
-  if (audit_ && ledger_.started) ledger_.work_external += kinetic_energy() - ke_before;
+  // Drivers starting or stopping their nodes set their velocities: work put in (before the first
+  // step E*_0 holds it already).
+  if (audit_ && drivers_built_ && ledger_.started) ledger_.work_external += kinetic_energy() - ledger_.kinetic;
+  const bool fused = scene_.integrator == Integrator::symplectic_euler && !corrects_;
   double total = 0.0;
-  for (int s = 0; s < substeps; ++s) {
+  for (int s = 0; s < ctx.substeps; ++s) {
     const auto ts = Clock::now();
     std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
     add_forces(ctx);
-    if (audit_) v_before_ = w.v;
-    integrate(ctx);
-    after_integration(ctx);
-    if (audit_) book_work(ctx.h);
+    if (fused) {
+      integrate_and_book(ctx);
+    } else {
+      if (audit_) std::copy(w.v.begin(), w.v.end(), v_before_.begin());
+      integrate(ctx);
+      after_integration(ctx);
+      if (audit_) book(ctx);
+    }
     total += us_since(ts);
   }
   for (const auto& e : effects_) e->end_step(w, ctx);
-  if (audit_) {
-    ledger_.kinetic = kinetic_energy();
-    ledger_.elastic = elastic_start_;
-    ledger_.work_contact_peak = std::max(ledger_.work_contact_peak, ledger_.work_contact);
-    update_residual();
-  }
+  if (audit_) ledger_.work_contact_peak = std::max(ledger_.work_contact_peak, ledger_.work_contact);
   last_.detect_us = last_.eliminate_us = 0.0;
   for (const Pair& p : pairs_) last_.detect_us += p.last.detect_us, last_.eliminate_us += p.last.eliminate_us;
   last_.physics_us = total - last_.detect_us - last_.eliminate_us;
@@ -278,7 +312,7 @@ void Simulation::engine_step() {
   const auto t0 = Clock::now();
   ++step_index_;
   World& w = world_;
-  const StepContext ctx{step_index_, scene_.dt, scene_.dt, 1};
+  StepContext ctx{step_index_, scene_.dt, scene_.dt, 1};
   for (const auto& e : effects_) e->begin_step(w, ctx);
   std::copy(w.v.begin(), w.v.end(), engine_v_prev_.begin());
   const EngineStep es = engine_->step(w, step_index_, scene_.dt);
@@ -291,116 +325,212 @@ void Simulation::engine_step() {
   last_.detect_us = es.detect_us;
   last_.eliminate_us = 0.0;  // solved with the links inside the engine's solver: in physics_us
   if (audit_) {
+    ctx.f_spring = f_spring_.empty() ? nullptr : &f_spring_;
     ledger_.kinetic = kinetic_energy();
     ledger_.elastic = elastic_energy();
+    ledger_.potential = potential_energy();
     std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
-    add_forces(ctx);
-    for (int i = 0; i < w.num_nodes(); ++i)
-      w.f[i] = w.is_free(i) ? Vec3(w.m[i] * (w.v[i] - engine_v_prev_[i]) / scene_.dt) : Vec3::Zero();
-    update_residual();
+    add_forces(ctx);  // the external and springs' forces at the new state: the residual's scales
+    double net = 0.0, applied = 0.0, springs = 0.0;
+    for (int i = 0; i < w.num_nodes(); ++i) {
+      if (!w.is_free(i)) continue;
+      net += (w.m[i] * (w.v[i] - engine_v_prev_[i]) / scene_.dt).squaredNorm();
+      if (external_) applied += f_ext_[i].squaredNorm();
+      if (ctx.f_spring) springs += f_spring_[i].squaredNorm();
+    }
+    spring_force_peak_ = std::max(spring_force_peak_, springs);
+    const double scale = applied > 0.0 ? applied : spring_force_peak_;
+    residual_ = scale > 0.0 ? std::sqrt(net / scale) : 0.0;
   }
   last_.step_us = us_since(t0);
   last_.physics_us = last_.step_us - last_.detect_us;
 }
 
-// Forces of every effect in table order; with the audit, each category's share is kept by
-// snapshots of w.f around the run of effects of that category.
-void Simulation::add_forces(const StepContext& s) {
+// Forces of every effect in table order into w.f, the external effects' (gravity, pressure,
+// loads) into f_ext_ (w.f swapped with it while they run: no copy), which joins w.f before the
+// contact effect (whose automatic force reads every other force) runs, or at the end. The same
+// order with the audit on or off: the state's bits never depend on it.
+void Simulation::add_forces(StepContext& s) {
   World& w = world_;
-  if (!audit_) {
-    for (const auto& e : effects_) e->add_forces(w, s);
-    return;
-  }
-  for (Points& f : category_force_) std::fill(f.begin(), f.end(), Vec3::Zero());
-  EffectCategory open = EffectCategory::none;
+  // The guard's check, once the springs' pass left their rows: before any force that depends on
+  // the substep (contact), which may change now.
+  auto check_guard = [&] {
+    if (!s.guard_rows) return;
+    s.guard_rows = nullptr;
+    guard_->check_with_rows(w, effects_);
+    s.substeps = guard_->substeps();
+    s.h = s.dt / s.substeps;
+  };
+  if (external_) std::fill(f_ext_.begin(), f_ext_.end(), Vec3::Zero());
+  bool joined = !external_;
+  auto join = [&] {
+    const int n = w.num_nodes();
+    const int T = threads_for(static_cast<std::size_t>(n));
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
+    for (int i = 0; i < n; ++i) w.f[i] += f_ext_[i];
+    joined = true;
+  };
   for (const auto& e : effects_) {
-    if (e->category() != open) {
-      close_category(open);
-      open = e->category();
-      if (open != EffectCategory::none) mark_ = w.f;
-    }
-    e->add_forces(w, s);
-  }
-  close_category(open);
-}
-
-// Position-based corrections; with the audit, the equivalent forces they add into w.f are booked
-// with their effect's category.
-void Simulation::after_integration(const StepContext& s) {
-  World& w = world_;
-  for (const auto& e : effects_) {
-    if (!e->corrects_positions()) continue;
-    if (!audit_ || e->category() == EffectCategory::none) {
-      e->after_integration(w, s);
+    if (e->category() != EffectCategory::elastic) check_guard();
+    if (e->category() == EffectCategory::external) {
+      std::swap(w.f, f_ext_);
+      e->add_forces(w, s);
+      std::swap(w.f, f_ext_);
       continue;
     }
-    mark_ = w.f;
-    e->after_integration(w, s);
-    close_category(e->category());
+    if (e->category() == EffectCategory::contact && !joined) join();
+    e->add_forces(w, s);
+  }
+  if (!joined) join();
+  check_guard();
+}
+
+// Position-based corrections (their equivalent forces go into w.f; the contact effect's work()
+// books them).
+void Simulation::after_integration(const StepContext& s) {
+  for (const auto& e : effects_)
+    if (e->corrects_positions()) e->after_integration(world_, s);
+}
+
+namespace {
+
+// The audit's share of one node's booking (energy.hpp): f the total force of the substep at x_n,
+// v_old = v_{n-1/2}, v_new = v_{n+1/2}, dx_new its displacement x_{n+1} - x_n, dx_prev the one
+// before. Each category's force at x_n closes the interval before (half of it dotted with
+// dx_prev) and opens the one after (half dotted with dx_new).
+struct BookInput {
+  const World& w;
+  const Points* f_ext;       // null without external effects
+  const Points* f_dashpot;   // null without the damping effect
+  const std::vector<double>* mass_damping;
+  const Points* f_spring;    // null without springs
+  Vec3 gravity;
+  bool gravity_on;
+};
+
+inline void book_node(const BookInput& in, int i, const Vec3& f, const Vec3& v_old, const Vec3& v_new,
+                      const Vec3& dx_new, const Vec3& dx_prev, double* acc) {
+  const World& w = in.w;
+  const double m = w.m[i];
+  acc[kKeStaggered] += 0.5 * m * v_old.dot(v_new);
+  acc[kKeNew] += 0.5 * m * v_new.squaredNorm();
+  if (in.f_ext) {
+    const Vec3& fe = (*in.f_ext)[i];
+    acc[kCloseExt] += 0.5 * fe.dot(dx_prev);
+    acc[kPendExt] += 0.5 * fe.dot(dx_new);
+  }
+  if (in.f_dashpot) {
+    const Vec3 fd = (*in.f_dashpot)[i] - ((*in.mass_damping)[i] * m) * v_old;
+    acc[kCloseDiss] += 0.5 * fd.dot(dx_prev);
+    acc[kPendDiss] += 0.5 * fd.dot(dx_new);
+  }
+  if (w.kinematic[i] == Kinematic::driven) {  // the driver holds its node against every force on it
+    acc[kCloseDrv] -= 0.5 * f.dot(dx_prev);
+    acc[kPendDrv] -= 0.5 * f.dot(dx_new);
+  }
+  if (w.is_free(i)) {
+    acc[kNet] += f.squaredNorm();
+    if (in.f_ext) acc[kApplied] += (*in.f_ext)[i].squaredNorm();
+    if (in.f_spring) acc[kSprings2] += (*in.f_spring)[i].squaredNorm();
   }
 }
 
-void Simulation::close_category(EffectCategory c) {
-  if (c == EffectCategory::none) return;
-  Points& f = category_force_[static_cast<int>(c)];
-  for (std::size_t i = 0; i < f.size(); ++i) f[i] += world_.f[i] - mark_[i];
+}  // namespace
+
+// Symplectic Euler (integrator.hpp: the same operations, bit for bit) with the audit's booking in
+// the same pass over the nodes, in chunks whose partial sums are added in chunk order.
+void Simulation::integrate_and_book(const StepContext& s) {
+  World& w = world_;
+  const double h = s.h;
+  if (!audit_) return symplectic_euler_step(w, h);
+  const double close_contact = contact_ ? 0.5 * contact_->work(w, disp_prev_) : 0.0;
+  const BookInput in{w, external_ ? &f_ext_ : nullptr, f_dashpot_.empty() ? nullptr : &f_dashpot_, &mass_damping_,
+                     f_spring_.empty() ? nullptr : &f_spring_, scene_.gravity, scene_.has(kGravity)};
+  const std::size_t n = w.x.size(), chunks = (n + kBookChunk - 1) / kBookChunk;
+  const int T = threads_for(n);
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(dynamic, 1)
+  for (std::size_t c = 0; c < chunks; ++c) {
+    double acc[kBookSums] = {};
+    for (std::size_t k = c * kBookChunk; k < std::min(n, (c + 1) * kBookChunk); ++k) {
+      const int i = static_cast<int>(k);
+      const Vec3 f = w.f[i], v_old = w.v[i];
+      if (in.gravity_on) acc[kGravityPotential] -= w.m[i] * in.gravity.dot(w.x[i]);
+      Vec3 dx = Vec3::Zero();
+      switch (w.kinematic[i]) {
+        case Kinematic::free:
+          w.v[i] += (h * w.inv_m[i]) * f;
+          w.x[i] += h * w.v[i];
+          dx = h * w.v[i];
+          break;
+        case Kinematic::pinned: break;
+        case Kinematic::driven:
+          w.x[i] += h * w.kin_v[i];
+          dx = h * w.kin_v[i];
+          break;
+      }
+      book_node(in, i, f, v_old, w.v[i], dx, disp_prev_[i], acc);
+      disp_prev_[i] = dx;
+    }
+    std::copy(acc, acc + kBookSums, chunk_sums_.begin() + static_cast<std::ptrdiff_t>(c * kBookSums));
+  }
+  double sums[kBookSums] = {};
+  for (std::size_t c = 0; c < chunks; ++c)
+    for (int k = 0; k < kBookSums; ++k) sums[k] += chunk_sums_[c * kBookSums + k];
+  const double open_contact = contact_ ? 0.5 * contact_->work(w, disp_prev_) : 0.0;
+  ledger_.work_contact += pending_[3] + close_contact;
+  pending_[3] = open_contact;
+  close_substep(s, sums);
 }
 
-// After the substep from x_n: books the trapezoidal work of the interval x_{n-1} -> x_n (the
-// forces at both ends, the displacement of the substep before), then E*_n (energy.hpp); keeps
-// this substep's forces and displacement for the next.
-void Simulation::book_work(double h) {
-  const World& w = world_;
-  const int n = w.num_nodes();
-  double ke_staggered = 0.0;
-  for (int i = 0; i < n; ++i) {
-    ke_staggered += 0.5 * w.m[i] * v_before_[i].dot(w.v[i]);
-    driver_force_[i] = w.kinematic[i] == Kinematic::driven ? Vec3(-w.f[i]) : Vec3::Zero();
+// The general path's booking, after the integrator and the position corrections: the same sums
+// from the velocities before the update (v_before_) and after it.
+void Simulation::book(const StepContext& s) {
+  World& w = world_;
+  const double h = s.h;
+  const double close_contact = contact_ ? 0.5 * contact_->work(w, disp_prev_) : 0.0;
+  const BookInput in{w, external_ ? &f_ext_ : nullptr, f_dashpot_.empty() ? nullptr : &f_dashpot_, &mass_damping_,
+                     f_spring_.empty() ? nullptr : &f_spring_, scene_.gravity, scene_.has(kGravity)};
+  const std::size_t n = w.x.size(), chunks = (n + kBookChunk - 1) / kBookChunk;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    double acc[kBookSums] = {};
+    for (std::size_t k = c * kBookChunk; k < std::min(n, (c + 1) * kBookChunk); ++k) {
+      const int i = static_cast<int>(k);
+      const Vec3 dx = w.kinematic[i] == Kinematic::pinned  ? Vec3(Vec3::Zero())
+                      : w.kinematic[i] == Kinematic::driven ? Vec3(h * w.kin_v[i])
+                                                            : Vec3(h * w.v[i]);
+      if (in.gravity_on) acc[kGravityPotential] -= w.m[i] * in.gravity.dot(w.x[i] - dx);
+      book_node(in, i, w.f[i], v_before_[i], w.v[i], dx, disp_prev_[i], acc);
+      disp_prev_[i] = dx;
+    }
+    std::copy(acc, acc + kBookSums, chunk_sums_.begin() + static_cast<std::ptrdiff_t>(c * kBookSums));
   }
-  if (have_prev_) book_interval();
-  ledger_.staggered = ke_staggered + elastic_start_;
+  double sums[kBookSums] = {};
+  for (std::size_t c = 0; c < chunks; ++c)
+    for (int k = 0; k < kBookSums; ++k) sums[k] += chunk_sums_[c * kBookSums + k];
+  const double open_contact = contact_ ? 0.5 * contact_->work(w, disp_prev_) : 0.0;
+  ledger_.work_contact += pending_[3] + close_contact;
+  pending_[3] = open_contact;
+  close_substep(s, sums);
+}
+
+// Closes the interval before this substep's force point in the ledger, opens the one after it,
+// and takes the staggered energy E*_n, the energies and the force residual (energy.hpp).
+void Simulation::close_substep(const StepContext& s, const double* sums) {
+  (void)s;
+  ledger_.work_external += (pending_[0] + sums[kCloseExt]) + (pending_[2] + sums[kCloseDrv]);
+  ledger_.dissipated -= pending_[1] + sums[kCloseDiss];
+  pending_[0] = sums[kPendExt], pending_[1] = sums[kPendDiss], pending_[2] = sums[kPendDrv];
+  const double U = node_energy_.empty() ? 0.0 : sum_node_energy(node_energy_);  // at x_n
+  ledger_.staggered = sums[kKeStaggered] + U;
   if (!ledger_.started) ledger_.staggered0 = ledger_.staggered, ledger_.started = true;
-  for (int i = 0; i < n; ++i)
-    disp_prev_[i] = w.kinematic[i] == Kinematic::pinned ? Vec3::Zero()
-                    : w.kinematic[i] == Kinematic::driven ? Vec3(h * w.kin_v[i])
-                                                          : Vec3(h * w.v[i]);
-  std::swap(category_force_, category_prev_);
-  std::swap(driver_force_, driver_prev_);
-  have_prev_ = true;
-  elastic_start_ = elastic_energy();
-}
-
-void Simulation::book_interval() {
-  const World& w = world_;
-  double work[kCategories] = {};
-  double drivers = 0.0;
-  for (int i = 0; i < w.num_nodes(); ++i) {
-    const Vec3& d = disp_prev_[i];
-    for (int c = 0; c < kCategories; ++c)
-      if (!category_force_[c].empty()) work[c] += 0.5 * (category_prev_[c][i] + category_force_[c][i]).dot(d);
-    drivers += 0.5 * (driver_prev_[i] + driver_force_[i]).dot(d);
-  }
-  ledger_.work_external += work[static_cast<int>(EffectCategory::external)] + drivers;
-  ledger_.dissipated -= work[static_cast<int>(EffectCategory::dissipative)];
-  ledger_.work_contact += work[static_cast<int>(EffectCategory::contact)];
-}
-
-void Simulation::update_residual() {
-  const World& w = world_;
-  const Points& ext = category_force_[static_cast<int>(EffectCategory::external)];
-  const Points& el = category_force_[static_cast<int>(EffectCategory::elastic)];
-  double net = 0.0, applied = 0.0, springs = 0.0;
-  for (int i = 0; i < w.num_nodes(); ++i) {
-    if (!w.is_free(i)) continue;
-    net += w.f[i].squaredNorm();
-    if (!ext.empty()) applied += ext[i].squaredNorm();
-    if (!el.empty()) springs += el[i].squaredNorm();
-  }
+  ledger_.kinetic = sums[kKeNew];
+  ledger_.elastic = U;
+  ledger_.potential = U + sums[kGravityPotential];
   // Without applied forces, free bodies come to rest with their springs relaxed: the scale is
   // then the largest spring-force norm seen in the run.
-  spring_force_peak_ = std::max(spring_force_peak_, springs);
-  const double scale = applied > 0.0 ? applied : spring_force_peak_;
-  residual_ = scale > 0.0 ? std::sqrt(net / scale) : 0.0;
+  spring_force_peak_ = std::max(spring_force_peak_, sums[kSprings2]);
+  const double scale = sums[kApplied] > 0.0 ? sums[kApplied] : spring_force_peak_;
+  residual_ = scale > 0.0 ? std::sqrt(sums[kNet] / scale) : 0.0;
 }
 
 void Simulation::restore(const Points& x, const Points& v, int step) {
@@ -424,9 +554,11 @@ double Simulation::potential_energy() const {
 void Simulation::reset_energy() {
   ledger_ = EnergyLedger{};
   ledger_.kinetic = kinetic_energy();
-  ledger_.elastic = elastic_start_ = elastic_energy();
+  ledger_.elastic = elastic_energy();
+  ledger_.potential = potential_energy();
   ledger_.initial = ledger_.kinetic + ledger_.elastic;
-  have_prev_ = false;
+  std::fill(pending_, pending_ + 4, 0.0);
+  std::fill(disp_prev_.begin(), disp_prev_.end(), Vec3::Zero());
 }
 
 double Simulation::elastic_energy() const {

@@ -20,8 +20,9 @@ namespace harness {
 
 struct SimulationOptions {
   ExactDetectorMaker exact_detectors = nullptr;  // reference::make_exact_detector where linked
-  // The energy audit and the force residual (energy.hpp): a few passes over the nodes per step;
-  // they only read the state, whose bits never depend on this.
+  // The energy audit and the force residual (energy.hpp): booked in the position update's pass
+  // (the springs' energy in the force pass); they only read the state, whose bits never depend on
+  // this.
   bool audit = true;
   // A peer engine (engine.hpp) steps the world instead of the effects and the integrator; the
   // contact effect is then not built (the engine handles the pairs) and the energy audit keeps
@@ -76,6 +77,7 @@ class Simulation {
   // of the last substep; 0 without either, NaN with the audit off.
   double residual() const { return residual_; }
   double critical_dt() const;       // of the built effects at the current state, s
+  bool audited() const { return audit_; }
 
  private:
   void build_world();
@@ -83,12 +85,13 @@ class Simulation {
   void build_pairs();
   void build_effects(const SimulationOptions& options);
   void integrate(const StepContext& s);
-  void add_forces(const StepContext& s);
+  void add_forces(StepContext& s);
   void after_integration(const StepContext& s);
-  void close_category(EffectCategory c);
-  void book_work(double h);
-  void book_interval();
-  void update_residual();
+  // Symplectic Euler with the audit's booking in the same pass over the nodes (no position
+  // corrections), or the booking after the integrator and the corrections (the general path).
+  void integrate_and_book(const StepContext& s);
+  void book(const StepContext& s);
+  void close_substep(const StepContext& s, const double* sums);
   void engine_step();
 
   Scene scene_;
@@ -105,13 +108,21 @@ class Simulation {
   LinearSystem system_;
   int step_index_ = 0;
   bool audit_ = true;
-  std::vector<Points> category_force_;  // per EffectCategory, this substep (audit)
-  std::vector<Points> category_prev_;   // the same, of the substep before
-  Points driver_force_, driver_prev_;   // force of the drivers on their nodes, now and before
-  Points disp_prev_;                    // displacement of every node in the substep before
-  Points mark_, v_before_;              // audit scratch
-  double elastic_start_ = 0.0;          // U at the start of the substep
-  bool have_prev_ = false;
+  bool external_ = false;   // some external effect (gravity, pressure, loads) is built
+  bool corrects_ = false;   // some effect corrects positions after integration (projection)
+  const Effect* contact_ = nullptr;  // the contact effect, for its work
+  Points f_ext_;            // this substep's external forces: those effects add here (then into f)
+  // The audit's per-node arrays: the force pass's springs' and dashpots' parts, the springs'
+  // energy of each node, the previous substep's displacement, the velocities before the update
+  // (general path only).
+  Points f_spring_, f_dashpot_, disp_prev_, v_before_;
+  std::vector<double> node_energy_;
+  std::vector<double> mass_damping_;  // per node: its body's mass_damping where damping is built
+  std::vector<double> chunk_sums_;    // the booking pass's partial sums, per chunk of nodes
+  bool drivers_built_ = false;
+  // Work of the interval ahead of the last force point, booked when the next one closes it
+  // (energy.hpp): external, dissipative, drivers, contact.
+  double pending_[4] = {0.0, 0.0, 0.0, 0.0};
   EnergyLedger ledger_;
   double residual_ = 0.0;
   double spring_force_peak_ = 0.0;  // largest |spring forces|^2 on the free nodes so far

@@ -3,256 +3,272 @@
 #include "core/cpu.hpp"
 #include "core/parallel.hpp"
 #include "core/simd/kernels.hpp"
+#include "core/springs.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
 namespace harness {
-namespace {
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "the kernels take points as three packed doubles");
 
-// The law of a body, chosen at compile time (springs.hpp: the expressions every path shares).
-template <SpringLawKind K>
-inline double per_length_of(const SpringLaw& law, double L0, double l) {  // law: one spring's
-  if constexpr (K == SpringLawKind::linear) return linear_per_length(law, L0, l);
-  if constexpr (K == SpringLawKind::cubic) return cubic_per_length(law, L0, l);
-  if constexpr (K == SpringLawKind::exponential) {
-    const double x = exponential_arg(law, L0, l);
-    return exponential_per_length(law, L0, l, x, spring_expm1(x));
-  }
-}
+namespace {
+constexpr int kPad = 4;                // padding entries past the index arrays and the box
+constexpr int kBlock = 512;            // nodes evaluated, then summed, at a time (in cache)
+}  // namespace
 
-// Node i's spring force added to acc, one half-edge after the other in spring order (a
-// half-edge of zero length adds nothing: the scatter's `if (l <= 0) continue`), evaluating each
-// spring once, for laws whose evaluation dwarfs the rest (the exponential: one expm1 per
-// spring). The lower end of a spring whose ends both lie in this thread's node range [i0, i1)
-// leaves c in the spring's mailbox slot, and the higher end, which comes later in the same
-// thread, reads it; other springs are evaluated at both ends. c is the same number either way,
-// so the thread count still changes nothing.
-template <SpringLawKind K>
-void spring_node_once(const SpringGather& g, const BodyLaw& law, const Points& x, int i, int i0, int i1,
-                      double* box, Vec3& acc) {
-  const Vec3 xi = x[i];
-  for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
-    const int j = g.other[h];
-    const Vec3 d = x[j] - xi;
-    double c;
-    if (j < i && j >= i0) {
-      if (d.squaredNorm() <= 0.0) continue;  // sqrt(l2) <= 0 exactly when l2 <= 0
-      c = box[g.spring[h]];
-    } else {
-      const double l = d.norm();
-      if (l <= 0.0) continue;
-      c = per_length_of<K>(law.with(g.stiff[h]), g.rest[h], l);
-      if (j > i && j < i1) box[g.spring[h]] = c;
-    }
-    acc += c * d;
-  }
-}
-
-// The serial scatter itself (f[i] += F, f[j] -= F in spring order), for the springs of the
-// bodies `only` selects (all when null): with one thread it is the fastest form for the
-// exponential law, whose expm1 costs more than anything a gather saves.
-template <SpringLawKind K>
-void scatter_run(const World& w, const BodyLaw& law, std::size_t k0, std::size_t k1, Points& f) {
+void SpringGather::build(const World& w) {
   const Springs& s = w.springs;
-  for (std::size_t k = k0; k < k1; ++k) {
+  const int n = w.num_nodes();
+  nodes = n;
+  springs = s.size();
+  // Which end of spring k is its upper half-edge: the lower-index end (the first end of a spring
+  // on one node).
+  auto upper_at = [&](std::size_t k, int end) {
     const int i = s.ends[k][0], j = s.ends[k][1];
-    const Vec3 d = w.x[j] - w.x[i];
-    const double l = d.norm();
-    if (l <= 0.0) continue;  // coincident ends: no defined direction, no force
-    const Vec3 fi = per_length_of<K>(law.with(s.k[k]), s.rest[k], l) * d;  // pulls i toward j
-    f[i] += fi;
-    f[j] -= fi;
-  }
-}
-
-// The exponential law in blocks: the expm1 of a block at once (spring_expm1_batch, the same bits
-// as one at a time), then per_length_of's remaining operations and the scatter in spring order.
-template <>
-void scatter_run<SpringLawKind::exponential>(const World& w, const BodyLaw& law, std::size_t k0, std::size_t k1,
-                                             Points& f) {
-  const Springs& s = w.springs;
-  constexpr int B = 64;
-  double X[B], E[B], Lr[B];
-  Vec3 D[B];
-  for (std::size_t b = k0; b < k1; b += B) {
-    const int m = static_cast<int>(std::min<std::size_t>(B, k1 - b));
-    for (int q = 0; q < m; ++q) {
-      const std::size_t k = b + static_cast<std::size_t>(q);
-      D[q] = w.x[s.ends[k][1]] - w.x[s.ends[k][0]];
-      Lr[q] = D[q].norm();
-      X[q] = exponential_arg(law.with(s.k[k]), s.rest[k], Lr[q]);
-    }
-    spring_expm1_batch(X, E, m);
-    for (int q = 0; q < m; ++q) {
-      const double l = Lr[q];
-      if (l <= 0.0) continue;
-      const std::size_t k = b + static_cast<std::size_t>(q);
-      const double c = exponential_per_length(law.with(s.k[k]), s.rest[k], l, X[q], E[q]);
-      const Vec3 fi = c * D[q];
-      f[s.ends[k][0]] += fi;
-      f[s.ends[k][1]] -= fi;
-    }
-  }
-}
-
-void scatter_spring_forces(const World& w, Points& f, const std::vector<std::uint8_t>* only) {
-  // Runs of consecutive springs of one body, each with its law inlined; spring order kept.
-  const Springs& s = w.springs;
-  const std::size_t n = s.size();
-  for (std::size_t k0 = 0, k1; k0 < n; k0 = k1) {
-    const int b = s.body[k0];
-    for (k1 = k0 + 1; k1 < n && s.body[k1] == b;) ++k1;
-    if (only && !(*only)[b]) continue;
-    const BodyLaw& law = w.body_law[b];
-    switch (law.kind) {
-      case SpringLawKind::linear: scatter_run<SpringLawKind::linear>(w, law, k0, k1, f); break;
-      case SpringLawKind::cubic: scatter_run<SpringLawKind::cubic>(w, law, k0, k1, f); break;
-      case SpringLawKind::exponential: scatter_run<SpringLawKind::exponential>(w, law, k0, k1, f); break;
-    }
-  }
-}
-
-void scatter_damping_forces(const World& w, Points& f) {
-  const Springs& s = w.springs;
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    const double c = w.bodies[s.body[k]].material.damping;
-    if (c == 0.0) continue;
-    const int i = s.ends[k][0], j = s.ends[k][1];
-    const Vec3 d = w.x[j] - w.x[i];
-    const double l2 = d.squaredNorm();
-    if (l2 <= 0.0) continue;
-    const Vec3 fi = (c * (w.v[j] - w.v[i]).dot(d) / l2) * d;
-    f[i] += fi;
-    f[j] -= fi;
-  }
-  for (const Body& b : w.bodies) {
-    const double a = b.material.mass_damping;
-    if (a == 0.0) continue;
-    for (int i = b.begin; i < b.end; ++i) f[i] -= (a * w.m[i]) * w.v[i];
-  }
-}
-
-// The kernels' view of a Points array: three doubles per node (null when empty).
-const double* coords(const Points& p) { return p.empty() ? nullptr : p[0].data(); }
-double* coords(Points& p) { return p.empty() ? nullptr : p[0].data(); }
-
-void gather_spring_forces(SpringGather& g, const World& w, Points& f) {
-  const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
-  const Isa level = isa();
-  const simd::Kernels& kern = simd::kernels(level);
-  double* box = g.box.data();
-  // One thread: exponential bodies by the scatter, the others by the (vectorised) gather. Both
-  // give the scatter's bits, and no node has springs of both kinds unless some node is mixed.
-  // (Without SIMD the gather has nothing to repay its double evaluation on one thread.)
-  bool scatter_exp = false;
-  if (T == 1) {
-    if (level == Isa::scalar || g.mixed_nodes) return scatter_spring_forces(w, f, nullptr);
-    if (g.exponential_bodies) {
-      scatter_spring_forces(w, f, &g.is_exponential);
-      scatter_exp = true;
-    }
-  }
-  const simd::SpringRun all{g.start.data(), g.other.data(), g.rest.data(), g.stiff.data(), coords(w.x), coords(f), 0.0, 0, 0};
-  // Parts handed out dynamically, several per thread: a thread that the system deschedules
-  // (the machine is shared) delays one small part, not half the work. The parts only share the
-  // work: the forces are the same for any partition.
-  const int P = T == 1 ? 1 : 4 * T;
-#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
-  for (int t = 0; t < P; ++t) {
-    int i0, i1;
-    g.part(P, t, i0, i1);
-    for (int i = i0; i < i1; ++i) {
-      const int b = g.node_body[i];
-      if (b == SpringGather::kNoSprings) continue;
-      if (scatter_exp && b >= 0 && g.is_exponential[b]) continue;
-      if (b >= 0 && w.body_law[b].kind != SpringLawKind::exponential) {
-        // The run of nodes of this body (a linear or cubic law) from i on: the SIMD kernel.
-        const BodyLaw& law = w.body_law[b];
-        int e = i + 1;
-        while (e < i1 && g.node_body[e] == b) ++e;
-        simd::SpringRun run = all;
-        run.beta = law.beta, run.i0 = i, run.i1 = e;
-        (law.kind == SpringLawKind::linear ? kern.springs_linear : kern.springs_cubic)(run);
-        i = e - 1;
-        continue;
-      }
-      Vec3 acc = f[i];
-      if (b >= 0) {
-        spring_node_once<SpringLawKind::exponential>(g, w.body_law[b], w.x, i, i0, i1, box, acc);
-      } else {  // springs of several bodies meet here (hand-built worlds): the law per spring
-        const Vec3 xi = w.x[i];
-        for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
-          const int j = g.other[h];
-          const Vec3 d = w.x[j] - xi;
-          const double l = d.norm();
-          if (l <= 0.0) continue;
-          const double c = spring_force_per_length(w.body_law[w.springs.body[g.spring[h]]].with(g.stiff[h]), g.rest[h], l);
-          if (j > i && j < i1) box[g.spring[h]] = c;  // for a higher end using spring_node_once
-          acc += c * d;
-        }
-      }
-      f[i] = acc;
-    }
-  }
-}
-
-void gather_damping_forces(const SpringGather& g, const World& w, Points& f) {
-  const int T = threads_for(static_cast<std::size_t>(g.start[g.nodes]), 32768);
-  if (T == 1) return scatter_damping_forces(w, f);  // the same bits; faster on one thread
-  const simd::Kernels& kern = simd::kernels();
-  const simd::DashpotRun all{g.start.data(), g.other.data(), coords(w.x), coords(w.v), coords(f), 0.0, 0, 0};
-  // Mass-proportional damping of node i, after every dashpot, as in the serial order.
-  auto mass_damping = [&](int i, Vec3& acc) {
-    const int owner = g.node_owner[i];
-    const double a = owner >= 0 ? w.bodies[owner].material.mass_damping : 0.0;
-    if (a != 0.0) acc -= (a * w.m[i]) * w.v[i];
+    return end == 0 ? i <= j : j < i;
   };
-  const int P = T == 1 ? 1 : 4 * T;  // dynamic parts, as for the springs
-#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
-  for (int t = 0; t < P; ++t) {
-    int i0, i1;
-    g.part(P, t, i0, i1);
-    for (int i = i0; i < i1; ++i) {
-      const int nb = g.node_body[i];
-      if (nb >= 0 && w.bodies[nb].material.damping != 0.0) {
-        // The run of nodes of this body from i on: its dashpots by the SIMD kernel.
-        int e = i + 1;
-        while (e < i1 && g.node_body[e] == nb) ++e;
-        simd::DashpotRun run = all;
-        run.c = w.bodies[nb].material.damping, run.i0 = i, run.i1 = e;
-        kern.dashpots(run);
-        for (; i < e; ++i) mass_damping(i, f[i]);
-        --i;
-        continue;
+  up_start.assign(static_cast<std::size_t>(n) + 1, 0);
+  lo_start.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (std::size_t k = 0; k < s.size(); ++k)
+    for (int end = 0; end < 2; ++end) ++(upper_at(k, end) ? up_start : lo_start)[s.ends[k][end] + 1];
+  for (int i = 0; i < n; ++i) up_start[i + 1] += up_start[i], lo_start[i + 1] += lo_start[i];
+  const std::size_t U = static_cast<std::size_t>(up_start[n]), L = static_cast<std::size_t>(lo_start[n]);
+  up_self.assign(U + kPad, 0), up_other.assign(U + kPad, 0), up_spring.assign(U, 0);
+  up_rest.assign(U + kPad, 1.0), up_inv_rest.assign(U + kPad, 1.0), up_stiff.assign(U + kPad, 0.0);
+  lo_other.assign(L + kPad, 0), lo_slot.assign(L + kPad, 0);
+  lo_min.assign(static_cast<std::size_t>(n), n);
+  std::vector<int> cu(up_start.begin(), up_start.end() - 1), cl(lo_start.begin(), lo_start.end() - 1);
+  std::vector<int> slot_of(s.size(), -1);
+  for (std::size_t k = 0; k < s.size(); ++k)  // spring order: each list is sorted by k
+    for (int end = 0; end < 2; ++end)
+      if (upper_at(k, end)) {
+        const int self = s.ends[k][end];
+        const int h = cu[self]++;
+        up_self[h] = self, up_other[h] = s.ends[k][1 - end], up_spring[h] = static_cast<int>(k);
+        up_rest[h] = s.rest[k], up_inv_rest[h] = 1.0 / s.rest[k], up_stiff[h] = s.k[k];
+        slot_of[k] = h;
       }
-      Vec3 acc = f[i];
-      if (nb == -1) {  // springs of several bodies meet here: the damping per spring
-        const Vec3 xi = w.x[i], vi = w.v[i];
-        for (int h = g.start[i]; h < g.start[i + 1]; ++h) {
-          const double c = w.bodies[w.springs.body[g.spring[h]]].material.damping;
-          if (c == 0.0) continue;
-          const int j = g.other[h];
-          const Vec3 d = w.x[j] - xi;
-          const double l2 = d.squaredNorm();
-          if (l2 <= 0.0) continue;
-          acc += (c * (w.v[j] - vi).dot(d) / l2) * d;  // as the scatter: exactly -F at the other end
-        }
-      }
-      mass_damping(i, acc);
-      f[i] = acc;
+  for (std::size_t k = 0; k < s.size(); ++k)
+    for (int end = 0; end < 2; ++end) {
+      if (upper_at(k, end)) continue;
+      const int h = cl[s.ends[k][end]]++;
+      lo_other[h] = s.ends[k][1 - end], lo_slot[h] = slot_of[k];
+      lo_min[s.ends[k][end]] = std::min(lo_min[s.ends[k][end]], s.ends[k][1 - end]);
+    }
+  for (int a = 0; a < 3; ++a) F[a].assign(U + kPad, 0.0), G[a].assign(U + kPad, 0.0), R[a].assign(U + kPad, 0.0);
+  e.assign(U + kPad, 0.0);
+  // Runs: each body's upper half-edges; mixed when a spring's upper end lies outside its body.
+  runs.clear();
+  mixed = false;
+  for (std::size_t b = 0; b < w.bodies.size(); ++b) {
+    const Body& body = w.bodies[b];
+    const int lo = std::clamp(body.begin, 0, n), hi = std::clamp(body.end, lo, n);
+    for (int h = up_start[lo]; h < up_start[hi]; ++h) mixed = mixed || s.body[up_spring[h]] != static_cast<int>(b);
+    if (up_start[hi] > up_start[lo]) runs.push_back({up_start[lo], up_start[hi], static_cast<int>(b)});
+  }
+  long long covered = 0;
+  for (const Run& r : runs) covered += r.end - r.begin;
+  mixed = mixed || covered != static_cast<long long>(U);  // springs on nodes of no body
+}
+
+void SpringGather::part(int T, int t, int& i0, int& i1) const {
+  const long long total = static_cast<long long>(up_start[nodes]) + lo_start[nodes];
+  auto at = [&](int q) {
+    if (q <= 0) return 0;
+    if (q >= T) return nodes;
+    const long long target = total * q / T;
+    int lo = 0, hi = nodes;  // first node whose prefix of half-edges reaches the target
+    while (lo < hi) {
+      const int mid = (lo + hi) / 2;
+      if (static_cast<long long>(up_start[mid]) + lo_start[mid] < target) lo = mid + 1;
+      else hi = mid;
+    }
+    return lo;
+  };
+  i0 = at(t);
+  i1 = at(t + 1);
+}
+
+namespace {
+
+const double* coords(const Points& p) { return p.empty() ? nullptr : p[0].data(); }
+double* coords(Points* p) { return p && !p->empty() ? (*p)[0].data() : nullptr; }
+
+// The tangent stiffness over l2 of the evaluation half (kernels.inl law_lanes), one spring.
+double tangent_over_l2(const SpringLaw& law, double L0, double l) {
+  const double s = l - L0, r = 1.0 / l, q = 1.0 / L0;
+  switch (law.kind) {
+    case SpringLawKind::linear: return std::fabs(law.k) * r * r;
+    case SpringLawKind::cubic: return std::fabs(cubic_tangent(law.k, law.beta, L0, s, q, 3.0)) * (r * r);
+    case SpringLawKind::exponential: {
+      const double x = law.beta * (s * q);
+      return std::fabs(law.k * (1.0 + spring_expm1(x))) * r * r;
+    }
+  }
+  return 0.0;
+}
+
+// The evaluation half of a world with springs across bodies (hand-built worlds): the kernels'
+// numbers one half-edge at a time, each spring with its own body's law and dashpot.
+void mixed_eval(SpringGather& g, const World& w, bool springs, bool dashpots, bool rows, bool energy, int h0, int h1) {
+  const Springs& S = w.springs;
+  for (int h = h0; h < h1; ++h) {
+    const int k = g.up_spring[h];
+    const Vec3 xi = w.x[g.up_self[h]], xj = w.x[g.up_other[h]];
+    const double d[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
+    const double l2 = (d[0] * d[0] + d[1] * d[1]) + d[2] * d[2];
+    const double l = std::sqrt(l2);
+    const SpringLaw law = w.body_law[S.body[k]].with(S.k[k]);
+    const double L0 = S.rest[k];
+    const bool zero = l2 <= 0.0;
+    if (springs) {
+      const double c = spring_force_per_length(law, L0, l);
+      for (int a = 0; a < 3; ++a) g.F[a][h] = zero ? 0.0 : c * d[a];
+    }
+    if (rows) {
+      const double t = tangent_over_l2(law, L0, l);
+      const double ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
+      const double rr = 2.0 * t * ((ax + ay) + az);
+      const double ad[3] = {ax, ay, az};
+      for (int a = 0; a < 3; ++a) g.R[a][h] = 0.0 < l2 ? rr * ad[a] : 0.0;
+    }
+    if (energy) g.e[h] = spring_energy(law, L0, l);
+    if (dashpots) {
+      const Vec3 vi = w.v[g.up_self[h]], vj = w.v[g.up_other[h]];
+      const double u[3] = {vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]};
+      const double r = 1.0 / l;
+      const double s = w.bodies[S.body[k]].material.damping * ((u[0] * d[0] + u[1] * d[1]) + u[2] * d[2]) * (r * r);
+      for (int a = 0; a < 3; ++a) g.G[a][h] = zero ? 0.0 : s * d[a];
     }
   }
 }
 
 }  // namespace
 
-void add_spring_forces(SpringGather& g, const World& w, Points& f) {
+void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, const SpringPassOut& out) {
   if (!g.matches(w)) g.build(w);
-  gather_spring_forces(g, w, f);
+  springs = springs && out.f;
+  dashpots = dashpots && out.f;
+  const bool rows = out.rows != nullptr, energy = out.energy != nullptr;
+  const int U = g.up_start[g.nodes];
+  const std::size_t half_edges = static_cast<std::size_t>(U) + g.lo_start[g.nodes];
+  const int T = threads_for(half_edges, 32768);
+  const simd::Kernels& kern = simd::kernels();
+  simd::SpringEvalRun ev{};
+  ev.self = g.up_self.data(), ev.other = g.up_other.data(), ev.rest = g.up_rest.data();
+  ev.inv_rest = g.up_inv_rest.data(), ev.stiff = g.up_stiff.data();
+  ev.x = coords(w.x), ev.v = coords(w.v);
+  for (int a = 0; a < 3; ++a) {
+    ev.F[a] = springs ? g.F[a].data() : nullptr;
+    ev.G[a] = dashpots ? g.G[a].data() : nullptr;
+    ev.R[a] = rows ? g.R[a].data() : nullptr;
+  }
+  ev.e = energy ? g.e.data() : nullptr;
+  simd::SpringSumRun su{};
+  su.up_start = g.up_start.data(), su.lo_start = g.lo_start.data(), su.lo_slot = g.lo_slot.data();
+  for (int a = 0; a < 3; ++a) su.F[a] = ev.F[a], su.G[a] = ev.G[a], su.R[a] = ev.R[a];
+  su.e = ev.e;
+  su.f = coords(out.f);
+  su.f_spring = coords(out.f_spring), su.f_dashpot = coords(out.f_dashpot);
+  su.energy = energy ? out.energy->data() : nullptr;
+  su.rows = rows ? (*out.rows)[0].data() : nullptr;
+  // The upper half-edges [h0, h1): by the kernel of each body's law.
+  auto eval = [&](int h0, int h1) {
+    if (g.mixed) return mixed_eval(g, w, springs, dashpots, rows, energy, h0, h1);
+    for (const SpringGather::Run& run : g.runs) {
+      const int a = std::max(h0, run.begin), b = std::min(h1, run.end);
+      if (a >= b) continue;
+      simd::SpringEvalRun r = ev;
+      const BodyLaw& law = w.body_law[run.body];
+      r.beta = law.beta;
+      r.damping = w.bodies[run.body].material.damping;
+      r.h0 = a, r.h1 = b;
+      switch (law.kind) {
+        case SpringLawKind::linear: kern.spring_eval_linear(r); break;
+        case SpringLawKind::cubic: kern.spring_eval_cubic(r); break;
+        case SpringLawKind::exponential: kern.spring_eval_exponential(r); break;
+      }
+    }
+  };
+  // Sums of the nodes of [i0, i1) whose lower partners are all at or after `ready` (deferred:
+  // false) or those with one before it (true).
+  auto sum = [&](int i0, int i1, int ready, bool deferred) {
+    for (int i = i0; i < i1;) {
+      if ((g.lo_min[i] < ready) != deferred) {
+        ++i;
+        continue;
+      }
+      int e = i + 1;
+      while (e < i1 && (g.lo_min[e] < ready) == deferred) ++e;
+      simd::SpringSumRun r = su;
+      r.i0 = i, r.i1 = e;
+      kern.spring_sum(r);
+      i = e;
+    }
+  };
+  // Parts of contiguous nodes, handed out dynamically (several per thread: a thread the system
+  // deschedules delays one small part). Within a part, blocks of kBlock nodes: their springs
+  // evaluated, then their nodes summed while the box entries are still in cache; a node with a
+  // lower partner in an earlier part (whose thread may not have evaluated it yet) is summed after
+  // every part is done. The numbers do not depend on the partition or the order.
+  const int P = T == 1 ? 1 : 4 * T;
+#pragma omp parallel num_threads(T) if(T > 1)
+  {
+#pragma omp for schedule(dynamic, 1)
+    for (int t = 0; t < P; ++t) {
+      int i0, i1;
+      g.part(P, t, i0, i1);
+      for (int b0 = i0; b0 < i1; b0 += kBlock) {
+        const int b1 = std::min(i1, b0 + kBlock);
+        eval(g.up_start[b0], g.up_start[b1]);
+        sum(b0, b1, i0, false);
+      }
+    }
+    // (the implicit barrier of the loop above: every spring is evaluated)
+#pragma omp for schedule(dynamic, 1)
+    for (int t = 1; t < P; ++t) {
+      int i0, i1;
+      g.part(P, t, i0, i1);
+      sum(i0, i1, i0, true);
+    }
+  }
+}
+
+double sum_node_energy(const std::vector<double>& e) {
+  constexpr std::size_t kChunk = 4096;
+  const std::size_t n = e.size(), chunks = (n + kChunk - 1) / kChunk;
+  double total = 0.0;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    double part = 0.0;
+    for (std::size_t k = c * kChunk; k < std::min(n, (c + 1) * kChunk); ++k) part += e[k];
+    total += part;
+  }
+  return total;
+}
+
+void add_mass_damping(const World& w, Points& f) {
+  for (const Body& b : w.bodies) {
+    const double a = b.material.mass_damping;
+    if (a == 0.0) continue;
+    const int T = threads_for(static_cast<std::size_t>(b.size()), 32768);
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
+    for (int i = b.begin; i < b.end; ++i) f[i] -= (a * w.m[i]) * w.v[i];
+  }
+}
+
+void add_spring_forces(SpringGather& g, const World& w, Points& f) {
+  SpringPassOut o;
+  o.f = &f;
+  spring_pass(g, w, true, false, o);
+}
+
+void add_damping_forces(SpringGather& g, const World& w, Points& f) {
+  SpringPassOut o;
+  o.f = &f;
+  spring_pass(g, w, false, true, o);
+  add_mass_damping(w, f);
 }
 
 void add_spring_forces(const World& w, Points& f) {
@@ -260,111 +276,29 @@ void add_spring_forces(const World& w, Points& f) {
   add_spring_forces(g, w, f);
 }
 
-double spring_potential(const World& w) {
-  // Fixed chunks of springs, summed in chunk order: the same value for any thread count.
-  const Springs& s = w.springs;
-  constexpr std::size_t kChunk = 65536;
-  const std::size_t n = s.size(), chunks = (n + kChunk - 1) / kChunk;
-  std::vector<double> part(chunks, 0.0);
-  const int T = threads_for(n, 65536);
-#pragma omp parallel for num_threads(T) schedule(static)
-  for (std::size_t c = 0; c < chunks; ++c) {
-    double e = 0.0;
-    for (std::size_t k = c * kChunk; k < std::min(n, (c + 1) * kChunk); ++k) {
-      const double l = (w.x[s.ends[k][1]] - w.x[s.ends[k][0]]).norm();
-      e += spring_energy(w.body_law[s.body[k]].with(s.k[k]), s.rest[k], l);
-    }
-    part[c] = e;
-  }
-  double e = 0.0;
-  for (double p : part) e += p;
-  return e;
-}
-
-void add_damping_forces(SpringGather& g, const World& w, Points& f) {
-  if (!g.matches(w)) g.build(w);
-  gather_damping_forces(g, w, f);
-}
-
 void add_damping_forces(const World& w, Points& f) {
   SpringGather g;
   add_damping_forces(g, w, f);
 }
 
-namespace {
-
-// |df/dl| / l^2 of law K at length l = sqrt(l2) (spring_tangent over the squared length, in as
-// few divisions as each law allows; the linear law needs no length). The exponential law has
-// its own gershgorin_run, which takes its exps in blocks.
-template <SpringLawKind K>
-inline double tangent_over_l2(const SpringLaw& law, double L0, double l2) {
-  static_assert(K != SpringLawKind::exponential, "gershgorin_run<exponential> handles it");
-  if constexpr (K == SpringLawKind::linear) return std::fabs(law.k) / l2;
-  const double s = std::sqrt(l2) - L0, L2 = L0 * L0;
-  return std::fabs(law.k * (L2 + 3.0 * law.beta * s * s)) / (L2 * l2);
+double spring_potential(const World& w) {
+  SpringGather g;
+  std::vector<double> e(static_cast<std::size_t>(w.num_nodes()), 0.0);
+  SpringPassOut o;
+  o.energy = &e;
+  spring_pass(g, w, false, false, o);
+  return sum_node_energy(e);
 }
 
-// Row sums of the springs [k0, k1), all of one law: the block k u u^T, u = d / l, adds
-// 2 k |u_a| |u|_1 = 2 (k / l^2) |d_a| |d|_1 to row a of both ends.
-template <SpringLawKind K>
-void gershgorin_run(const World& w, const BodyLaw& law, std::size_t k0, std::size_t k1, std::vector<Vec3>& rows) {
-  const Springs& s = w.springs;
-  for (std::size_t k = k0; k < k1; ++k) {
-    const int i = s.ends[k][0], j = s.ends[k][1];
-    const Vec3 d = w.x[j] - w.x[i];
-    const double l2 = d.squaredNorm();
-    if (!(l2 > 0.0)) continue;
-    const Vec3 a = d.cwiseAbs();
-    const Vec3 r = (2.0 * tangent_over_l2<K>(law.with(s.k[k]), s.rest[k], l2) * a.sum()) * a;
-    rows[i] += r;
-    rows[j] += r;
-  }
+void add_spring_stiffness_rows(SpringGather& g, const World& w, std::vector<Vec3>& rows) {
+  SpringPassOut o;
+  o.rows = &rows;
+  spring_pass(g, w, false, false, o);
 }
-
-// The exponential law in blocks, its exp for a block at once (spring_exp_batch).
-template <>
-void gershgorin_run<SpringLawKind::exponential>(const World& w, const BodyLaw& law, std::size_t k0,
-                                                std::size_t k1, std::vector<Vec3>& rows) {
-  const Springs& s = w.springs;
-  constexpr int B = 64;
-  double X[B], E[B], L2[B];
-  for (std::size_t b = k0; b < k1; b += B) {
-    const int m = static_cast<int>(std::min<std::size_t>(B, k1 - b));
-    for (int q = 0; q < m; ++q) {
-      const std::size_t k = b + static_cast<std::size_t>(q);
-      const Vec3 d = w.x[s.ends[k][1]] - w.x[s.ends[k][0]];
-      L2[q] = d.squaredNorm();
-      const double L0 = s.rest[k];
-      X[q] = L2[q] > 0.0 ? exponential_arg(law.with(s.k[k]), L0, std::sqrt(L2[q])) : 0.0;
-    }
-    spring_exp_batch(X, E, m);
-    for (int q = 0; q < m; ++q) {
-      if (!(L2[q] > 0.0)) continue;
-      const std::size_t k = b + static_cast<std::size_t>(q);
-      const int i = s.ends[k][0], j = s.ends[k][1];
-      const Vec3 a = (w.x[j] - w.x[i]).cwiseAbs();
-      const Vec3 r = (2.0 * (std::fabs(s.k[k] * E[q]) / L2[q]) * a.sum()) * a;
-      rows[i] += r;
-      rows[j] += r;
-    }
-  }
-}
-
-}  // namespace
 
 void add_spring_stiffness_rows(const World& w, std::vector<Vec3>& rows) {
-  const Springs& s = w.springs;
-  const std::size_t ns = s.size();
-  for (std::size_t k0 = 0, k1; k0 < ns; k0 = k1) {  // runs of springs of one body
-    const int b = s.body[k0];
-    for (k1 = k0 + 1; k1 < ns && s.body[k1] == b;) ++k1;
-    const BodyLaw& law = w.body_law[b];
-    switch (law.kind) {
-      case SpringLawKind::linear: gershgorin_run<SpringLawKind::linear>(w, law, k0, k1, rows); break;
-      case SpringLawKind::cubic: gershgorin_run<SpringLawKind::cubic>(w, law, k0, k1, rows); break;
-      case SpringLawKind::exponential: gershgorin_run<SpringLawKind::exponential>(w, law, k0, k1, rows); break;
-    }
-  }
+  SpringGather g;
+  add_spring_stiffness_rows(g, w, rows);
 }
 
 }  // namespace harness

@@ -1,5 +1,5 @@
-// Spring and dashpot forces over the World's arrays: the hot loops of a step. Forces are the
-// serial scatter's to the bit for any thread count and any instruction set (see SpringGather).
+// Spring and dashpot forces over the World's arrays: the hot loop of a step, one pass that reads
+// each node and each spring once (core/simd/kernels.hpp, SpringPassRun, says the operations).
 #pragma once
 
 #include "core/world.hpp"
@@ -10,110 +10,74 @@
 
 namespace harness {
 
-// Node-centric copy of the springs, built once per world: for every node its half-edges (the
-// other end, the spring's index and rest length) in spring order.
+// Node-centric copy of the springs, built once per world: every node's half-edges in two lists,
+// "upper" (to a higher node: the spring is evaluated there) and "lower" (to a lower node: it
+// takes the upper half-edge's numbers through lo_slot), each in spring order, the rest length
+// and stiffness copied beside the upper ones (sequential reads), and the box: per upper
+// half-edge the spring's c, s, t, e (tension over length, dashpot over length, tangent over
+// length^2, energy).
 //
-// Why a gather: each node's force is written by one thread only, and each node sums its springs
-// in spring order -- the order in which the serial scatter (f[i] += F, f[j] -= F for spring
-// k = 0, 1, ...) reaches it. Every half-edge adds c * (x_other - x_self), c = tension / length
-// (for a dashpot: damping times relative speed over squared length): seen from the second end
-// that is exactly -F, since negation, squares and products are sign-symmetric in IEEE
-// arithmetic. So the forces are bit-identical to the serial scatter, for any thread count. The
-// price, evaluating each spring from both ends, is paid back by vectorising the evaluation
-// (several half-edges per instruction: the SIMD kernels of core/simd, at the level core/cpu.hpp
-// picks) and by threads.
-//
-// Which form runs (all give the same bits): with several threads, the gather; with one thread,
-// the gather for linear and cubic springs when SIMD is on (vectorised, it beats the scatter) and
-// the scatter itself for exponential springs and dashpots (one expm1 or division per spring:
-// a gather cannot beat that on one thread), and for everything at the scalar level.
+// Why this layout. A pass evaluates every spring once, along the contiguous upper half-edges
+// (its square root, division and, for the exponential law, expm1 are the step's arithmetic: in
+// full SIMD lanes, nothing per node), then sums every node's box entries (contiguous for its upper
+// half-edges, through lo_slot for its lower ones: no position is read twice), each node written
+// by one thread (no scatter, no conflicts), in one order, the same for any thread count and
+// instruction set (core/simd/kernels.hpp: four interleaved partial sums per node, upper then
+// lower half-edges). The index arrays and the box carry 4 padding entries (the SIMD tails read
+// them).
 struct SpringGather {
   int nodes = -1;
   std::size_t springs = 0;
-  std::vector<int> start;        // CSR over half-edges, nodes + 1
-  std::vector<int> other;        // the other end of each half-edge
-  std::vector<int> spring;       // its spring's index in World::springs
-  std::vector<double> rest;      // its spring's rest length, m (copied: sequential reads)
-  std::vector<double> stiff;     // its spring's stiffness, N/m (likewise)
-  // Body of every spring at the node, or kMixedBodies (springs of several bodies meet there: a
-  // hand-built world) or kNoSprings.
-  static constexpr int kMixedBodies = -1, kNoSprings = -2;
-  std::vector<int> node_body;
-  std::vector<int> node_owner;   // body whose range holds the node, -1 none
-  // Exponential law only (see spring_node_once): per spring, c from its lower end.
-  std::vector<double> box;
-  std::vector<std::uint8_t> is_exponential;  // per body
-  bool exponential_bodies = false, mixed_nodes = false;
+  std::vector<int> up_start, up_self, up_other;  // CSR, per node
+  std::vector<double> up_rest, up_inv_rest, up_stiff;
+  std::vector<int> lo_start, lo_other, lo_slot;   // lo_slot: the same spring's upper half-edge
+  std::vector<int> lo_min;                        // per node: its lowest lower partner (nodes: none)
+  // The box, per upper half-edge: the force on its node c d (F), the dashpot's s d (G), the
+  // Gershgorin rows (R), x y z each, and the energy (e).
+  std::vector<double> F[3], G[3], R[3], e;
+  std::vector<int> up_spring;                     // the spring of each upper half-edge
+  // Runs of upper half-edges of one body [begin, end): its law and dashpot apply to all.
+  struct Run {
+    int begin, end, body;
+  };
+  std::vector<Run> runs;
+  bool mixed = false;  // a spring's ends lie in different bodies (hand-built worlds): laws per spring
 
   bool matches(const World& w) const { return nodes == w.num_nodes() && springs == w.springs.size(); }
-
-  void build(const World& w) {
-    const Springs& s = w.springs;
-    const int n = w.num_nodes();
-    nodes = n;
-    springs = s.size();
-    start.assign(static_cast<std::size_t>(n) + 1, 0);
-    for (const Edge& e : s.ends) ++start[e[0] + 1], ++start[e[1] + 1];
-    for (int i = 0; i < n; ++i) start[i + 1] += start[i];
-    const std::size_t H = static_cast<std::size_t>(start[n]);
-    other.assign(H, 0);
-    spring.assign(H, 0);
-    rest.assign(H, 0.0);
-    stiff.assign(H, 0.0);
-    std::vector<int> cur(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < s.size(); ++k) {  // spring order: each node's list is sorted by k
-      const int i = s.ends[k][0], j = s.ends[k][1];
-      const int a = cur[i]++, b = cur[j]++;
-      other[a] = j;
-      other[b] = i;
-      spring[a] = spring[b] = static_cast<int>(k);
-      rest[a] = rest[b] = s.rest[k];
-      stiff[a] = stiff[b] = s.k[k];
-    }
-    node_body.assign(static_cast<std::size_t>(n), kNoSprings);
-    for (int i = 0; i < n; ++i) {
-      if (start[i] == start[i + 1]) continue;
-      int b = s.body[spring[start[i]]];
-      for (int h = start[i] + 1; h < start[i + 1]; ++h)
-        if (s.body[spring[h]] != b) b = -1;
-      node_body[i] = b;
-    }
-    node_owner.assign(static_cast<std::size_t>(n), -1);
-    for (std::size_t b = 0; b < w.bodies.size(); ++b)
-      for (int i = std::max(0, w.bodies[b].begin); i < std::min(n, w.bodies[b].end); ++i)
-        node_owner[i] = static_cast<int>(b);
-    is_exponential.assign(w.body_law.size(), 0);
-    for (std::size_t b = 0; b < w.body_law.size(); ++b)
-      is_exponential[b] = w.body_law[b].kind == SpringLawKind::exponential;
-    exponential_bodies = std::find(is_exponential.begin(), is_exponential.end(), 1) != is_exponential.end();
-    mixed_nodes = std::find(node_body.begin(), node_body.end(), kMixedBodies) != node_body.end();
-    box.assign(s.size(), 0.0);
-  }
-
+  void build(const World& w);
   // Node range of part t of T with about equal numbers of half-edges (only shares the work).
-  void part(int T, int t, int& i0, int& i1) const {
-    auto at = [&](int q) {
-      if (q <= 0) return 0;
-      if (q >= T) return nodes;
-      const long long target = static_cast<long long>(start[nodes]) * q / T;
-      return static_cast<int>(std::lower_bound(start.begin(), start.end() - 1, target) - start.begin());
-    };
-    i0 = at(t);
-    i1 = at(t + 1);
-  }
+  void part(int T, int t, int& i0, int& i1) const;
 };
 
-// Spring tensions of every spring added into f.
+// What a force pass computes besides the forces.
+struct SpringPassOut {
+  Points* f = nullptr;                 // += springs (and dashpots), per node
+  Points* f_spring = nullptr;          // = the springs' part per node (energy audit), or null
+  Points* f_dashpot = nullptr;         // = the dashpots' part per node (energy audit), or null
+  std::vector<double>* energy = nullptr;  // = per node, the energy of its upper springs, or null
+  std::vector<Vec3>* rows = nullptr;   // += Gershgorin rows of the springs (stability guard), or null
+};
+
+// One pass over every node: the springs' forces when `springs`, the dashpots' (material.damping)
+// when `dashpots` (f[i] = (f[i] + springs) + dashpots), and what `out` asks for besides. Mass
+// damping is not here (add_mass_damping). Outputs must be sized to the node count.
+void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, const SpringPassOut& out);
+// The node energies of spring_pass summed in a fixed order (chunks of 4096 nodes), J.
+double sum_node_energy(const std::vector<double>& e);
+
+// Convenience forms (tests, tools): a gather made for the call.
 void add_spring_forces(const World& w, Points& f);
-// Dashpots along springs (material.damping) and mass-proportional damping (material.mass_damping).
+// Dashpots along springs (material.damping), then mass-proportional damping (material.mass_damping).
 void add_damping_forces(const World& w, Points& f);
-// The same with a gather kept between steps (rebuilt when the node or spring count changes).
 void add_spring_forces(SpringGather& g, const World& w, Points& f);
 void add_damping_forces(SpringGather& g, const World& w, Points& f);
+// -(a m) v per node of every body with mass_damping a.
+void add_mass_damping(const World& w, Points& f);
 // Elastic energy of every spring (J), the same value for any thread count.
 double spring_potential(const World& w);
 // Gershgorin row sums of |df/dx| of the springs (tangent stiffness k_t u u^T at the current
 // strain, the compressive geometric term left out) added into rows (one per node).
 void add_spring_stiffness_rows(const World& w, std::vector<Vec3>& rows);
+void add_spring_stiffness_rows(SpringGather& g, const World& w, std::vector<Vec3>& rows);
 
 }  // namespace harness

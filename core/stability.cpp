@@ -19,17 +19,17 @@ double dt_of_rows(const World& w, const std::vector<Vec3>& rows) {
 
 }  // namespace
 
-CriticalDt critical_dts(const World& w, const Effects& effects, std::vector<Vec3>& rows) {
+CriticalDt critical_dts(const World& w, const Effects& effects, std::vector<Vec3>& rows, bool elastic_done) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   CriticalDt out{inf, inf};
   bool any = false;
   for (const auto& e : effects) any = any || e->has_stiffness();
   if (!any) return out;
-  rows.assign(static_cast<std::size_t>(w.num_nodes()), Vec3::Zero());
+  if (!elastic_done) rows.assign(static_cast<std::size_t>(w.num_nodes()), Vec3::Zero());
   bool contact = false;
   for (const auto& e : effects) {
     if (e->category() == EffectCategory::contact) contact = contact || e->has_stiffness();
-    else e->add_stiffness_rows(w, rows);
+    else if (!(elastic_done && e->category() == EffectCategory::elastic)) e->add_stiffness_rows(w, rows);
   }
   out.without_contact = dt_of_rows(w, rows);
   if (!contact) return out.all = out.without_contact, out;
@@ -66,13 +66,21 @@ StabilityGuard::StabilityGuard(const Scene& sc, const World& w, const Effects& e
   stats_.max_substeps = stats_.substeps;
 }
 
-void StabilityGuard::before_step(const World& w, const Effects& effects, int step) {
-  if (active_ && step > 1 && ((step - 1) % kEvery == 0 || dt_ / stats_.substeps > 0.45 * dt_crit_last_))
-    check(w, effects);
+bool StabilityGuard::due(int step) const {
+  return active_ && step > 1 && ((step - 1) % kEvery == 0 || dt_ / stats_.substeps > 0.45 * dt_crit_last_);
 }
 
-void StabilityGuard::check(const World& w, const Effects& effects) {
-  const CriticalDt c = critical_dts(w, effects, rows_);
+void StabilityGuard::before_step(const World& w, const Effects& effects, int step) {
+  if (due(step)) check(w, effects);
+}
+
+void StabilityGuard::check(const World& w, const Effects& effects) { adapt(critical_dts(w, effects, rows_)); }
+
+void StabilityGuard::check_with_rows(const World& w, const Effects& effects) {
+  adapt(critical_dts(w, effects, rows_, /*elastic_done=*/true));
+}
+
+void StabilityGuard::adapt(const CriticalDt& c) {
   const double measured = c.all;
   // A stiffening law keeps shrinking dt_crit during the coming step: extrapolate the springs'
   // trend since the last check (geometrically) so that the substeps are sized for the step's

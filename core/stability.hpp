@@ -25,7 +25,9 @@ double critical_dt(const World& w, const Effects& effects, std::vector<Vec3>& ro
 struct CriticalDt {
   double all, without_contact;
 };
-CriticalDt critical_dts(const World& w, const Effects& effects, std::vector<Vec3>& rows);
+// elastic_done: rows already holds the elastic effects' rows (the springs' force pass computed
+// them): only the other effects' are added.
+CriticalDt critical_dts(const World& w, const Effects& effects, std::vector<Vec3>& rows, bool elastic_done = false);
 
 struct StabilityStats {
   double dt_crit = 0.0;      // s, at rest
@@ -42,11 +44,19 @@ class StabilityGuard {
   StabilityGuard(const Scene& scene, const World& w, const Effects& effects);
   // Before step `step` (1-based): re-evaluates dt_crit when due and adapts the substeps.
   void before_step(const World& w, const Effects& effects, int step);
+  // The same in two halves, for a step whose springs' force pass computes their rows too (one pass
+  // over the springs, not two): due(step) says whether a check is due; rows() is then zeroed and
+  // filled by the pass (StepContext::guard_rows), and check_with_rows() adds the other effects'
+  // rows and adapts the substeps, before any force that depends on the substep (contact).
+  bool due(int step) const;
+  std::vector<Vec3>& rows() { return rows_; }
+  void check_with_rows(const World& w, const Effects& effects);
   int substeps() const { return stats_.substeps; }
   const StabilityStats& stats() const { return stats_; }
 
  private:
   void check(const World& w, const Effects& effects);
+  void adapt(const CriticalDt& c);
 
   double dt_;
   bool explicit_, substep_;

@@ -111,17 +111,27 @@ struct Nearest {
   double d2 = std::numeric_limits<double>::infinity();
 };
 
-Nearest nearest(const CgalSurface::Impl& s, const Vec3& p) {
+Nearest nearest(const CgalSurface::Impl& s, const Vec3& p, int hint) {
   Nearest n;
   const bool split = !s.degenerate.empty();
   cgal::Tree& tree = split ? s.distance_tree : s.tree;  // mutable members: the kd-tree is lazy
   bool& kd_ready = split ? s.distance_kd_ready : s.kd_ready;
+  // A hint seeds the search with a point on a proper face (in the tree searched).
+  const bool hinted = hint >= 0 && hint < static_cast<int>(s.faces.size()) &&
+                      !std::binary_search(s.degenerate.begin(), s.degenerate.end(), hint);
   if (!tree.empty()) {
-    if (!kd_ready) {
+    cgal::Tree::Point_and_primitive_id seed;
+    if (hinted) {
+      const Tri& t = s.faces[hint];
+      const Vec3 c = (cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[0]))) + cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[1]))) +
+                      cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[2])))) / 3.0;
+      seed = {cgal::to_point(c), Mesh::Face_index(static_cast<Mesh::size_type>(hint))};
+    } else if (!kd_ready) {
       tree.accelerate_distance_queries();
       kd_ready = true;
     }
-    const auto pp = tree.closest_point_and_primitive(cgal::to_point(p));
+    const auto pp = hinted ? tree.closest_point_and_primitive(cgal::to_point(p), seed)
+                           : tree.closest_point_and_primitive(cgal::to_point(p));
     n.face = static_cast<int>(pp.second);
     n.point = cgal::to_vec(pp.first);
     n.d2 = (n.point - p).squaredNorm();
@@ -140,10 +150,10 @@ Nearest nearest(const CgalSurface::Impl& s, const Vec3& p) {
 
 }  // namespace
 
-double CgalSurface::squared_distance(const Vec3& p) const { return nearest(*impl_, p).d2; }
+double CgalSurface::squared_distance(const Vec3& p) const { return nearest(*impl_, p, -1).d2; }
 
-int CgalSurface::closest_face(const Vec3& p, Vec3* closest) const {
-  const Nearest n = nearest(*impl_, p);
+int CgalSurface::closest_face(const Vec3& p, Vec3* closest, int hint) const {
+  const Nearest n = nearest(*impl_, p, hint);
   if (closest) *closest = n.point;
   return n.face;
 }

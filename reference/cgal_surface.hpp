@@ -43,8 +43,11 @@ class CgalSurface {
   // Squared distance from p to the surface, m^2.
   double squared_distance(const Vec3& p) const;
   // Index (into faces()) of the triangle holding the surface point nearest to p; that point in
-  // *closest when given.
-  int closest_face(const Vec3& p, Vec3* closest = nullptr) const;
+  // *closest when given. hint: a face near the answer (e.g. the same point's answer a step
+  // before), whose centroid seeds CGAL's search instead of the tree's kd-tree (not built then:
+  // its construction is most of a query-light step's cost); -1: none. The answer is exact either
+  // way (the seed only bounds the first search radius).
+  int closest_face(const Vec3& p, Vec3* closest = nullptr, int hint = -1) const;
   // Bounding box of the current vertices.
   void bounds(Vec3& lo, Vec3& hi) const;
   // Faces collapsed (is_degenerate) at the last update: distances to them are taken to their

@@ -29,6 +29,8 @@ void CgalDetector::initialize(const World& w, const ContactSpec& spec) {
   const Body& H = w.bodies.at(spec.host);
   host_begin_ = H.begin;
   host_surface_.set_topology(H.n_surface, H.faces);
+  guest_begin_ = w.bodies.at(spec.guest).begin;
+  last_face_.assign(static_cast<std::size_t>(w.bodies.at(spec.guest).size()), -1);
 }
 
 void CgalDetector::detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) {
@@ -36,10 +38,13 @@ void CgalDetector::detect(const World& w, const ContactSpec& spec, std::vector<C
   const Body& H = w.bodies[spec.host];
   const Body& G = w.bodies[spec.guest];
   if (!all_finite(w, H) || !all_finite(w, G)) return;
-  host_surface_.update(&w.x[H.begin]);
-  for (int i = G.begin; i < G.end; ++i)
-    if (host_surface_.strictly_inside(w.x[i]))
-      out.push_back(Contact{i, host_surface_.closest_face(w.x[i])});
+  host_surface_.update(&w.x[H.begin]);  // CGAL 5.5's AABB tree has no refit: rebuilt (measured)
+  for (int i = G.begin; i < G.end; ++i) {
+    if (!host_surface_.strictly_inside(w.x[i])) continue;
+    int& last = last_face_[i - G.begin];
+    last = host_surface_.closest_face(w.x[i], nullptr, last);
+    out.push_back(Contact{i, last});
+  }
 }
 
 bool CgalDetector::contact_point(const World& w, const Contact& c, ContactPoint& out) const {

@@ -29,7 +29,8 @@ class CgalDetector final : public CollisionDetector {
 
  private:
   CgalSurface host_surface_;
-  int host_begin_ = 0;
+  int host_begin_ = 0, guest_begin_ = 0;
+  std::vector<int> last_face_;  // per guest node: its closest host face when last inside (a seed), or -1
 };
 
 class FclDetector final : public CollisionDetector {

@@ -69,6 +69,7 @@ PairStep Collision::finish(PairStep s, Clock::time_point t0, Clock::time_point t
 
 PairStep Collision::project(World& w, double h) {
   PairStep s;
+  projected_h_ = h;
   const auto t0 = Clock::now();
   detect_all(w);
   const auto t1 = Clock::now();
@@ -104,6 +105,36 @@ PairStep Collision::step(World& w, double dt) {
     for (Push& p : pushes_) p.n = -p.n;
   apply_pushes(w, pushes_, magnitude_);
   return finish(s, t0, t1);
+}
+
+double Collision::work(const World& w, const Points& dx) const {
+  double sum = 0.0;
+  if (projects()) {
+    // project_pushes moved the guest by inv_g lambda n and host k by -w_k inv_k lambda n: the
+    // equivalent forces m dx / h^2 (kinematic nodes do not move).
+    if (!(projected_h_ > 0.0)) return 0.0;
+    const double h2 = projected_h_ * projected_h_;
+    auto inv = [&w](int i) { return w.is_free(i) ? w.inv_m[i] : 0.0; };
+    for (const Push& p : pushes_) {
+      if (p.count == 0 || !(p.depth > 0.0) || p.normal.squaredNorm() == 0.0) continue;
+      double denom = inv(p.guest);
+      for (int k = 0; k < p.count; ++k) denom += p.weight[k] * p.weight[k] * inv(p.hosts[k]);
+      if (!(denom > 0.0)) continue;
+      const double lambda = p.depth / denom;
+      double s = w.m[p.guest] * inv(p.guest) * p.normal.dot(dx[p.guest]);
+      for (int k = 0; k < p.count; ++k) s -= p.weight[k] * w.m[p.hosts[k]] * inv(p.hosts[k]) * p.normal.dot(dx[p.hosts[k]]);
+      sum += lambda / h2 * s;
+    }
+    return sum;
+  }
+  for (std::size_t i = 0; i < pushes_.size() && i < magnitude_.size(); ++i) {
+    const Push& p = pushes_[i];
+    if (p.count == 0) continue;
+    double s = p.n.dot(dx[p.guest]);
+    for (int k = 0; k < p.count; ++k) s -= p.weight[k] * p.n.dot(dx[p.hosts[k]]);
+    sum += magnitude_[i] * s;
+  }
+  return sum;
 }
 
 }  // namespace harness

@@ -61,6 +61,9 @@ class Collision {
   const std::vector<Push>& pushes() const { return pushes_; }
   const std::vector<double>& magnitudes() const { return magnitude_; }
   bool stepped() const { return stepped_; }  // step() ran at least once
+  // Sum over nodes of the last step()'s forces (or the last project()'s equivalent forces
+  // m dx / h^2) dotted with dx (one vector per node), J: the energy audit's contact work.
+  double work(const World& w, const Points& dx) const;
 
  private:
   void detect_all(const World& w);  // this way round, and the other when two-sided
@@ -82,6 +85,7 @@ class Collision {
   std::vector<Contact> reverse_contacts_;
   std::vector<Push> reverse_pushes_;
   bool stepped_ = false;
+  double projected_h_ = 0.0;  // the substep of the last project()
 };
 
 // One contact pair of the scene. `collision` exists only when the scene lists "contact";

@@ -43,6 +43,13 @@ void ContactEffect::end_step(World&, const StepContext& s) {
     for (Pair& p : pairs_) p.last.contacts = (p.last.contacts + s.substeps - 1) / s.substeps;
 }
 
+double ContactEffect::work(const World& w, const Points& dx) const {
+  double sum = 0.0;
+  for (const Pair& p : pairs_)
+    if (p.collision && p.collision->stepped()) sum += p.collision->work(w, dx);
+  return sum;
+}
+
 bool ContactEffect::has_stiffness() const {
   for (const Pair& p : pairs_)
     if (p.spec.force_rule == ForceRule::penalty && p.spec.stiffness > 0.0) return true;

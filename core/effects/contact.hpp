@@ -19,6 +19,7 @@ class ContactEffect final : public Effect {
   void end_step(World& w, const StepContext& s) override;
   void after_integration(World& w, const StepContext& s) override;
   bool corrects_positions() const override;
+  double work(const World& w, const Points& dx) const override;
   // Pairs with the penalty rule have stiffness: k_c n n^T between a guest node and its hosts.
   // Before the first step every guest node counts as in contact (Gershgorin: 2 k_c on its rows);
   // then the last step's pushes do, each host node with its weight.

@@ -1,5 +1,7 @@
 #include "core/effects/damping.hpp"
 
+#include "core/scene.hpp"
+
 namespace harness {
 
 void DampingEffect::add_jacobian(const World& w, LinearSystem& sys) const {
@@ -9,6 +11,18 @@ void DampingEffect::add_jacobian(const World& w, LinearSystem& sys) const {
     for (int i = b.begin; i < b.end; ++i) sys.node_damping[i] += b.material.mass_damping;
 }
 
-std::unique_ptr<Effect> make_damping_effect(EffectBuild&) { return std::make_unique<DampingEffect>(); }
+void DampingEffect::add_forces(World& w, const StepContext& s) {
+  if (!by_springs_) {
+    SpringPassOut out;
+    out.f = &w.f;
+    out.f_dashpot = s.f_dashpot;
+    spring_pass(gather_, w, false, true, out);
+  }
+  add_mass_damping(w, w.f);
+}
+
+std::unique_ptr<Effect> make_damping_effect(EffectBuild& b) {
+  return std::make_unique<DampingEffect>(b.scene.has(kSprings));
+}
 
 }  // namespace harness

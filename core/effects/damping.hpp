@@ -12,11 +12,15 @@ class DampingEffect final : public Effect {
  public:
   const char* name() const override { return "damping"; }
   EffectCategory category() const override { return EffectCategory::dissipative; }
-  void add_forces(World& w, const StepContext&) override { add_damping_forces(gather_, w, w.f); }
+  // by_springs: the springs effect is listed and adds the dashpots in its pass; this effect then
+  // adds the mass-proportional damping only.
+  explicit DampingEffect(bool by_springs) : by_springs_(by_springs) {}
+  void add_forces(World& w, const StepContext& s) override;
   void add_jacobian(const World& w, LinearSystem& sys) const override;
 
  private:
   SpringGather gather_;
+  bool by_springs_;
 };
 
 std::unique_ptr<Effect> make_damping_effect(EffectBuild& b);

@@ -27,6 +27,14 @@ struct StepContext {
   double dt = 0.0;  // s, the step
   double h = 0.0;   // s, the substep (dt / substeps)
   int substeps = 1;
+  // The energy audit's side outputs (simulation.hpp), null when it is off: per node the springs'
+  // and the dashpots' parts of the force and the springs' energy, written by the force pass.
+  Points* f_spring = nullptr;
+  Points* f_dashpot = nullptr;
+  std::vector<double>* spring_energy = nullptr;
+  // The stability guard's rows (stability.hpp), when its check is due this step: the springs' force
+  // pass of the first substep adds their Gershgorin rows here (null otherwise).
+  std::vector<Vec3>* guard_rows = nullptr;
 };
 
 // The linearised backward-Euler system (implicit.hpp) as the effects describe it:
@@ -73,6 +81,14 @@ class Effect {
   virtual bool has_stiffness() const { return false; }
   virtual double energy(const World& w) const {
     (void)w;
+    return 0.0;
+  }
+  // Sum over nodes of this effect's last forces (the last add_forces, and after_integration's
+  // equivalent forces) dotted with dx (one vector per node), J: the energy audit's work of the
+  // effects whose forces it does not keep per node (contact). Only effects of category contact
+  // are asked.
+  virtual double work(const World& w, const Points& dx) const {
+    (void)w, (void)dx;
     return 0.0;
   }
 };

@@ -7,7 +7,8 @@ namespace harness {
 
 void add_gravity_forces(const World& w, const Vec3& g, Points& f) {
   const int n = w.num_nodes();
-#pragma omp parallel for num_threads(threads_for(static_cast<std::size_t>(n))) schedule(static)
+  const int T = threads_for(static_cast<std::size_t>(n));
+#pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
   for (int i = 0; i < n; ++i) f[i] += w.m[i] * g;
 }
 

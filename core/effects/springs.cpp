@@ -1,5 +1,6 @@
 #include "core/effects/springs.hpp"
 
+#include "core/scene.hpp"
 #include "core/springs.hpp"
 
 #include <algorithm>
@@ -23,12 +24,24 @@ void SpringsEffect::add_jacobian(const World& w, LinearSystem& sys) const {
   }
 }
 
+void SpringsEffect::add_forces(World& w, const StepContext& s) {
+  SpringPassOut out;
+  out.f = &w.f;
+  out.f_spring = s.f_spring;
+  out.f_dashpot = dashpots_ ? s.f_dashpot : nullptr;
+  out.energy = s.spring_energy;
+  out.rows = s.guard_rows;
+  spring_pass(gather_, w, true, dashpots_, out);
+}
+
 bool SpringsEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const {
   if (!has_springs_) return false;
-  add_spring_stiffness_rows(w, rows);
+  add_spring_stiffness_rows(gather_, w, rows);
   return true;
 }
 
-std::unique_ptr<Effect> make_springs_effect(EffectBuild& b) { return std::make_unique<SpringsEffect>(b.world); }
+std::unique_ptr<Effect> make_springs_effect(EffectBuild& b) {
+  return std::make_unique<SpringsEffect>(b.world, b.scene.has(kDamping));
+}
 
 }  // namespace harness

@@ -10,10 +10,12 @@ namespace harness {
 
 class SpringsEffect final : public Effect {
  public:
-  explicit SpringsEffect(const World& w) : has_springs_(w.springs.size() > 0) {}
+  // dashpots: the damping effect is listed too; then this pass adds the dashpots (one pass over
+  // the springs) and the damping effect only the mass-proportional damping.
+  SpringsEffect(const World& w, bool dashpots) : has_springs_(w.springs.size() > 0), dashpots_(dashpots) {}
   const char* name() const override { return "springs"; }
   EffectCategory category() const override { return EffectCategory::elastic; }
-  void add_forces(World& w, const StepContext&) override { add_spring_forces(gather_, w, w.f); }
+  void add_forces(World& w, const StepContext& s) override;
   // K_k = k_t u u^T + max(T / l, 0) (I - u u^T): the compressive geometric term is dropped so
   // that the implicit system stays symmetric positive definite.
   void add_jacobian(const World& w, LinearSystem& sys) const override;
@@ -22,8 +24,9 @@ class SpringsEffect final : public Effect {
   double energy(const World& w) const override { return spring_potential(w); }
 
  private:
-  SpringGather gather_;  // kept between steps (spring topology is fixed once built)
+  mutable SpringGather gather_;  // kept between steps (spring topology is fixed once built)
   bool has_springs_;
+  bool dashpots_;
 };
 
 std::unique_ptr<Effect> make_springs_effect(EffectBuild& b);

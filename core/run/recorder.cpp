@@ -96,9 +96,10 @@ void Recorder::record(const Simulation& sim, bool last) {
   const Scene& sc = sim.scene();
   const int s = sim.step_index();
   measured_now_ = !measurers_.empty() && (s % sc.references.every == 0 || last);
-  ke_ = sim.kinetic_energy();
+  // The audit's figures (booked in the step's own pass); without it, evaluated here.
+  ke_ = sim.audited() ? sim.energy().kinetic : sim.kinetic_energy();
   ke_peak_ = std::max(ke_peak_, ke_);
-  pe_ = sim.potential_energy();
+  pe_ = sim.audited() ? sim.energy().potential : sim.potential_energy();
   {
     const EnergyLedger& e = sim.energy();
     // A peer engine books no work (simulation.hpp): its contact power is unknown, not zero.

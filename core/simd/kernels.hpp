@@ -24,7 +24,7 @@
 // Why the bits are identical at every level (and to the serial scatter and voxel_of): every
 // lane does exactly the scalar operations, in the scalar order, with IEEE double arithmetic
 // (correctly rounded +, -, *, /, sqrt; the build has -ffp-contract=off, and no level enables
-// FMA), and sums stay scalar, in spring order per node. The voxel indices are integers computed
+// FMA), and sums follow one order at every level (SpringSumRun). The voxel indices are integers computed
 // exactly in double; min and max are exact. tests/core/test_cpu.cpp checks every level.
 #pragma once
 
@@ -47,30 +47,56 @@ struct VoxelGrid {
   double dx, dxy;  // dims.x, dims.x dims.y
 };
 
-// The spring gather of the nodes [i0, i1) of one body, all of whose springs follow one law:
-// f[i] += sum over node i's half-edges h, in spring order, of c(L0[h], |d|) d, d = x[other[h]]
-// - x[i], half-edges of zero length adding nothing (core/spring_forces.hpp, SpringGather).
-// x and f hold three doubles per node.
-struct SpringRun {
-  const int* start;     // CSR over half-edges
-  const int* other;     // the other end of each half-edge
-  const double* rest;   // rest length of each half-edge
-  const double* stiff;  // stiffness of each half-edge's spring
-  const double* x;
-  double* f;
-  double beta;          // the body's nonlinearity (BodyLaw)
-  int i0, i1;
+// The force pass of core/spring_forces.hpp (SpringGather), in two halves. Every node lists its
+// half-edges in two CSR lists, in spring order: "upper" (the other end has a higher index; a
+// spring's first end for a spring on one node) and "lower" (the other end lower). A spring is
+// evaluated once, at its upper half-edge; each node then sums its half-edges.
+//
+// SpringEvalRun: the upper half-edges [h0, h1) of one body (one law, one dashpot coefficient),
+// independent of each other: for half-edge h from node i = self[h] to j = other[h],
+//   d = x_j - x_i, l2 = (dx dx + dy dy) + dz dz, l = sqrt(l2), r = 1 / l, c = the law's
+//   tension over length (springs.hpp), s = damping (u.d) (r r) with u = v_j - v_i and
+//   u.d = (ux dx + uy dy) + uz dz, t = the tangent stiffness over l2;
+//   F[h] = c d (springs), G[h] = s d (dashpots), both 0 for a spring of zero length (l2 <= 0,
+//   NaN excluded: it propagates); R[h] = 2 t ((|dx| + |dy|) + |dz|) |d_a| (rows) where l2 > 0,
+//   else 0; e[h] = the spring's energy. The force on node j is -F, -G exactly (d there is
+//   exactly -d); its rows R.
+struct SpringEvalRun {
+  const int* self;
+  const int* other;
+  const double* rest;    // rest length L0, m
+  const double* inv_rest;  // 1 / L0 (a correctly rounded division), 1/m
+  const double* stiff;   // stiffness, N/m
+  const double* x;       // three doubles per node
+  const double* v;
+  double* F[3];          // per upper half-edge (the box), x y z; F[0] null: no springs
+  double* G[3];          // G[0] null: no dashpots
+  double* R[3];          // R[0] null: no rows
+  double* e;             // null: no energy
+  double beta;           // the body's nonlinearity
+  double damping;        // the body's dashpot coefficient, N s/m
+  int h0, h1;
 };
 
-// Dashpots of the nodes [i0, i1), all of whose springs have damping c: f[i] += sum over the
-// half-edges of (c (v_j - v_i).d / |d|^2) d, in spring order, zero-length half-edges skipped.
-struct DashpotRun {
-  const int* start;
-  const int* other;
-  const double* x;
-  const double* v;
-  double* f;
-  double c;
+// SpringSumRun: the nodes [i0, i1): per node and component, four interleaved partial sums over
+// its upper half-edges (+F, +G, +R, +e) then its lower ones (-F, -G, +R through lo_slot, the
+// same spring's upper half-edge), half-edge q of each list into partial q % 4, in list order;
+// each sum is (p0 + p1) + (p2 + p3); then f[i] = (f[i] + springs) + dashpots, rows[i] += rows.
+// The index arrays and the box carry 4 padding entries past their ends (the four-lane tails read
+// them and mask them out).
+struct SpringSumRun {
+  const int* up_start;
+  const int* lo_start;
+  const int* lo_slot;
+  const double* F[3];    // null: no springs
+  const double* G[3];    // null: no dashpots
+  const double* R[3];    // null: no rows
+  const double* e;       // null: no energy
+  double* f;             // += per node, three doubles (with F or G)
+  double* f_spring;      // = the springs' sum per node, or null (audit)
+  double* f_dashpot;     // = the dashpots' sum per node, or null (audit)
+  double* energy;        // = the node's upper springs' energy, or null (audit)
+  double* rows;          // += Gershgorin rows, three per node, or null (guard)
   int i0, i1;
 };
 
@@ -83,9 +109,11 @@ struct Kernels {
   void (*bounds)(const double* xyz, std::size_t n, double* lohi);
   // lo = smallest c[k] as unsigned (~0u when n = 0), hi = largest c[k] (-1 when n = 0).
   void (*cell_range)(const int* c, std::size_t n, unsigned& lo, int& hi);
-  void (*springs_linear)(const SpringRun& r);
-  void (*springs_cubic)(const SpringRun& r);
-  void (*dashpots)(const DashpotRun& r);
+  // The force pass (SpringEvalRun by the body's law, then SpringSumRun).
+  void (*spring_eval_linear)(const SpringEvalRun& r);
+  void (*spring_eval_cubic)(const SpringEvalRun& r);
+  void (*spring_eval_exponential)(const SpringEvalRun& r);
+  void (*spring_sum)(const SpringSumRun& r);
 };
 
 // The kernels compiled for `isa` (which must be one the processor supports).

@@ -4,6 +4,7 @@
 #include "core/simd/kernels.hpp"
 #include "core/springs.hpp"
 
+
 #ifndef HARNESS_SIMD_NS
 #error "kernels_<isa>.cpp defines HARNESS_SIMD_NS before including kernels.inl"
 #endif
@@ -107,151 +108,241 @@ void cell_range(const int* c, std::size_t n, unsigned& lo, int& hi) {
   if constexpr (I::W > 1) cell_range_lanes<I1>(c + k, n - k, lo, hi);
 }
 
-// ---- Spring gather (SpringRun) and dashpots (DashpotRun).
-// A node's half-edges are evaluated kChunk at a time, W per iteration, into buffers of forces
-// c d, then summed in spring order, skipping those of zero length (the scatter's `if (l <= 0)
-// continue`). Every lane does the scalar operations: d = x_j - x_i, l = sqrt((dx^2 + dy^2) +
-// dz^2) (Eigen's d.norm()), the law of springs.hpp (the same template the scatter evaluates),
-// c * d; for a dashpot ((c u.d) / l2) d with u = v_j - v_i, u.d = (ux dx + uy dy) + uz dz
-// (Eigen's dot).
-constexpr int kChunk = 64;  // half-edges evaluated at a time: the stack buffers, 64 skip bits
-constexpr int kGroup = 4;   // nodes whose sums are interleaved (spring_group)
+// ---- The force pass (SpringEvalRun, SpringSumRun: kernels.hpp).
+// The sums use four lanes (D4) at every SIMD level, one (D1) at the scalar level; lane l of a
+// four-lane iteration starting at half-edge q (a multiple of four) is partial sum (q + l) % 4 = l,
+// and the scalar level puts half-edge q into partial q % 4: the same partial sums, and the same
+// (p0 + p1) + (p2 + p3), at every level.
+constexpr double kLaneIndex[4] = {0.0, 1.0, 2.0, 3.0};
 
-inline int min_int(int a, int b) { return a < b ? a : b; }
-
-// c d of the m half-edges [a, a + m) of the node at xi (m <= kChunk) into FX, FY, FZ; returns
-// the bits of those of zero length. (Always inlined, as each caller's loop wants it.)
-template <class D, SpringLawKind K>
-[[gnu::always_inline]] inline std::uint64_t spring_chunk(const SpringRun& r, const double* xi, int a, int m,
-                                                         double* FX, double* FY, double* FZ) {
-  static_assert(K == SpringLawKind::linear || K == SpringLawKind::cubic,
-                "the exponential law is evaluated once per spring (spring_forces.cpp)");
-  const D x0 = D::set1(xi[0]), x1 = D::set1(xi[1]), x2 = D::set1(xi[2]);
-  const D beta = D::set1(r.beta), zero = D::set1(0.0);
-  const double* x = r.x;  // (locals: the stores below could alias r's fields)
-  const int* oth = r.other + a;
-  const double* L0 = r.rest + a;
-  const double* K0 = r.stiff + a;
-  std::uint64_t skip = 0, unit = 1;  // unit = 2^q (a product, not a variable shift, per iteration)
-  int q = 0;
-  for (; q + D::W <= m; q += D::W, unit <<= D::W) {
-    D px, py, pz;
-    D::gather_xyz(x, oth + q, px, py, pz);
-    const D dx = px - x0, dy = py - x1, dz = pz - x2;
-    const D l = sqrt(dx * dx + dy * dy + dz * dz);
-    D c;
-    if constexpr (K == SpringLawKind::linear) c = linear_law(D::load(K0 + q), D::load(L0 + q), l);
-    else c = cubic_law(D::load(K0 + q), beta, D::load(L0 + q), l);
-    store(FX + q, c * dx), store(FY + q, c * dy), store(FZ + q, c * dz);
-    skip |= bits(le(l, zero)) * unit;
+// The laws' constants as lanes, made once per call.
+template <class D>
+struct LawConstants {
+  D zero, half, quarter, one, two, three, six, c24, c120, eighth, tiny_x, small_x, direct, beta, inv_beta, damping;
+  D coef[12];
+  LawConstants(double beta_, double damping_) {
+    zero = D::set1(0.0), half = D::set1(0.5), quarter = D::set1(0.25), one = D::set1(1.0), two = D::set1(2.0);
+    three = D::set1(3.0), six = D::set1(6.0), c24 = D::set1(24.0), c120 = D::set1(120.0), eighth = D::set1(0.125);
+    tiny_x = D::set1(1e-8), small_x = D::set1(1e-3), direct = D::set1(kExpm1Direct);
+    beta = D::set1(beta_), inv_beta = D::set1(1.0 / beta_), damping = D::set1(damping_);
+    for (int k = 0; k < 12; ++k) coef[k] = D::set1(kExpm1Coef[k]);
   }
-  if constexpr (D::W > 1)
-    if (q < m) skip |= spring_chunk<D1, K>(r, xi, a + q, m - q, FX + q, FY + q, FZ + q) << q;
-  return skip;
-}
+};
 
-// Node i's sum, any number of half-edges.
+// The law at the lanes' lengths (springs.hpp, each expression as the scalar one): c the tension
+// over length, t the tangent stiffness over l2 (want_t), e the energy (want_e), from s = l - L0,
+// r = 1 / l and q = 1 / L0. What is not wanted is not computed.
 template <class D, SpringLawKind K>
-void spring_node(const SpringRun& r, int i) {
-  alignas(64) double F[3][kChunk];
-  const double* xi = r.x + 3 * static_cast<std::ptrdiff_t>(i);
-  double* fi = r.f + 3 * static_cast<std::ptrdiff_t>(i);
-  double ax = fi[0], ay = fi[1], az = fi[2];
-  const int end = r.start[i + 1];
-  for (int a = r.start[i]; a < end; a += kChunk) {
-    const int m = min_int(kChunk, end - a);
-    const std::uint64_t skip = spring_chunk<D, K>(r, xi, a, m, F[0], F[1], F[2]);
-    for (int q = 0; q < m; ++q) {
-      if ((skip >> q) & 1) continue;
-      ax += F[0][q], ay += F[1][q], az += F[2][q];
+[[gnu::always_inline]] inline void law_lanes(const LawConstants<D>& C, const D& k, const D& L0, const D& q,
+                                             const D& l, const D& r, bool want_t, bool want_e, D& c, D& t,
+                                             D& e) {
+  const D s = l - L0;
+  if constexpr (K == SpringLawKind::linear) {
+    c = linear_law(k, s, r);
+    if (want_t) t = abs(k) * r * r;
+    if (want_e) e = linear_energy(k * L0 * L0, s * q, C.half);
+  } else if constexpr (K == SpringLawKind::cubic) {
+    c = cubic_law(k, C.beta, L0, s, q, r);
+    if (want_t) t = abs(cubic_tangent(k, C.beta, L0, s, q, C.three)) * (r * r);
+    if (want_e) e = cubic_energy(k * L0 * L0, C.beta, s * q, C.half, C.quarter);
+  } else {
+    const D eps = s * q;
+    const D x = C.beta * eps;
+    D em1 = expm1_halving(x, C.coef, C.eighth, C.two);
+    const unsigned in = bits(le(abs(x), C.direct));
+    if (in != (1u << D::W) - 1u) {  // beyond the polynomial's range (or NaN): libm, lane by lane
+      double xs[D::W], es[D::W];
+      store(xs, x), store(es, em1);
+      for (int j = 0; j < D::W; ++j)
+        if (!((in >> j) & 1u)) es[j] = __builtin_expm1(xs[j]);
+      em1 = D::load(es);
     }
-  }
-  fi[0] = ax, fi[1] = ay, fi[2] = az;
-}
-
-// Nodes i .. i + kGroup - 1, each with at most kChunk half-edges: their sums, each in spring
-// order, interleaved (3 kGroup independent chains of additions instead of three: the latency
-// of one addition per half-edge, not the arithmetic, bounds a single node's sum).
-template <class D, SpringLawKind K>
-void spring_group(const SpringRun& r, int i) {
-  alignas(64) double F[kGroup][3][kChunk];
-  std::uint64_t skip[kGroup];
-  int m[kGroup];
-  double acc[kGroup][3];
-  int most = 0;
-  for (int n = 0; n < kGroup; ++n) {
-    const std::ptrdiff_t node = i + n;
-    const int a = r.start[node];
-    m[n] = r.start[node + 1] - a;
-    most = m[n] > most ? m[n] : most;
-    skip[n] = spring_chunk<D, K>(r, r.x + 3 * node, a, m[n], F[n][0], F[n][1], F[n][2]);
-    for (int c = 0; c < 3; ++c) acc[n][c] = r.f[3 * node + c];
-  }
-  for (int q = 0; q < most; ++q)
-    for (int n = 0; n < kGroup; ++n)
-      if (q < m[n] && !((skip[n] >> q) & 1)) acc[n][0] += F[n][0][q], acc[n][1] += F[n][1][q], acc[n][2] += F[n][2][q];
-  for (int n = 0; n < kGroup; ++n)
-    for (int c = 0; c < 3; ++c) r.f[3 * static_cast<std::ptrdiff_t>(i + n) + c] = acc[n][c];
-}
-
-template <class D, SpringLawKind K>
-void springs(const SpringRun& r) {
-  for (int i = r.i0; i < r.i1;) {
-    bool group = i + kGroup <= r.i1;
-    for (int n = 0; n < kGroup && group; ++n) group = r.start[i + n + 1] - r.start[i + n] <= kChunk;
-    if (group) {
-      spring_group<D, K>(r, i);
-      i += kGroup;
-    } else {
-      spring_node<D, K>(r, i);
-      ++i;
+    c = select(lt(abs(x), C.tiny_x), exponential_near(k, s, x, C.one, C.half, r),
+               exponential_far(k, L0, em1, C.inv_beta, r));
+    if (want_t) t = abs(k * (C.one + em1)) * r * r;
+    if (want_e) {
+      const D g = select(lt(abs(x), C.small_x), exp_energy_series(x, C.half, C.six, C.c24, C.c120),
+                         exp_energy_direct(x, em1));
+      e = k * L0 * L0 * eps * eps * g;
     }
   }
 }
 
-template <class D>
-[[gnu::always_inline]] inline std::uint64_t dashpot_chunk(const DashpotRun& r, const double* xi, const double* vi,
-                                                          int a, int m, double* FX, double* FY, double* FZ) {
-  const D x0 = D::set1(xi[0]), x1 = D::set1(xi[1]), x2 = D::set1(xi[2]);
-  const D v0 = D::set1(vi[0]), v1 = D::set1(vi[1]), v2 = D::set1(vi[2]);
-  const D cc = D::set1(r.c), zero = D::set1(0.0);
-  const double *x = r.x, *v = r.v;  // (locals: the stores below could alias r's fields)
-  const int* oth = r.other + a;
-  std::uint64_t skip = 0, unit = 1;  // as in spring_chunk
-  int q = 0;
-  for (; q + D::W <= m; q += D::W, unit <<= D::W) {
-    D px, py, pz, ux, uy, uz;
-    D::gather_xyz(x, oth + q, px, py, pz);
-    D::gather_xyz(v, oth + q, ux, uy, uz);
-    const D dx = px - x0, dy = py - x1, dz = pz - x2;
-    const D wx = ux - v0, wy = uy - v1, wz = uz - v2;
-    const D l2 = dx * dx + dy * dy + dz * dz;
-    const D s = cc * (wx * dx + wy * dy + wz * dz) / l2;
-    store(FX + q, s * dx), store(FY + q, s * dy), store(FZ + q, s * dz);
-    skip |= bits(le(l2, zero)) * unit;
+// ---- The evaluation half (SpringEvalRun): W upper half-edges per iteration, the last ones (all
+// of them at the scalar level) one at a time with the one-lane type: every lane does the same
+// operations, so the box holds the same numbers at every level.
+template <class D, SpringLawKind K>
+[[gnu::always_inline]] inline void eval_lanes(const SpringEvalRun& r, const LawConstants<D>& C, int h) {
+  D ax, ay, az, bx, by, bz;
+  D::gather_xyz(r.x, r.self + h, ax, ay, az);
+  D::gather_xyz(r.x, r.other + h, bx, by, bz);
+  const D dx = bx - ax, dy = by - ay, dz = bz - az;
+  const D l2 = (dx * dx + dy * dy) + dz * dz;
+  const auto zero_length = le(l2, C.zero);  // l <= 0 exactly when l2 <= 0 (NaN: neither)
+  const bool springs = r.F[0] != nullptr, rows = r.R[0] != nullptr, energy = r.e != nullptr;
+  const D l = sqrt(l2);
+  const D rl = C.one / l;  // the pass's one division: 1 / l
+  if (springs || rows || energy) {
+    D c = C.zero, t = C.zero, e = C.zero;
+    law_lanes<D, K>(C, D::load(r.stiff + h), D::load(r.rest + h), D::load(r.inv_rest + h), l, rl, rows, energy, c, t,
+                    e);
+    if (springs) {
+      store(r.F[0] + h, select(zero_length, C.zero, c * dx));
+      store(r.F[1] + h, select(zero_length, C.zero, c * dy));
+      store(r.F[2] + h, select(zero_length, C.zero, c * dz));
+    }
+    if (rows) {
+      const auto ok = lt(C.zero, l2);
+      const D adx = abs(dx), ady = abs(dy), adz = abs(dz);
+      const D rr = C.two * t * ((adx + ady) + adz);
+      store(r.R[0] + h, select(ok, rr * adx, C.zero));
+      store(r.R[1] + h, select(ok, rr * ady, C.zero));
+      store(r.R[2] + h, select(ok, rr * adz, C.zero));
+    }
+    if (energy) store(r.e + h, e);
   }
-  if constexpr (D::W > 1)
-    if (q < m) skip |= dashpot_chunk<D1>(r, xi, vi, a + q, m - q, FX + q, FY + q, FZ + q) << q;
-  return skip;
+  if (r.G[0]) {
+    D ux, uy, uz, wx, wy, wz;
+    D::gather_xyz(r.v, r.self + h, ux, uy, uz);
+    D::gather_xyz(r.v, r.other + h, wx, wy, wz);
+    ux = wx - ux, uy = wy - uy, uz = wz - uz;
+    const D s = C.damping * ((ux * dx + uy * dy) + uz * dz) * (rl * rl);
+    store(r.G[0] + h, select(zero_length, C.zero, s * dx));
+    store(r.G[1] + h, select(zero_length, C.zero, s * dy));
+    store(r.G[2] + h, select(zero_length, C.zero, s * dz));
+  }
 }
 
-template <class D>
-void dashpots(const DashpotRun& r) {
-  alignas(64) double F[3][kChunk];
+template <class D, SpringLawKind K>
+void spring_eval(const SpringEvalRun& r) {
+  int h = r.h0;
+  if constexpr (D::W > 1) {
+    const LawConstants<D> C(r.beta, r.damping);
+    for (; h + D::W <= r.h1; h += D::W) eval_lanes<D, K>(r, C, h);
+  }
+  const LawConstants<D1> C1(r.beta, r.damping);
+  for (; h < r.h1; ++h) eval_lanes<D1, K>(r, C1, h);
+}
+
+// ---- The summing half (SpringSumRun): four half-edges per iteration, lane l into partial l, the
+// partial sums in registers over a node's upper then lower list; the last iteration of a list
+// masks the lanes past its end (the next node's entries or the padding: read, never added). The
+// scalar level goes one half-edge at a time into partial q % 4. What a pass does not want
+// (springs, dashpots, rows, energy) is compiled out (one variant per combination). Adding +0 to a
+// partial sum, which is never -0, leaves it as it is: a masked lane adds nothing.
+
+// The node's sums from its partials p[quantity][partial]: springs x y z, dashpots x y z, rows
+// x y z, energy.
+template <bool SP, bool DP, bool RO, bool EN>
+[[gnu::always_inline]] inline void finish(const SpringSumRun& r, std::ptrdiff_t node, const double (*p)[4]) {
+  for (int a = 0; a < 3; ++a) {
+    const double se = (p[a][0] + p[a][1]) + (p[a][2] + p[a][3]);
+    const double sd = (p[3 + a][0] + p[3 + a][1]) + (p[3 + a][2] + p[3 + a][3]);
+    if (SP) r.f[3 * node + a] += se;
+    if (DP) r.f[3 * node + a] += sd;
+    if (r.f_spring) r.f_spring[3 * node + a] = se;
+    if (r.f_dashpot) r.f_dashpot[3 * node + a] = sd;
+    if (RO) r.rows[3 * node + a] += (p[6 + a][0] + p[6 + a][1]) + (p[6 + a][2] + p[6 + a][3]);
+  }
+  if (EN) r.energy[node] = (p[9][0] + p[9][1]) + (p[9][2] + p[9][3]);
+}
+
+template <class D, bool SP, bool DP, bool RO, bool EN>
+void sum_nodes(const SpringSumRun& r) {
   for (int i = r.i0; i < r.i1; ++i) {
     const std::ptrdiff_t node = i;
-    double* fi = r.f + 3 * node;
-    double ax = fi[0], ay = fi[1], az = fi[2];
-    const int end = r.start[i + 1];
-    for (int a = r.start[i]; a < end; a += kChunk) {
-      const int m = min_int(kChunk, end - a);
-      const std::uint64_t skip = dashpot_chunk<D>(r, r.x + 3 * node, r.v + 3 * node, a, m, F[0], F[1], F[2]);
-      for (int q = 0; q < m; ++q) {
-        if ((skip >> q) & 1) continue;
-        ax += F[0][q], ay += F[1][q], az += F[2][q];
+    alignas(32) double p[10][4] = {};
+    if constexpr (D::W == 4) {
+      const D zero = D::set1(0.0), lane = D::load(kLaneIndex);
+      D a0 = zero, a1 = zero, a2 = zero, b0 = zero, b1 = zero, b2 = zero, c0 = zero, c1 = zero, c2 = zero, es = zero;
+      // Upper half-edges: contiguous box entries, +F, +G, +R, +e.
+      {
+        const int a = r.up_start[i], m = r.up_start[i + 1] - a;
+        for (int q = 0; q < m; q += 4) {
+          const int h = a + q;
+          const auto in = lt(lane, D::set1(static_cast<double>(m - q)));
+          if constexpr (SP) {
+            a0 = a0 + select(in, D::load(r.F[0] + h), zero), a1 = a1 + select(in, D::load(r.F[1] + h), zero);
+            a2 = a2 + select(in, D::load(r.F[2] + h), zero);
+          }
+          if constexpr (DP) {
+            b0 = b0 + select(in, D::load(r.G[0] + h), zero), b1 = b1 + select(in, D::load(r.G[1] + h), zero);
+            b2 = b2 + select(in, D::load(r.G[2] + h), zero);
+          }
+          if constexpr (RO) {
+            c0 = c0 + select(in, D::load(r.R[0] + h), zero), c1 = c1 + select(in, D::load(r.R[1] + h), zero);
+            c2 = c2 + select(in, D::load(r.R[2] + h), zero);
+          }
+          if constexpr (EN) es = es + select(in, D::load(r.e + h), zero);
+        }
+      }
+      // Lower half-edges: the same spring's upper entry through lo_slot, -F, -G, +R.
+      {
+        const int a = r.lo_start[i], m = r.lo_start[i + 1] - a;
+        for (int q = 0; q < m; q += 4) {
+          const int* slot = r.lo_slot + a + q;
+          const auto in = lt(lane, D::set1(static_cast<double>(m - q)));
+          if constexpr (SP) {
+            a0 = a0 + select(in, zero - D::gather(r.F[0], slot), zero);
+            a1 = a1 + select(in, zero - D::gather(r.F[1], slot), zero);
+            a2 = a2 + select(in, zero - D::gather(r.F[2], slot), zero);
+          }
+          if constexpr (DP) {
+            b0 = b0 + select(in, zero - D::gather(r.G[0], slot), zero);
+            b1 = b1 + select(in, zero - D::gather(r.G[1], slot), zero);
+            b2 = b2 + select(in, zero - D::gather(r.G[2], slot), zero);
+          }
+          if constexpr (RO) {
+            c0 = c0 + select(in, D::gather(r.R[0], slot), zero), c1 = c1 + select(in, D::gather(r.R[1], slot), zero);
+            c2 = c2 + select(in, D::gather(r.R[2], slot), zero);
+          }
+        }
+      }
+      store(p[0], a0), store(p[1], a1), store(p[2], a2), store(p[3], b0), store(p[4], b1), store(p[5], b2);
+      store(p[6], c0), store(p[7], c1), store(p[8], c2), store(p[9], es);
+    } else {
+      for (int h = r.up_start[i], q = 0; h < r.up_start[i + 1]; ++h, ++q) {
+        const int l = q & 3;
+        for (int c = 0; c < 3; ++c) {
+          if (SP) p[c][l] += r.F[c][h];
+          if (DP) p[3 + c][l] += r.G[c][h];
+          if (RO) p[6 + c][l] += r.R[c][h];
+        }
+        if (EN) p[9][l] += r.e[h];
+      }
+      for (int h = r.lo_start[i], q = 0; h < r.lo_start[i + 1]; ++h, ++q) {
+        const int l = q & 3, k = r.lo_slot[h];
+        for (int c = 0; c < 3; ++c) {
+          if (SP) p[c][l] += 0.0 - r.F[c][k];
+          if (DP) p[3 + c][l] += 0.0 - r.G[c][k];
+          if (RO) p[6 + c][l] += r.R[c][k];
+        }
       }
     }
-    fi[0] = ax, fi[1] = ay, fi[2] = az;
+    finish<SP, DP, RO, EN>(r, node, p);
+  }
+}
+
+template <class D>
+void spring_sum(const SpringSumRun& r) {
+  const int key = (r.F[0] ? 8 : 0) | (r.G[0] ? 4 : 0) | (r.R[0] ? 2 : 0) | (r.e ? 1 : 0);
+  switch (key) {
+    case 0: return sum_nodes<D, false, false, false, false>(r);
+    case 1: return sum_nodes<D, false, false, false, true>(r);
+    case 2: return sum_nodes<D, false, false, true, false>(r);
+    case 3: return sum_nodes<D, false, false, true, true>(r);
+    case 4: return sum_nodes<D, false, true, false, false>(r);
+    case 5: return sum_nodes<D, false, true, false, true>(r);
+    case 6: return sum_nodes<D, false, true, true, false>(r);
+    case 7: return sum_nodes<D, false, true, true, true>(r);
+    case 8: return sum_nodes<D, true, false, false, false>(r);
+    case 9: return sum_nodes<D, true, false, false, true>(r);
+    case 10: return sum_nodes<D, true, false, true, false>(r);
+    case 11: return sum_nodes<D, true, false, true, true>(r);
+    case 12: return sum_nodes<D, true, true, false, false>(r);
+    case 13: return sum_nodes<D, true, true, false, true>(r);
+    case 14: return sum_nodes<D, true, true, true, false>(r);
+    default: return sum_nodes<D, true, true, true, true>(r);
   }
 }
 
@@ -262,9 +353,10 @@ const Kernels table = {
     voxel_cells<VoxelLanes>,
     bounds<BoundsLanes>,
     cell_range<RangeLanes>,
-    springs<SpringLanes, SpringLawKind::linear>,
-    springs<SpringLanes, SpringLawKind::cubic>,
-    dashpots<SpringLanes>,
+    spring_eval<EvalLanes, SpringLawKind::linear>,
+    spring_eval<EvalLanes, SpringLawKind::cubic>,
+    spring_eval<EvalLanes, SpringLawKind::exponential>,
+    spring_sum<SpringLanes>,
 };
 
 }  // namespace harness::simd::HARNESS_SIMD_NS

@@ -6,8 +6,9 @@
 //   D::load(p), D::set1(a), store(p, a);
 //   D::load_xyz(q, px, py, pz): W consecutive points of q (three doubles each) as x, y, z lanes;
 //   D::gather_xyz(x, idx, px, py, pz): lane j the coordinates of point idx[j] of x;
-//   + - * /, sqrt, floor;
-//   le, ge, lt (ordered: false for NaN) giving a mask, mask & mask, bits(mask) (bit j: lane j);
+//   D::gather(base, idx): lane j = base[idx[j]];
+//   + - * /, sqrt, abs (clears the sign bit), floor;
+//   le, ge, lt, gt (ordered: false for NaN) giving a mask, mask & mask, ~mask, bits(mask) (bit j: lane j);
 //   select(m, a, b) (lane j: m ? a : b); min(a, b) = a < b ? a : b and max(a, b) = a > b ? a : b
 //   (the vminpd/vmaxpd rule); store_i32(p, a) (lanes holding integers in int range, to int).
 // An integer lane type I has W int32 lanes and I::load, I::set1, store, min_u (as unsigned),
@@ -44,12 +45,14 @@ struct D1 {
   static void gather_xyz(const double* x, const int* idx, D1& px, D1& py, D1& pz) {
     load_xyz(x + 3 * static_cast<std::ptrdiff_t>(idx[0]), px, py, pz);
   }
+  static D1 gather(const double* base, const int* idx) { return {base[idx[0]]}; }
 };
 inline D1 operator+(D1 a, D1 b) { return {a.v + b.v}; }
 inline D1 operator-(D1 a, D1 b) { return {a.v - b.v}; }
 inline D1 operator*(D1 a, D1 b) { return {a.v * b.v}; }
 inline D1 operator/(D1 a, D1 b) { return {a.v / b.v}; }
 inline D1 sqrt(D1 a) { return {__builtin_sqrt(a.v)}; }
+inline D1 abs(D1 a) { return {__builtin_fabs(a.v)}; }
 inline D1 floor(D1 t) {
 #if defined(__SSE4_1__) || !defined(__SSE2__)
   return {__builtin_floor(t.v)};  // an instruction (roundsd, frintm, ...)
@@ -67,6 +70,8 @@ inline D1 floor(D1 t) {
 inline M1 le(D1 a, D1 b) { return {a.v <= b.v}; }
 inline M1 ge(D1 a, D1 b) { return {a.v >= b.v}; }
 inline M1 lt(D1 a, D1 b) { return {a.v < b.v}; }
+inline M1 gt(D1 a, D1 b) { return {a.v > b.v}; }
+inline M1 operator~(M1 a) { return {!a.v}; }
 inline D1 select(M1 m, D1 a, D1 b) { return m.v ? a : b; }
 inline D1 min(D1 a, D1 b) { return {a.v < b.v ? a.v : b.v}; }
 inline D1 max(D1 a, D1 b) { return {a.v > b.v ? a.v : b.v}; }
@@ -116,16 +121,22 @@ struct D4 {
     py = {_mm256_set_pd(p3[1], p2[1], p1[1], p0[1])};
     pz = {_mm256_set_pd(p3[2], p2[2], p1[2], p0[2])};
   }
+  static D4 gather(const double* base, const int* idx) {
+    return {_mm256_set_pd(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]])};
+  }
 };
 inline D4 operator+(D4 a, D4 b) { return {_mm256_add_pd(a.v, b.v)}; }
 inline D4 operator-(D4 a, D4 b) { return {_mm256_sub_pd(a.v, b.v)}; }
 inline D4 operator*(D4 a, D4 b) { return {_mm256_mul_pd(a.v, b.v)}; }
 inline D4 operator/(D4 a, D4 b) { return {_mm256_div_pd(a.v, b.v)}; }
 inline D4 sqrt(D4 a) { return {_mm256_sqrt_pd(a.v)}; }
+inline D4 abs(D4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
 inline D4 floor(D4 a) { return {_mm256_floor_pd(a.v)}; }
 inline M4 le(D4 a, D4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_LE_OQ)}; }
 inline M4 ge(D4 a, D4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_GE_OQ)}; }
 inline M4 lt(D4 a, D4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_LT_OQ)}; }
+inline M4 gt(D4 a, D4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_GT_OQ)}; }
+inline M4 operator~(M4 a) { return {_mm256_xor_pd(a.v, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)))}; }
 inline D4 select(M4 m, D4 a, D4 b) { return {_mm256_blendv_pd(b.v, a.v, m.v)}; }
 inline D4 min(D4 a, D4 b) { return {_mm256_min_pd(a.v, b.v)}; }
 inline D4 max(D4 a, D4 b) { return {_mm256_max_pd(a.v, b.v)}; }
@@ -187,16 +198,23 @@ struct D8 {
     py = {_mm512_set_pd(p[7][1], p[6][1], p[5][1], p[4][1], p[3][1], p[2][1], p[1][1], p[0][1])};
     pz = {_mm512_set_pd(p[7][2], p[6][2], p[5][2], p[4][2], p[3][2], p[2][2], p[1][2], p[0][2])};
   }
+  static D8 gather(const double* base, const int* idx) {
+    return {_mm512_set_pd(base[idx[7]], base[idx[6]], base[idx[5]], base[idx[4]], base[idx[3]], base[idx[2]],
+                          base[idx[1]], base[idx[0]])};
+  }
 };
 inline D8 operator+(D8 a, D8 b) { return {_mm512_add_pd(a.v, b.v)}; }
 inline D8 operator-(D8 a, D8 b) { return {_mm512_sub_pd(a.v, b.v)}; }
 inline D8 operator*(D8 a, D8 b) { return {_mm512_mul_pd(a.v, b.v)}; }
 inline D8 operator/(D8 a, D8 b) { return {_mm512_div_pd(a.v, b.v)}; }
 inline D8 sqrt(D8 a) { return {_mm512_sqrt_pd(a.v)}; }
+inline D8 abs(D8 a) { return {_mm512_abs_pd(a.v)}; }
 inline D8 floor(D8 a) { return {_mm512_roundscale_pd(a.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)}; }
 inline M8 le(D8 a, D8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ)}; }
 inline M8 ge(D8 a, D8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_GE_OQ)}; }
 inline M8 lt(D8 a, D8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LT_OQ)}; }
+inline M8 gt(D8 a, D8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_GT_OQ)}; }
+inline M8 operator~(M8 a) { return {static_cast<__mmask8>(~a.v)}; }
 inline D8 select(M8 m, D8 a, D8 b) { return {_mm512_mask_blend_pd(m.v, b.v, a.v)}; }
 inline D8 min(D8 a, D8 b) { return {_mm512_min_pd(a.v, b.v)}; }
 inline D8 max(D8 a, D8 b) { return {_mm512_max_pd(a.v, b.v)}; }
@@ -225,6 +243,7 @@ using VoxelLanes = D8;
 using BoundsLanes = D8;
 using RangeLanes = I16;
 using SpringLanes = D4;
+using EvalLanes = D8;
 #elif defined(__AVX__)
 using VoxelLanes = D4;
 using BoundsLanes = D4;
@@ -234,11 +253,13 @@ using RangeLanes = I8;
 using RangeLanes = I4;
 #endif
 using SpringLanes = D4;
+using EvalLanes = D4;
 #else
 using VoxelLanes = D1;
 using BoundsLanes = D1;
 using RangeLanes = I1;
 using SpringLanes = D1;
+using EvalLanes = D1;
 #endif
 
 }  // namespace

@@ -32,25 +32,28 @@ TEST_CASE("spring tension is dE/dl for every law (central differences)", "[sprin
   }
 }
 
-TEST_CASE("spring_expm1 and spring_exp: close to the library, batches equal single values", "[springs]") {
+TEST_CASE("spring_expm1: close to the library, batches equal single values", "[springs]") {
+  // The halving polynomial (springs.hpp) for |x| <= 2, std::expm1 beyond: within a few units in
+  // the last place of the library, also for x near 0 where expm1 matters.
   std::vector<double> x;
   for (int i = -3000; i <= 3000; ++i) x.push_back(i * 1e-3);
-  for (double v : {1e-12, -1e-12, 1e-300, 0.0, -0.0, 40.0, -40.0, 700.0, 710.0, -800.0}) x.push_back(v);
+  for (double v : {1e-12, -1e-12, 1e-300, 0.0, -0.0, 1e-9, -3e-7, 1.9999999, -2.0, 2.0000001, 40.0, -40.0, 700.0, 710.0,
+                   -800.0})
+    x.push_back(v);
   const int n = static_cast<int>(x.size());
-  std::vector<double> em(x.size()), ex(x.size());
-  spring_expm1_batch(x.data(), em.data(), n - 1);  // an odd count: a padded last block
-  em[x.size() - 1] = spring_expm1(x.back());
-  spring_exp_batch(x.data(), ex.data(), n);
+  std::vector<double> em(x.size());
+  spring_expm1_batch(x.data(), em.data(), n);
+  double worst = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) {
     INFO("x = " << x[i]);
-    const double a = std::expm1(x[i]), b = std::exp(x[i]);
+    const double a = std::expm1(x[i]);
     const double one = spring_expm1(x[i]);
     CHECK(std::memcmp(&em[i], &one, sizeof(double)) == 0);  // a batch gives the single value's bits
-    if (std::isfinite(a)) CHECK(std::fabs(em[i] - a) <= 4e-16 * std::fabs(a));
-    else CHECK(em[i] == a);
-    if (std::isfinite(b)) CHECK(std::fabs(ex[i] - b) <= 1e-15 * std::fabs(b));  // libmvec: 4 ulp
-    else CHECK(ex[i] == b);
+    if (std::isfinite(a) && a != 0.0) worst = std::max(worst, std::fabs(em[i] - a) / std::fabs(a));
+    if (!std::isfinite(a) || a == 0.0) CHECK(em[i] == a);
   }
+  INFO("largest relative difference from std::expm1 " << worst);
+  CHECK(worst <= 2e-15);  // measured 6.5e-16 (three doublings of a 1-ulp polynomial): margin 3x
 }
 
 TEST_CASE("force per length is the tension over the length", "[springs]") {
