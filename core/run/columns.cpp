@@ -77,6 +77,9 @@ const std::vector<Column>& steps_columns() {
       {"gap_mean", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.gap_mean); }},
       {"pos_err_max", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.pos_err_max); }},
       {"pos_err_rms", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.pos_err_rms); }},
+      // Guest nodes found inside beyond the detector's guaranteed band (voxel_exact), both ways;
+      // empty for detectors without a band.
+      {"beyond_band", [](O o, R r) { if (contact(r) && r.pair->last.beyond_band >= 0) o.integer(r.pair->last.beyond_band); }},
   };
   return columns;
 }

@@ -22,6 +22,11 @@ struct PairTotals {
   bool measured = false;  // CGAL measured at least once
   int true_pen_final = 0;  // at the last measured step, guest + host
   double max_depth_final = 0.0, max_depth_peak = 0.0;
+  // Contacts found beyond the detector's guaranteed band (PairStep::beyond_band): summed over
+  // the steps and the largest of one step; has_band: the detector has a band.
+  bool has_band = false;
+  long long beyond_band_total = 0;
+  int beyond_band_peak = 0;
 };
 
 // One episode of true penetration: a node found penetrating on consecutive measured steps.
