@@ -291,6 +291,43 @@ TEST_CASE("voxel_exact: the same contacts and answers for any thread count", "[c
   }
 }
 
+TEST_CASE("voxel_exact: voxels with more candidates than a cache entry holds give the same answers",
+          "[collision][voxel_exact][parallel]") {
+  // A 12^3-cell lattice (864 surface faces): with 2 m voxels every block holds every face (the
+  // overflow list, boxes per node); with 1/8 m voxels a few dozen (cached entries). Nodes inside
+  // both bands get the same depth and triangle either way, with one thread or several.
+  ThreadsGuard guard;
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  World w;
+  add_body(w, "host", box_lattice(Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3i(12, 12, 12)));
+  Points g;
+  for (int i = 0; i < 3000; ++i) g.push_back(Vec3(u(rng), u(rng), u(rng)) * 1.2 - Vec3::Constant(0.1));
+  add_body(w, "guest", cloud(g));
+  int compared = 0;
+  for (int t : {1, 2}) {
+    set_threads(t);
+    set_parallel_grain(t == 1 ? 0 : 1);
+    Collision big(w, exact_spec(2.0)), small(w, exact_spec(0.125));
+    big.detect(w);
+    small.detect(w);
+    for (const Contact& c : small.contacts()) {
+      const VoxelExactDetector::Hit* hs = exact(small).hit(c);
+      REQUIRE(hs);
+      if (!hs->within) continue;
+      const auto it = std::find_if(big.contacts().begin(), big.contacts().end(),
+                                   [&](const Contact& b) { return b.guest == c.guest; });
+      REQUIRE(it != big.contacts().end());
+      const VoxelExactDetector::Hit* hb = exact(big).hit(*it);
+      REQUIRE(hb);
+      CHECK(hb->within);
+      CHECK(hb->depth == Approx(hs->depth).epsilon(1e-14));
+      ++compared;
+    }
+  }
+  CHECK(compared > 500);
+}
+
 TEST_CASE("voxel_exact: the per-step path reuses its buffers", "[collision][voxel_exact]") {
   const auto box = box_lattice(Vec3(-1, -1, -1), Vec3(1, 1, 1), Vec3i(6, 6, 6));
   const auto ball = icosahedron(Vec3(0, 0, 3), 0.8, true);
