@@ -3,6 +3,7 @@
 #include "core/clock.hpp"
 #include "core/collision/detectors/hash.hpp"
 #include "core/collision/detectors/voxel.hpp"
+#include "core/collision/detectors/voxel_exact.hpp"
 #include "core/cpu.hpp"
 #include "core/parallel.hpp"
 #include "core/scene.hpp"
@@ -212,7 +213,8 @@ __attribute__((noinline)) std::uint64_t stream_step(World& w) {
 }  // namespace
 
 const std::vector<std::string>& bench_methods() {
-  static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "hash_detect",
+  static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "voxel_exact_detect",
+                                                 "voxel_exact_detect_eliminate", "hash_detect",
                                                  "hash_detect_cell_x0.5", "hash_detect_cell_x2", "hash_detect_cell_x4",
                                                  "stream_positions", "step", "stream_step", "fcl", "cgal", "bullet_collide"};
   return names;
@@ -262,6 +264,25 @@ class BenchSize {
       std::copy(v0.begin(), v0.end(), w.v.begin());
     }
     measure("stream_step", T, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
+  }
+
+  // The paper's grid with the exact narrow phase (detectors/voxel_exact.hpp) on the same state and
+  // pair: its own automatic voxel size (the paper's unless the band would not be positive), the
+  // scene's line eliminator and constant force for the eliminate row.
+  void voxel_exact_rows() {
+    if (!wanted("voxel_exact_detect") && !wanted("voxel_exact_detect_eliminate")) return;
+    World& w = sim_->world();
+    ContactSpec spec = sim_->pairs().at(0).spec;
+    spec.detector = DetectorKind::voxel_exact;
+    Collision c(w, spec);
+    const int found = c.detect(w);
+    const auto& d = dynamic_cast<const VoxelExactDetector&>(c.detector());
+    char note[160];
+    std::snprintf(note, sizeof note, "grid bytes; voxel %.3g mm; %d contacts (%d beyond the band); L_max %.3g mm",
+                  1e3 * d.voxel_size(), found, d.beyond_band(), 1e3 * d.longest_edge());
+    const std::vector<int>& T = opt_.threads;
+    measure("voxel_exact_detect", T, [&] { c.detect(w); }, d.grid().bytes(), note);
+    measure("voxel_exact_detect_eliminate", T, [&] { c.step(w, sim_->scene().dt); }, d.grid().bytes(), note);
   }
 
   // Spatial hashing (detectors/hash.hpp) on the same state and pair: the automatic cell (hash_detect)
@@ -385,6 +406,7 @@ int run_bench(const BenchOptions& opt) {
   for (long long n : sizes) {
     BenchSize b(n, opt, out);
     b.core_rows();
+    b.voxel_exact_rows();
     set_threads(1);
     if (opt.references) b.reference_rows();
     b.hash_rows();  // last: its large tables (0.5x cells at 10^6 nodes) must not disturb the others' timings

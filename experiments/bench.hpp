@@ -17,6 +17,11 @@
 //   voxel_detect            Collision::detect: grid re-attached, filled and every guest node
 //                           looked up (the paper's detection).
 //   voxel_detect_eliminate  Collision::step: detection plus line elimination.
+//   voxel_exact_detect      the same with detector voxel_exact (detectors/voxel_exact.hpp): the
+//                           paper's grid of the host's surface vertices, every guest node near
+//                           a listed vertex given its closest host triangle and inside verdict.
+//   voxel_exact_detect_eliminate  its Collision::step (the scene's line rule, constant force,
+//                           along the exact normal).
 //   fcl                     FclSurface::update of both surfaces (vertex replacement and refit)
 //                           plus intersecting_pairs (every intersecting triangle pair, counted).
 //   cgal                    CgalSurface::update of the host (AABB tree rebuilt) plus the exact

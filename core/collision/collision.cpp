@@ -4,6 +4,7 @@
 #include "core/collision/responses/force_rules.hpp"
 #include "core/collision/responses/projection.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -62,6 +63,8 @@ PairStep Collision::finish(PairStep s, Clock::time_point t0, Clock::time_point t
   stepped_ = true;
   const auto t2 = Clock::now();
   s.contacts = static_cast<int>(contacts_.size() + reverse_contacts_.size());
+  s.beyond_band = detector_->beyond_band();
+  if (reverse_ && s.beyond_band >= 0) s.beyond_band += std::max(0, reverse_->beyond_band());
   s.detect_us = us_between(t0, t1);
   s.eliminate_us = us_between(t1, t2);
   return s;

@@ -24,6 +24,9 @@ struct PairStep {
   double detect_us = 0.0;       // wall time of detection, microseconds (steady_clock)
   double eliminate_us = 0.0;    // wall time of elimination, force rule included
   double force = 0.0;           // largest force magnitude of a contact, N
+  // Contacts found beyond the detector's guaranteed band (both ways; averaged over substeps like
+  // `contacts`); -1 when the detector has no band (CollisionDetector::beyond_band).
+  int beyond_band = -1;
 };
 
 class Collision {

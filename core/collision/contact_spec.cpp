@@ -5,6 +5,7 @@ namespace harness {
 const std::vector<DetectorName>& detector_names() {
   static const std::vector<DetectorName> names = {
       {DetectorKind::voxel, "voxel", false},
+      {DetectorKind::voxel_exact, "voxel_exact", false},
       {DetectorKind::hash, "hash", false},
       {DetectorKind::cgal, "cgal", true},
       {DetectorKind::fcl, "fcl", true},

@@ -12,7 +12,7 @@ namespace harness {
 enum class Region { half, full, overlap };
 enum class HostNodes { all, surface };
 // Which detection drives elimination. `exact` detectors need the reference library.
-enum class DetectorKind { voxel, hash, cgal, fcl };
+enum class DetectorKind { voxel, hash, cgal, fcl, voxel_exact };
 // The response (responses/): the direction rule of the penalty push (line, plane), or
 // position-based projection (a penetrating node moved to the surface).
 enum class EliminatorKind { line, plane, projection };

@@ -63,6 +63,8 @@ void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData&
     throw std::invalid_argument(pair_name(w, spec) +
                                 ": host has no nodes or non-finite positions");
   center_ = c;
+  host_lo_ = lo;
+  host_hi_ = hi;
   build(w, h, c, true, grid);
 }
 
@@ -140,6 +142,8 @@ GridGeometry Initializer::update(const World& w, VoxelData& grid) {
   const Vec3 c = 0.5 * (lo + hi);
   const Vec3 h = 0.5 * (hi - lo);
   center_ = c;
+  host_lo_ = lo;
+  host_hi_ = hi;
 
   GridGeometry g;
   g.voxel = voxel_;

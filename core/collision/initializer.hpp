@@ -68,6 +68,9 @@ class Initializer {
   int half_sign() const { return half_sign_; }
   // Host bounding box centre found by the last update(), m.
   const Vec3& host_center() const { return center_; }
+  // Host bounding box found by the last update() (or initialize()), m.
+  const Vec3& host_lo() const { return host_lo_; }
+  const Vec3& host_hi() const { return host_hi_; }
 
  private:
   void build(const World& w, const Vec3& host_half, const Vec3& host_center, bool initial,
@@ -79,6 +82,7 @@ class Initializer {
   int rebuilds_ = 0;
   Vec3 built_h_ = Vec3::Zero();
   Vec3 center_ = Vec3::Zero();
+  Vec3 host_lo_ = Vec3::Zero(), host_hi_ = Vec3::Zero();
   Vec3i n_ = Vec3i::Zero();        // cells per side, floor(H / v) + 2
   Vec3i cap_lo_ = Vec3i::Zero();   // the full region (capacity) ...
   Vec3i cap_dims_ = Vec3i::Zero();

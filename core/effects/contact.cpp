@@ -15,6 +15,7 @@ void ContactEffect::add_forces(World& w, const StepContext& s) {
   for (Pair& p : pairs_) {
     const PairStep st = p.collision->step(w, s.h);
     p.last.contacts += st.contacts;
+    if (st.beyond_band >= 0) p.last.beyond_band = std::max(0, p.last.beyond_band) + st.beyond_band;
     p.last.detect_us += st.detect_us;
     p.last.eliminate_us += st.eliminate_us;
     p.last.force = std::max(p.last.force, st.force);
@@ -26,6 +27,7 @@ void ContactEffect::after_integration(World& w, const StepContext& s) {
     if (!p.collision->projects()) continue;
     const PairStep st = p.collision->project(w, s.h);
     p.last.contacts += st.contacts;
+    if (st.beyond_band >= 0) p.last.beyond_band = std::max(0, p.last.beyond_band) + st.beyond_band;
     p.last.detect_us += st.detect_us;
     p.last.eliminate_us += st.eliminate_us;
     p.last.force = std::max(p.last.force, st.force);
@@ -40,7 +42,11 @@ bool ContactEffect::corrects_positions() const {
 
 void ContactEffect::end_step(World&, const StepContext& s) {
   if (s.substeps > 1)
-    for (Pair& p : pairs_) p.last.contacts = (p.last.contacts + s.substeps - 1) / s.substeps;
+    for (Pair& p : pairs_) {
+      p.last.contacts = (p.last.contacts + s.substeps - 1) / s.substeps;
+      // Rounded up like `contacts`: one node beyond the band in one substep still counts.
+      if (p.last.beyond_band > 0) p.last.beyond_band = (p.last.beyond_band + s.substeps - 1) / s.substeps;
+    }
 }
 
 double ContactEffect::work(const World& w, const Points& dx) const {

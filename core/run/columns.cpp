@@ -84,6 +84,9 @@ const std::vector<Column>& steps_columns() {
       {"fn_host", [](O o, R r) { if (cgal(r)) o.integer(r.m->fn_host); }},
       {"tunnelled_guest", [](O o, R r) { if (r.fig) o.integer(r.fig->tunnelled.guest); }},
       {"tunnelled_host", [](O o, R r) { if (r.fig) o.integer(r.fig->tunnelled.host); }},
+      // Guest nodes found inside beyond the detector's guaranteed band (voxel_exact), both ways;
+      // empty for detectors without a band.
+      {"beyond_band", [](O o, R r) { if (contact(r) && r.pair->last.beyond_band >= 0) o.integer(r.pair->last.beyond_band); }},
   };
   return columns;
 }

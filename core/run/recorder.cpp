@@ -117,6 +117,11 @@ void Recorder::record(const Simulation& sim, bool last) {
     const Pair& pair = sim.pairs()[p];
     PairTotals& t = totals_[p];
     t.contacts_total += pair.last.contacts;
+    if (pair.last.beyond_band >= 0) {
+      t.has_band = true;
+      t.beyond_band_total += pair.last.beyond_band;
+      t.beyond_band_peak = std::max(t.beyond_band_peak, pair.last.beyond_band);
+    }
     if (!measured_now_) continue;
     static const std::vector<Contact> none;
     Measurement& m = meas_[p];

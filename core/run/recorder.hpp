@@ -25,6 +25,11 @@ struct PairTotals {
   int true_pen_final = 0;  // at the last measured step, guest + host
   double max_depth_final = 0.0, max_depth_peak = 0.0;
   int tunnelled_guest_peak = 0, tunnelled_host_peak = 0;  // over the measured steps
+  // Contacts found beyond the detector's guaranteed band (PairStep::beyond_band): summed over
+  // the steps and the largest of one step; has_band: the detector has a band.
+  bool has_band = false;
+  long long beyond_band_total = 0;
+  int beyond_band_peak = 0;
 };
 
 // Guest nodes beyond the host's far side, and host nodes beyond the guest's far side, along the

@@ -104,6 +104,10 @@ json pair_json(const Simulation& sim, const Recorder& rec, std::size_t pi) {
       p.collision && p.collision->voxel_size() > 0.0 ? json(p.collision->voxel_size()) : json(nullptr);
   pj["region_rebuilds"] = p.collision ? json(p.collision->rebuilds()) : json(nullptr);
   pj["contacts_total"] = t.contacts_total;
+  // Detectors with a guaranteed band (voxel_exact): contacts found beyond it, over the run and
+  // the most in one step; null for the others.
+  pj["beyond_band_total"] = t.has_band ? json(t.beyond_band_total) : json(nullptr);
+  pj["beyond_band_peak"] = t.has_band ? json(t.beyond_band_peak) : json(nullptr);
   const TunnelCount tun = rec.tunnel_count(sim, pi);
   pj["tunnelled"] = tun.guest;
   pj["tunnelled_host"] = tun.host;

@@ -12,7 +12,7 @@ bad() { echo "FAIL: $*"; fail=$((fail+1)); }
 
 "$H" bench --quick --sizes 1000 --min-time 0 --out "$T/bench.csv" 2>"$T/err" && ok || { bad "bench ran"; cat "$T/err"; }
 head -1 "$T/bench.csv" | grep -q '^method,nodes,threads,us_per_step,bytes' && ok || bad "bench columns"
-for m in voxel_detect voxel_detect_eliminate stream_positions step stream_step; do
+for m in voxel_detect voxel_detect_eliminate voxel_exact_detect voxel_exact_detect_eliminate stream_positions step stream_step; do
   for t in 1 2; do
     grep -q "^$m,1000,$t,[0-9.]*,[0-9]*," "$T/bench.csv" && ok || bad "row $m threads $t"
   done
@@ -23,8 +23,9 @@ done
 if "$H" --help 2>/dev/null | grep -q bench && grep -q "^fcl,1000,1," "$T/bench.csv"; then
   grep -q "^cgal,1000,1," "$T/bench.csv" && ok || bad "cgal row"
 fi
-# voxel rows carry the grid's bytes (> 0)
+# voxel rows carry the grid's bytes (> 0); voxel_exact rows name their band count
 awk -F, '$1=="voxel_detect" && $5 <= 0 {exit 1}' "$T/bench.csv" && ok || bad "voxel bytes > 0"
+grep -q "^voxel_exact_detect,1000,1,.*beyond the band" "$T/bench.csv" && ok || bad "voxel_exact note"
 # bad input: exit 2, one line
 "$H" bench --out "$T/x.csv" --sizes 0 2>"$T/err"; rc=$?
 [[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && ok || bad "bad --sizes: exit $rc"

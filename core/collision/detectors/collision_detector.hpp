@@ -65,6 +65,9 @@ class CollisionDetector {
   }
   // Times the detection region was rebuilt because the host outgrew it.
   virtual int rebuilds() const { return 0; }
+  // Guest nodes the last detect() found inside beyond the band in which its answer is guaranteed
+  // (voxel_exact.hpp); -1 for detectors without such a band (every other detector).
+  virtual int beyond_band() const { return -1; }
 };
 
 // Makes the exact detectors (reference/: reference::make_exact_detector); null in a program

@@ -2,6 +2,7 @@
 
 #include "core/collision/detectors/hash.hpp"
 #include "core/collision/detectors/voxel.hpp"
+#include "core/collision/detectors/voxel_exact.hpp"
 
 #include <stdexcept>
 
@@ -11,6 +12,7 @@ std::unique_ptr<CollisionDetector> make_detector(DetectorKind kind, ExactDetecto
   switch (kind) {
     case DetectorKind::voxel: return std::make_unique<VoxelDetector>();
     case DetectorKind::hash: return std::make_unique<HashDetector>();
+    case DetectorKind::voxel_exact: return std::make_unique<VoxelExactDetector>();
     case DetectorKind::cgal:
     case DetectorKind::fcl: break;
   }
