@@ -178,6 +178,7 @@ struct ReferenceCommand {
   std::vector<std::string> sets;
   ReferenceOptions ro;
   bool quiet = false;
+  int dt_divide = 1;
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("reference", "the converged reference solution of a scene (exact detection, penalty; "
@@ -189,6 +190,7 @@ struct ReferenceCommand {
     cmd->add_option("--max-levels", ro.max_levels, "levels at most")->capture_default_str();
     cmd->add_option("--min-levels", ro.min_levels, "levels at least (3: an observed order of convergence)")->capture_default_str();
     cmd->add_flag("--one-sided", ro.one_sided, "contact one way only: the guest's nodes kept out of the host (the paper's model)");
+    cmd->add_option("--dt-divide", dt_divide, "level 0 at dt / N over the same physical time (a finer mesh needs it)");
     cmd->add_option("--stiffness", ro.stiffness, "k_c of level 0, N/m (default: the scene's penalty stiffness)");
     cmd->add_flag("--quiet", quiet, "no progress line");
   }
@@ -198,7 +200,8 @@ struct ReferenceCommand {
     if (ro.min_levels < 2 || ro.min_levels > ro.max_levels)
       throw InputError("--min-levels", "must be from 2 to --max-levels");
     if (cmd->count("--stiffness") && !(ro.stiffness > 0.0)) throw InputError("--stiffness", "must be > 0");
-    const Scene sc = load_scene(resolve_scene(scene), parse_sets(sets));
+    if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
+    const Scene sc = rescale_dt(load_scene(resolve_scene(scene), parse_sets(sets)), dt_divide);
     ro.run = run_options();
     ro.progress = !quiet;
     return run_reference(sc, ro);

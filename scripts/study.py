@@ -22,14 +22,26 @@ Options: --harness PATH (default build/bin/harness), --results DIR (default resu
 Every study ends by rewriting tables/counts.tex (scripts/counts.py: the counts the report quotes).
 
 Definitions (stated once, used everywhere):
-  error         against the scene's reference (core/run/compare.hpp): pos_err_max (largest distance of
-                a surface vertex from where the reference has it), gap_max (largest gap where the
-                reference has contact), depth_max (deepest penetration); all at the end of the run.
-  stable        the run finished finite, the stability guard never found dt above 0.9 dt_crit, the
-                energy audit closed within 1 %, and contact injected at most 10 % of the energy the
-                scene put in (largest cumulative work of contact over initial plus external energy).
-  time          microseconds per step of detection plus elimination: the median over the run's steps,
-                then the median over --repeats runs (the spread is the range over the runs).
+  window        the final time.window steps of a run (default 1000), after every driver, load and
+                pressure ramp has finished (core/run/window.hpp); every run is measured by CGAL every
+                STUDY_EVERY = 10 steps (one sampling rule for runs, sweeps and studies).
+  error         against the scene's reference (core/run/compare.hpp), over the window: pos_err_max (largest
+                distance of a surface vertex from where the reference has it) as its window mean, with
+                its window maximum and chatter amplitude (max - min); gap_max (largest gap where the
+                reference has contact) window mean; depth_max (deepest node inside the other body)
+                window maximum, and its peak over the whole run; tunnelled nodes (through the other
+                body) window maximum.
+  stable        by the run's contact power over the window against the power the scene put in
+                (rho, summary.json window.contact_power_ratio; the harness calls a run "injects"
+                above 0.02) with a stated margin of a factor 2 either way: stable when the run
+                settled or chatters with rho <= 0.01; unstable when rho > 0.04, when its kinetic
+                energy grows over the window, when contact kicked the bodies (its net work still
+                held as motion), when dt exceeded the guard or the state went non-finite; marginal
+                in between (0.01 < rho <= 0.04). A verdict that rests on a run that is not stable is
+                "inconclusive". The energy audit must close within 1 % for the figures to count.
+  time          microseconds per step of detection plus elimination (t_contact) and of the whole
+                step (t_step): the median over the run's steps, then the median over --repeats runs
+                (the spread is the range over the runs).
   rule          (the defaults) among the stable settings whose pos_err_max or depth_max is at most 90 %
                 of the run without contact force (a default must do something), the smallest pos_err_max; among
                 those within 10 % of it, the smallest gap_max; among those, the fastest. None such:
@@ -54,15 +66,18 @@ CONSTANT_FORCES = ["0.003", "0.01", "0.03", "0.1"]
 PENALTY = '{"stiffness":500}'
 CONSTANT = "0.01"
 ABLATION_FORCES = CONSTANT_FORCES + ["auto", '{"stiffness":125}', PENALTY, '{"stiffness":2000}']
-INJECTION_SHARE = 0.1
+# Stability by the contact's power over the window against the power put in (core/run/window.hpp,
+# whose own limit is INJECTION_LIMIT), with a margin of a factor MARGIN either way.
+INJECTION_LIMIT = 0.02
+MARGIN = 2.0
 BALANCE = 0.01
+# Every run of every study is measured by CGAL every STUDY_EVERY steps (and scripts/reproduce.sh's
+# runs too): one sampling rule, so that recall and the window figures mean the same everywhere.
+STUDY_EVERY = 10
 WITHIN = 1.10
 # A default must do something: its position error or its depth at most this share of the run
 # without contact force (the same scene, contact detected but never pushed).
 USEFUL = 0.9
-# Study runs stop settling after this many more steps (the voxel model's contact never settles:
-# its end state after the same time is what it is judged on).
-STUDY_SETTLE = 4000
 
 
 def force_label(f):
@@ -79,8 +94,9 @@ def run_one(a, scene, out, sets, compare=True):
     """One `harness run` into `out` (skipped when its summary is already there); its summary."""
     summary = os.path.join(out, "summary.json")
     if not os.path.exists(summary):
-        cmd = [a.harness, "run", scene, "--out", out, "--quiet", "--set", "output.frames_every=0",
-               "--set", "time.settle.max_steps=%d" % (400 if a.quick else STUDY_SETTLE)]
+        cmd = [a.harness, "run", scene, "--out", out, "--quiet", "--set", "output.frames_every=0"]
+        if a.quick:
+            cmd += ["--set", "time.settle.max_steps=400"]
         for s in sets + a.extra_sets:
             cmd += ["--set", s]
         ref = os.path.join(a.results, "references", scene)
@@ -105,33 +121,65 @@ def num(v, default=float("nan")):
         return default
 
 
-def figures(s):
-    """The figures of one run's summary that the studies use."""
-    p = s["pairs"][0] if s.get("pairs") else {}
-    e = p.get("error_vs_reference") or {}
+def classify(s):
+    """(class, reasons) of one run's summary by the written rule (module docstring): "stable",
+    "marginal", "unstable" or "failed"."""
+    w = s.get("window") or {}
     en = s.get("energy") or {}
     st = s.get("stability") or {}
-    t = s.get("timing_us") or {}
-    energy_in = num(en.get("energy_initial"), 0.0) + max(0.0, num(en.get("work_external"), 0.0))
-    injection = num(en.get("work_contact_peak"), 0.0) / energy_in if energy_in > 0 else 0.0
-    reasons = []
+    rho = num(w.get("contact_power_ratio"))
+    verdict = s.get("stability_verdict")
     if s.get("status") != "ok":
-        reasons.append("not finite")
+        return "failed", ["not finite" if s.get("finite") is False else str(s.get("status"))]
+    reasons = []
     if num(st.get("guard_violations"), 0) > 0:
         reasons.append("dt above the limit")
+    if verdict == "grows":
+        reasons.append("kinetic energy grows over the window (x%.3g)" % num(w.get("kinetic_growth")))
+    if w.get("kicked"):
+        reasons.append("contact kicked the bodies (net work %.3g J still held as motion)" % num(w.get("net_contact_work_J")))
+    if not math.isnan(rho) and rho > INJECTION_LIMIT * MARGIN:
+        reasons.append("contact power %.3g of the power put in" % rho)
     if abs(num(en.get("energy_balance_error"), 0.0)) > BALANCE:
         reasons.append("energy audit open")
-    if injection > INJECTION_SHARE:
-        reasons.append("contact injects %.0f %% of the energy in" % (100 * injection))
+    if reasons:
+        return "unstable", reasons
+    if verdict != "settled" and not math.isnan(rho) and rho > INJECTION_LIMIT / MARGIN:
+        return "marginal", ["contact power %.3g of the power put in (within a factor %g of %g)" % (rho, MARGIN, INJECTION_LIMIT)]
+    return "stable", []
+
+
+def wstat(d, key, what="mean"):
+    """A window statistic (summary.json window figures) or nan."""
+    v = (d or {}).get(key) or {}
+    return num(v.get(what)) if isinstance(v, dict) else float("nan")
+
+
+def figures(s):
+    """The figures of one run's summary that the studies use (module docstring: window, error, stable)."""
+    p = s["pairs"][0] if s.get("pairs") else {}
+    e = p.get("error_vs_reference") or {}
+    ew = e.get("window") or {}
+    w = s.get("window") or {}
+    t = s.get("timing_us") or {}
+    cls, reasons = classify(s)
+    mm = lambda v: 1e3 * v
     return {
-        "status": s.get("status"), "stable": "yes" if not reasons else "no", "why_unstable": "; ".join(reasons),
-        "settled": s.get("settled"), "steps": s.get("steps_run"),
-        "pos_err_max_mm": 1e3 * num(e.get("pos_err_max")), "pos_err_rms_mm": 1e3 * num(e.get("pos_err_rms")),
-        "gap_max_mm": 1e3 * num(e.get("gap_max")), "gap_mean_mm": 1e3 * num(e.get("gap_mean")),
-        "depth_max_mm": 1e3 * num(e.get("depth_max")), "contact_injection": injection,
+        "status": s.get("status"), "stable": "yes" if cls == "stable" else "no", "stability": cls,
+        "why_unstable": "; ".join(reasons), "verdict": s.get("stability_verdict"),
+        "contact_power_ratio": num(w.get("contact_power_ratio")),
+        "settled": s.get("settled"), "steps": s.get("steps_run"), "window_from": w.get("from_step"),
+        "pos_err_max_mm": mm(wstat(ew, "pos_err_max")), "pos_err_max_max_mm": mm(wstat(ew, "pos_err_max", "max")),
+        "pos_err_amp_mm": mm(wstat(ew, "pos_err_max", "amplitude")), "pos_err_final_mm": mm(num(e.get("pos_err_max"))),
+        "pos_err_rms_mm": mm(wstat(ew, "pos_err_rms")),
+        "gap_max_mm": mm(wstat(ew, "gap_max")), "gap_mean_mm": mm(wstat(ew, "gap_mean")),
+        "depth_max_mm": mm(wstat(ew, "depth_max", "max")), "depth_peak_mm": mm(num(e.get("depth_peak"))),
+        "tunnelled": wstat(ew, "tunnelled", "max"), "tunnelled_peak": num(e.get("tunnelled_peak")),
         "t_contact_us": num(t.get("detect"), 0.0) + num(t.get("eliminate"), 0.0), "t_step_us": num(t.get("step")),
         "recall": num(p.get("recall")), "precision": num(p.get("precision")),
+        "recall_host": num(p.get("recall_host")), "precision_host": num(p.get("precision_host")),
         "true_pen_final": num(p.get("true_pen_final")), "voxel_size_used": num(p.get("voxel_size_used")),
+        "beyond_band_total": num(p.get("beyond_band_total")),
     }
 
 
@@ -190,15 +238,52 @@ def pareto(rows, x="t_contact_us", y="pos_err_max_mm"):
 
 
 # ---------------------------------------------------------------------------------------------
+# The references: each bundled scene both ways (the answer of physics, which every study is judged
+# against) and one way (the paper's model keeps only the guest's nodes out of the host), and one
+# scene on a refined mesh (its change from the base mesh: the mesh's share of every error).
+REFINED_SCENE = "sphere_collision"
+
+
+def reference_runs():
+    """(name, scene, extra harness reference arguments) of every committed reference."""
+    out = []
+    for scene in SCENES:
+        out.append((scene, scene, []))
+        out.append((scene + "_one_sided", scene, ["--one-sided"]))
+    sets = sum((["--set", x] for x in refine_sets(REFINED_SCENE, 2)), [])
+    out.append((REFINED_SCENE + "_refined", REFINED_SCENE, sets + ["--dt-divide", "2"]))
+    return out
+
+
+def surface_difference(a_dir, b_dir, match_rest=False):
+    """Largest distance (m) between the settled surfaces of two references: vertex by vertex (the same
+    mesh), or (match_rest) at the vertices of the first whose rest position the second has too (a
+    mesh refined by subdivision keeps its base vertices); and how many vertices were compared."""
+    A, B = rl.load_surfaces(a_dir), rl.load_surfaces(b_dir)
+    worst, n = 0.0, 0
+    for body, va in A.items():
+        vb = B.get(body, [])
+        if not match_rest:
+            for p, q in zip(va, vb):
+                worst, n = max(worst, math.dist(p[:3], q[:3])), n + 1
+            continue
+        at = {tuple(round(c, 12) for c in q[3:6]): q for q in vb}
+        for p in va:
+            q = at.get(tuple(round(c, 12) for c in p[3:6]))
+            if q is not None:
+                worst, n = max(worst, math.dist(p[:3], q[:3])), n + 1
+    return worst, n
+
+
 def references(a):
     rows = []
-    for scene in SCENES:
-        work = os.path.join(a.results, "sweeps", "references", scene)
-        dest = os.path.join(a.results, "references", scene)
+    for name, scene, extra in reference_runs():
+        work = os.path.join(a.results, "sweeps", "references", name)
+        dest = os.path.join(a.results, "references", name)
         if not os.path.exists(os.path.join(work, "summary.json")):
-            cmd = [a.harness, "reference", scene, "--out", work, "--quiet"]
+            cmd = [a.harness, "reference", scene, "--out", work, "--quiet"] + extra
             if a.quick:
-                cmd += ["--max-levels", "2", "--set", "time.steps=300", "--set", "time.settle.max_steps=400"]
+                cmd += ["--max-levels", "3", "--set", "time.steps=300", "--set", "time.settle.max_steps=400"]
             subprocess.run(cmd, check=True, env=dict(os.environ, HARNESS_THREADS="1"))
         os.makedirs(dest, exist_ok=True)
         for f in ["summary.json", "surfaces.csv"]:
@@ -206,24 +291,50 @@ def references(a):
         with open(os.path.join(dest, "summary.json")) as f:
             ref = json.load(f)["reference"]
         for lv in ref["levels"]:
-            rows.append({"scene": scene, "level": lv["level"], "dt": lv["dt"], "stiffness": lv["stiffness"],
+            dt_crit_min = num(lv.get("dt_crit_min"))
+            rows.append({"reference": name, "level": lv["level"], "dt": lv["dt"], "stiffness": lv["stiffness"],
+                         "substeps_max": lv.get("max_substeps"), "guard_violations": lv.get("guard_violations"),
+                         "h_over_dt_crit_min": lv["dt"] / num(lv.get("max_substeps"), 1) / dt_crit_min if dt_crit_min > 0 else float("nan"),
                          "steps": lv["steps_run"], "settled": lv["settled"], "residual": lv["residual"],
-                         "change_mm": 1e3 * num(lv["change_max"]), "wall_s": lv["wall_s"],
+                         "change_mm": 1e3 * num(lv["change_max"]), "order": num(lv.get("order")),
+                         "error_estimate_mm": 1e3 * num(lv.get("error_estimate")), "wall_s": lv["wall_s"],
                          "converged": ref["converged"] if lv is ref["levels"][-1] else ""})
-    cols = ["scene", "level", "dt", "stiffness", "steps", "settled", "residual", "change_mm", "wall_s", "converged"]
+    cols = ["reference", "level", "dt", "stiffness", "substeps_max", "h_over_dt_crit_min", "guard_violations", "steps",
+            "settled", "residual", "change_mm", "order", "error_estimate_mm", "wall_s", "converged"]
     rl.write_csv(os.path.join(a.results, "references.csv"), rows, cols)
-    heads = ["scene", "level", "dt (s)", "k_c (N/m)", "steps", "settled", "residual", "change (mm)", "wall (s)",
-             "converged"]
+    # How far apart the answers are: one way against both ways (same mesh), refined against base.
+    diffs = []
+    for scene in SCENES:
+        d, n = surface_difference(os.path.join(a.results, "references", scene),
+                                  os.path.join(a.results, "references", scene + "_one_sided"))
+        diffs.append({"comparison": "%s: one way against both ways" % scene, "difference_mm": 1e3 * d, "vertices": n})
+    d, n = surface_difference(os.path.join(a.results, "references", REFINED_SCENE),
+                              os.path.join(a.results, "references", REFINED_SCENE + "_refined"), match_rest=True)
+    diffs.append({"comparison": "%s: mesh refined (x2) against base, at the base vertices" % REFINED_SCENE,
+                  "difference_mm": 1e3 * d, "vertices": n})
+    rl.write_csv(os.path.join(a.results, "references_differences.csv"), diffs, ["comparison", "difference_mm", "vertices"])
+    heads = ["reference", "level", "dt (s)", "k_c (N/m)", "substeps (max)", "h / dt_crit (min)", "guard violations",
+             "steps", "settled", "residual", "change (mm)", "order", "error estimate (mm)", "wall (s)", "converged"]
     with open(os.path.join(a.results, "tables", "references.md"), "w") as f:
-        f.write("# Reference solutions\n\nExact detection (CGAL), contact both ways, penalty k_c x depth with "
-                "barycentric reactions; each level halves dt and doubles k_c over the same physical time and "
-                "settles to a force residual of 1e-5; change = largest distance of a surface vertex between "
-                "the level and the one before. Converged when the change is below 0.05 mm. Made by "
-                "`scripts/study.py references`.\n\n" + rl.md_table(rows, cols, heads))
+        f.write("# Reference solutions\n\nExact detection (CGAL), contact both ways (`_one_sided`: the guest's nodes "
+                "kept out of the host only, as the paper's model does), penalty k_c x depth with barycentric "
+                "reactions; each level halves dt and doubles k_c over the same physical time, under the stability "
+                "guard `substep` (no substep above 0.9 dt_crit, the penalty's stiffness counted; h / dt_crit is the "
+                "substep over the smallest dt_crit the guard saw), and settles to the scene's own tolerance (the "
+                "one its runs settle to); change = largest distance of a surface vertex between the level and the "
+                "one before; order = log2 of the ratio of the last two changes; error estimate = change / "
+                "(2^order - 1) (Richardson). Converged when the change is below 0.05 mm after at least three "
+                "levels. `%s_refined`: the scene on a mesh refined once (dt halved). Made by `scripts/study.py "
+                "references`.\n\n" % REFINED_SCENE + rl.md_table(rows, cols, heads) +
+                "\n\n## How far apart the answers are\n\n" +
+                rl.md_table(diffs, ["comparison", "difference_mm", "vertices"],
+                            ["comparison", "largest difference (mm)", "vertices compared"]))
     with open(os.path.join(a.results, "tables", "references.tex"), "w") as f:
-        f.write(rl.tex_table(rows, ["scene", "level", "dt", "stiffness", "steps", "change_mm", "converged"],
-                             ["scenario", "level", "$\\Delta t$ (s)", "$k_c$ (N/m)", "steps", "change (mm)",
-                              "converged"], "The reference loop"))
+        f.write(rl.tex_table([dict(r, reference=r["reference"].replace("_", " ")) for r in rows],
+                             ["reference", "level", "dt", "stiffness", "h_over_dt_crit_min", "steps", "change_mm", "order",
+                              "converged"],
+                             ["reference", "level", "$\\Delta t$ (s)", "$k_c$ (N/m)", "$h/\\Delta t_{crit}$", "steps",
+                              "change (mm)", "order", "converged"], "The reference loop"))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -248,7 +359,7 @@ def method_configs(scene):
 def config_sets(det, voxel, elim, force, extra):
     sets = ['contacts.0.detector="%s"' % det, 'contacts.0.eliminator="%s"' % elim, "contacts.0.force=" +
             (json.dumps(force) if force == "auto" else force), "contacts.0.two_sided=false",
-            'references.solvers=["cgal"]', "references.every=50"]
+            'references.solvers=["cgal"]', "references.every=%d" % STUDY_EVERY]
     if voxel:
         sets.append("contacts.0.voxel_size=%g" % voxel)
     return sets + extra
@@ -271,19 +382,24 @@ def accuracy(a):
         rows.append(dict(combine(sums[i:i + n]), scene=scene, config=label, detector=det, eliminator=elim,
                          force=force_label(force) if elim != "projection" else "positions"))
     cols = ["scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "steps",
-            "pos_err_max_mm", "pos_err_rms_mm", "gap_max_mm", "gap_mean_mm", "depth_max_mm", "contact_injection",
+            "pos_err_max_mm", "pos_err_max_max_mm", "pos_err_amp_mm", "pos_err_final_mm", "pos_err_rms_mm", "gap_max_mm",
+            "gap_mean_mm", "depth_max_mm", "depth_peak_mm", "tunnelled", "stability", "verdict", "contact_power_ratio",
             "recall", "precision", "t_contact_us", "t_contact_range", "t_step_us", "repeats"]
     for r in rows:
         r["front"] = ""
     md = ["# What accuracy costs in time\n\n",
           "Every method on every scenario, judged by its error against the scenario's reference solution "
-          "(`results/references/`; pos_err_max: largest distance of a surface vertex from the reference; "
-          "gap_max: largest gap where the reference has contact; depth_max: deepest penetration; all in mm at "
-          "the end of the run). Time: detection plus elimination, µs per step, median of %d runs (range over "
-          "them). Stable: finite, dt within the limit, energy audit closed within %g %%, contact injecting at most "
-          "%g %% of the energy put in. The Pareto front (error against time) is drawn from the stable rows only; "
-          "the unstable rows are listed with the reason. Made by `scripts/study.py accuracy`.\n"
-          % (a.repeats, 100 * BALANCE, 100 * INJECTION_SHARE)]
+          "(`results/references/`) over the run's final window (`time.window` steps after every driver and "
+          "load has finished; CGAL every %d steps): pos_err_max: largest distance of a surface vertex from "
+          "the reference, window mean (max and chatter amplitude beside it); gap_max: largest gap where the "
+          "reference has contact, window mean; depth_max: deepest node inside the other body, window maximum; "
+          "tunnelled: nodes through the other body; all in mm. Time: detection plus elimination, µs per step, "
+          "median of %d runs (range over them). Stability (scripts/study.py docstring): the contact's power "
+          "over the window against the power put in, rho, with a margin of a factor %g around %g: stable "
+          "(settled, or chatters with rho <= %g), marginal, unstable. The Pareto front (error against time) "
+          "is drawn from the stable rows only; every row is listed with its rho and reason. Made by "
+          "`scripts/study.py accuracy`.\n"
+          % (STUDY_EVERY, a.repeats, MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN)]
     for scene in SCENES:
         sr = [r for r in rows if r["scene"] == scene]
         front = pareto(sr)
@@ -422,7 +538,7 @@ def ablation(a):
         best = chosen[scene] = choose(sr, baseline[scene])
         md.append("\n## %s (%s)\n\n" % (scene, PAPER_ELIMINATOR[scene]))
         md.append(rl.md_table(sr, ["voxel_mm", "force", "stable", "pos_err_max_mm", "gap_max_mm", "depth_max_mm",
-                                   "contact_injection", "t_contact_us", "why_unstable"],
+                                   "contact_power_ratio", "t_contact_us", "why_unstable"],
                               ["voxel (mm)", "force", "stable", "pos. error max (mm)", "gap max (mm)",
                                "depth max (mm)", "contact work / energy in", "detect+elim (µs)", "why unstable"]))
         text = default_text(scene, sr, best, baseline[scene])
@@ -431,7 +547,7 @@ def ablation(a):
         plot_ablation(a, scene, sr)
     rl.write_csv(os.path.join(a.results, "ablation.csv"), rows,
                  ["scene", "eliminator", "voxel_mm", "force", "stable", "why_unstable", "settled", "pos_err_max_mm",
-                  "gap_max_mm", "depth_max_mm", "contact_injection", "t_contact_us", "t_contact_range", "recall",
+                  "gap_max_mm", "depth_max_mm", "contact_power_ratio", "stability", "t_contact_us", "t_contact_range", "recall",
                   "precision"])
     with open(os.path.join(a.results, "tables", "ablation.md"), "w") as f:
         f.write("".join(md))
@@ -693,7 +809,7 @@ def swap(a):
             for swapped in (False, True):
                 h, g = (guest, host) if swapped else (host, guest)
                 sets = config_sets("voxel", voxel, elim, force, ['contacts.0.host="%s"' % h, 'contacts.0.guest="%s"' % g,
-                                                                 "references.every=10"])
+                                                                 "references.every=%d" % STUDY_EVERY])
                 folder = "swap/%s/%s_%s_%g_%s" % (scene, elim, force_label(force), 1e3 * voxel, "swapped" if swapped else "as_scene")
                 configs.append(((scene, elim, force, voxel, h, g, swapped), scene, folder, sets))
     for (scene, elim, force, voxel, h, g, swapped), s in run_configs(a, configs):
@@ -732,7 +848,7 @@ def region(a):
         for reg in REGIONS:
             for m in MARGINS:
                 sets = config_sets("voxel", SCENE_VOXEL[scene], PAPER_ELIMINATOR[scene], "auto",
-                                   ['contacts.0.region="%s"' % reg, "contacts.0.margin=%d" % m, "references.every=10"])
+                                   ['contacts.0.region="%s"' % reg, "contacts.0.margin=%d" % m])
                 configs.append(((scene, reg, m), scene, "region/%s/%s_margin%d" % (scene, reg, m), sets))
     for (scene, reg, m), s in run_configs(a, configs):
         p = s["pairs"][0] if s.get("pairs") else {}
@@ -829,8 +945,8 @@ def bullet_run(a, scene, out, args, sets, ref):
     summary = os.path.join(out, "summary.json")
     if not os.path.exists(summary):
         cmd = [a.harness, "run", "bullet/" + scene, "--out", out, "--quiet", "--compare", ref, "--set",
-               "output.frames_every=0", "--set", "time.settle.max_steps=%d" % (400 if a.quick else STUDY_SETTLE),
-               "--set", "references.every=50"] + args
+               "output.frames_every=0"] + (["--set", "time.settle.max_steps=400"] if a.quick else []) + [
+               "--set", "references.every=%d" % STUDY_EVERY] + args
         for x in sets + a.extra_sets:
             cmd += ["--set", x]
         subprocess.run(cmd, check=False, env=dict(os.environ, HARNESS_THREADS="1"), stderr=subprocess.DEVNULL)
@@ -871,13 +987,13 @@ def bullet(a):
           "masses, pins and drivers, links of the same rest lengths with kLST = k dt^2 (1/m_a + 1/m_b) / iterations, "
           "velocity damping kDP = mass_damping x dt, vertex-face soft-soft contact VF_SS with the margin shown) beside "
           "three of the harness's methods, on the variants Bullet can represent (experiments/scenes/bullet/: linear "
-          "springs, no dashpot), against the reference solution of the same variant. Errors at the end of the run "
-          "(mm); residual: the force residual at the end (settled: below 1e-3 for 20 steps, within %d steps of "
-          "settling); t_contact: detection (and for the harness elimination) per step, µs, median; t_step: the "
+          "springs, no dashpot), against the reference solution of the same variant. Errors over the final "
+          "window (mm, as in accuracy_time.md); residual: the force residual at the end (settled: below the "
+          "scene's tolerance, %s, for 100 steps); t_contact: detection (and for the harness elimination) per step, µs, median; t_step: the "
           "whole step. Bullet's contact response is solved inside its position solver with the links: its "
           "t_contact is its collision pass alone. Made by `scripts/study.py bullet`.\n\n" % (
               (next((s.get("versions", {}).get("Bullet") for s in sums if s.get("versions", {}).get("Bullet")), "?")),
-              STUDY_SETTLE),
+              "1e-5"),
           rl.md_table(rows, ["scene", "config", "margin_mm", "stable", "settled", "residual", "pos_err_max_mm",
                              "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "t_contact_us",
                              "t_step_us", "reference_converged"],

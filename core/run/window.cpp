@@ -92,6 +92,7 @@ StabilityJudgement judge_stability(const Scene& sc, const std::vector<StepEnergy
   j.growth = first > 0.0 ? second / first : (second > 0.0 ? INFINITY : 1.0);
   const double negligible = 1e-9 * std::max(scale, 1e-300);
   if (settled) j.verdict = "settled";
+  else if (!j.span.after_forcing) j.verdict = "forced";  // still loaded: nothing to judge yet
   else if (j.ratio > kInjectionRatio || j.kicked) j.verdict = "injects";
   else if (j.growth > kGrowthFactor && second > negligible && to - from >= 10) j.verdict = "grows";
   else j.verdict = "chatters";

@@ -19,6 +19,7 @@
 // rho = P_contact / P_in is independent of the run's length (a cumulative share is not: a
 // constant injection crosses any share if the run is long enough). The verdict:
 //   settled    the run settled (time.settle: the force residual stayed within its tolerance);
+//   forced     it ended before its forcing did (after_forcing false): still loaded, not judged;
 //   injects    rho > kInjectionRatio: the contact keeps feeding energy into the bodies; or it
 //              fed them before the window and they still move with it: its net work over the
 //              run and the mean kinetic energy over the window both exceed kKickShare of the
@@ -90,7 +91,7 @@ struct StepEnergy {
 };
 
 struct StabilityJudgement {
-  std::string verdict;  // settled | chatters | grows | injects
+  std::string verdict;  // settled | forced | chatters | grows | injects
   WindowSpan span;
   double contact_power = 0.0;  // W, mean over the window
   double input_power = 0.0;    // W, P_in

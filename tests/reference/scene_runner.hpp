@@ -33,6 +33,8 @@ struct SceneRun {
   double balance_error = 0.0;  // at the end
   bool settled = false;        // time.settle reached (false without time.settle)
   double residual = 0.0;       // at the end
+  std::string verdict;         // the stability verdict over the final window (core/run/window.hpp)
+  double contact_power_ratio = 0.0;
 };
 
 inline std::string bundled(const std::string& name) {
@@ -61,6 +63,9 @@ inline SceneRun run_scene_measured(const std::string& name,
   r.finite = o.failure.empty();
   r.settled = o.settled;
   r.residual = sim.residual();
+  const StabilityJudgement j = rec.judge(sim, sim.scene().settle.present && o.settled);
+  r.verdict = j.verdict;
+  r.contact_power_ratio = j.ratio;
   r.ke_peak = rec.kinetic_energy_peak();
   const EnergyLedger& e = sim.energy();
   r.contact_injection = e.work_contact_peak / std::max(1e-300, e.initial + std::max(0.0, e.work_external));
