@@ -722,6 +722,32 @@ Scene rescale_dt(const Scene& scene, int factor) {
   return scene_from_json(s, scene.file, scene.dir);
 }
 
+Scene rescale_to_dt(const Scene& scene, double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw InputError("--dt", "must be a finite time step > 0");
+  const double ratio = scene.dt / dt;  // steps at dt per step at the scene's dt
+  json s = scene.resolved;
+  auto scale = [ratio](json& v) {
+    if (v.is_number_integer() && v.get<long long>() > 0)
+      v = std::max<long long>(1, std::llround(static_cast<double>(v.get<long long>()) * ratio));
+  };
+  s["time"]["dt"] = dt;
+  scale(s["time"]["steps"]);
+  scale(s["time"]["window"]);
+  if (s["time"].contains("settle")) scale(s["time"]["settle"]["max_steps"]);
+  for (json& b : s["bodies"]) {
+    if (b.contains("pressure")) scale(b["pressure"]["ramp_steps"]);
+    for (json& l : b["loads"]) scale(l["ramp_steps"]);
+    for (json& d : b["drivers"]) {
+      const long long from = d["from_step"].get<long long>();
+      if (from > 0) d["from_step"] = std::llround(static_cast<double>(from - 1) * ratio) + 1;
+      scale(d["to_step"]);
+    }
+  }
+  scale(s["references"]["every"]);
+  scale(s["output"]["frames_every"]);
+  return scene_from_json(s, scene.file, scene.dir);
+}
+
 std::string read_text_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(path, "no such file");

@@ -37,7 +37,7 @@ void SpringGather::build(const World& w) {
   const std::size_t U = static_cast<std::size_t>(up_start[n]), L = static_cast<std::size_t>(lo_start[n]);
   up_self.assign(U + kPad, 0), up_other.assign(U + kPad, 0), up_spring.assign(U, 0);
   up_rest.assign(U + kPad, 1.0), up_inv_rest.assign(U + kPad, 1.0), up_stiff.assign(U + kPad, 0.0);
-  lo_other.assign(L + kPad, 0), lo_slot.assign(L + kPad, 0);
+  lo_slot.assign(L + kPad, 0);
   lo_min.assign(static_cast<std::size_t>(n), n);
   std::vector<int> cu(up_start.begin(), up_start.end() - 1), cl(lo_start.begin(), lo_start.end() - 1);
   std::vector<int> slot_of(s.size(), -1);
@@ -54,7 +54,7 @@ void SpringGather::build(const World& w) {
     for (int end = 0; end < 2; ++end) {
       if (upper_at(k, end)) continue;
       const int h = cl[s.ends[k][end]]++;
-      lo_other[h] = s.ends[k][1 - end], lo_slot[h] = slot_of[k];
+      lo_slot[h] = slot_of[k];
       lo_min[s.ends[k][end]] = std::min(lo_min[s.ends[k][end]], s.ends[k][1 - end]);
     }
   for (int a = 0; a < 3; ++a) F[a].assign(U + kPad, 0.0), G[a].assign(U + kPad, 0.0), R[a].assign(U + kPad, 0.0);

@@ -1,5 +1,6 @@
 // Spring and dashpot forces over the World's arrays: the hot loop of a step, one pass that reads
-// each node and each spring once (core/simd/kernels.hpp, SpringPassRun, says the operations).
+// each node and each spring once (core/simd/kernels.hpp, SpringEvalRun and SpringSumRun, say the
+// operations).
 #pragma once
 
 #include "core/world.hpp"
@@ -12,10 +13,9 @@ namespace harness {
 
 // Node-centric copy of the springs, built once per world: every node's half-edges in two lists,
 // "upper" (to a higher node: the spring is evaluated there) and "lower" (to a lower node: it
-// takes the upper half-edge's numbers through lo_slot), each in spring order, the rest length
-// and stiffness copied beside the upper ones (sequential reads), and the box: per upper
-// half-edge the spring's c, s, t, e (tension over length, dashpot over length, tangent over
-// length^2, energy).
+// takes the upper half-edge's results through lo_slot), each in spring order, the rest length, its
+// reciprocal and the stiffness copied beside the upper ones (sequential reads), and the box: per
+// upper half-edge what the spring adds to that node (below).
 //
 // Why this layout. A pass evaluates every spring once, along the contiguous upper half-edges
 // (its square root, division and, for the exponential law, expm1 are the step's arithmetic: in
@@ -30,8 +30,10 @@ struct SpringGather {
   std::size_t springs = 0;
   std::vector<int> up_start, up_self, up_other;  // CSR, per node
   std::vector<double> up_rest, up_inv_rest, up_stiff;
-  std::vector<int> lo_start, lo_other, lo_slot;   // lo_slot: the same spring's upper half-edge
-  std::vector<int> lo_min;                        // per node: its lowest lower partner (nodes: none)
+  std::vector<int> lo_start, lo_slot;             // lo_slot: the same spring's upper half-edge
+  // Per node: its lowest lower partner (nodes: none): a node whose partner lies in an earlier part
+  // of the pass is summed after every part has evaluated its springs.
+  std::vector<int> lo_min;
   // The box, per upper half-edge: the force on its node c d (F), the dashpot's s d (G), the
   // Gershgorin rows (R), x y z each, and the energy (e).
   std::vector<double> F[3], G[3], R[3], e;

@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <map>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -251,6 +252,8 @@ class BenchSize {
     measure("voxel_detect", T, [&] { col_->detect(w); }, grid_bytes_, "grid bytes");
     measure("voxel_detect_eliminate", T, [&] { col_->step(w, sim_->scene().dt); }, grid_bytes_, "grid bytes");
     measure("stream_positions", T, [&] { sink = sink + stream_positions(w); }, node_bytes, "bytes read");
+    // stream_step first: the step's rows carry their ratio to it (the same thread count, this run).
+    measure("stream_step", T, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
     if (wanted("step")) {
       // Steps move the bodies: every other row is timed on the initial state. A repetition is
       // kEvery steps (one stability check each, as in a run), divided by their number: the
@@ -263,7 +266,6 @@ class BenchSize {
       std::copy(x0.begin(), x0.end(), w.x.begin());
       std::copy(v0.begin(), v0.end(), w.v.begin());
     }
-    measure("stream_step", T, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
   }
 
   // The paper's grid with the exact narrow phase (detectors/voxel_exact.hpp) on the same state and
@@ -351,11 +353,18 @@ class BenchSize {
   bool wanted(const std::string& m) const {
     return opt_.methods.empty() || std::find(opt_.methods.begin(), opt_.methods.end(), m) != opt_.methods.end();
   }
-  void emit(const Row& r) const {
+  void emit(const Row& r) {
     const World& w = sim_->world();
-    std::fprintf(out_, "%s,%lld,%d,%.3f,%lld,%d,%d,%d,%zu,%d,%lld,%s\n", r.method.c_str(), r.nodes, r.threads, r.us,
-                 r.bytes, r.reps, w.bodies[0].size(), w.bodies[1].size(), w.springs.size(), contacts_, voxels_,
-                 r.note.c_str());
+    // ns per spring (the step's and the stream's: how far the step is from the pass over its data)
+    // and, for the step, its ratio to stream_step of the same run and thread count.
+    const double ns_spring = 1e3 * r.us / static_cast<double>(std::max<std::size_t>(1, w.springs.size()));
+    if (r.method == "stream_step") stream_us_[r.threads] = r.us;
+    char ratio[32] = "";
+    if (r.method == "step" && stream_us_.count(r.threads) && stream_us_[r.threads] > 0.0)
+      std::snprintf(ratio, sizeof ratio, "%.3f", r.us / stream_us_[r.threads]);
+    std::fprintf(out_, "%s,%lld,%d,%.3f,%lld,%d,%d,%d,%zu,%d,%lld,%s,%.4f,%s\n", r.method.c_str(), r.nodes, r.threads,
+                 r.us, r.bytes, r.reps, w.bodies[0].size(), w.bodies[1].size(), w.springs.size(), contacts_, voxels_,
+                 r.note.c_str(), ns_spring, ratio);
     std::fflush(out_);
     if (opt_.progress)
       std::fprintf(stderr, "bench: %-22s %8lld nodes %d thr %14.1f us/step (%d reps)\n", r.method.c_str(), r.nodes,
@@ -388,6 +397,7 @@ class BenchSize {
   Collision* col_ = nullptr;
   int contacts_ = 0;
   long long voxels_ = 0, grid_bytes_ = 0;
+  std::map<int, double> stream_us_;  // stream_step's time per thread count, this size
 };
 
 }  // namespace
@@ -400,7 +410,9 @@ int run_bench(const BenchOptions& opt) {
   }
   std::FILE* out = std::fopen(opt.out.c_str(), "w");
   if (!out) throw std::runtime_error("cannot write " + opt.out);
-  std::fprintf(out, "method,nodes,threads,us_per_step,bytes,reps,host_nodes,guest_nodes,springs,contacts,voxels,note\n");
+  std::fprintf(out,
+               "method,nodes,threads,us_per_step,bytes,reps,host_nodes,guest_nodes,springs,contacts,voxels,note,"
+               "ns_per_spring,step_over_stream\n");
   std::fflush(out);
   const int threads_before = threads();
   for (long long n : sizes) {

@@ -122,6 +122,7 @@ struct RunCommand {
   bool quiet = false, strict = false;
   std::string compare;
   int dt_divide = 1;
+  double dt = 0.0;
   std::string engine = "harness";
   BulletOptions bullet;
 
@@ -136,6 +137,8 @@ struct RunCommand {
     cmd->add_option("--threads", threads,
                     "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
     cmd->add_option("--dt-divide", dt_divide, "run at dt / N over the same physical time (every step count times N)");
+    cmd->add_option("--dt", dt, "run at this dt (s) over the same physical time (every step count times the scene's "
+                                "dt / this one, rounded; --steps counts steps of the scene's dt)");
     cmd->add_option("--compare", compare, "a reference (harness reference) or finished run of the same scene: "
                                           "error_vs_reference in summary.json, pos_err/gap columns");
     cmd->add_option("--engine", engine, "harness (its own effects and integrator) or bullet (Bullet's soft bodies, "
@@ -154,7 +157,9 @@ struct RunCommand {
       set_threads(threads);
     }
     if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
-    const Scene sc = rescale_dt(load_scene(resolve_scene(scene), scene_overrides(sets, cmd, steps)), dt_divide);
+    if (cmd->count("--dt") && cmd->count("--dt-divide")) throw InputError("--dt", "give --dt or --dt-divide, not both");
+    Scene sc = rescale_dt(load_scene(resolve_scene(scene), scene_overrides(sets, cmd, steps)), dt_divide);
+    if (cmd->count("--dt")) sc = rescale_to_dt(sc, dt);
     RunOptions opt = run_options();
     opt.out_dir = out;
     opt.progress = !quiet;

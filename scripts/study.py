@@ -109,7 +109,7 @@ def run_one(a, scene, out, sets, compare=True):
 
 
 def run_all(a, jobs):
-    """jobs: list of (scene, out, sets); runs them -j at once; returns their summaries in order."""
+    """jobs: list of (scene, out, sets[, compare]); runs them -j at once; returns their summaries in order."""
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
         return list(ex.map(lambda j: run_one(a, *j), jobs))
 
@@ -191,15 +191,17 @@ def run_configs(a, configs):
 
 
 def repeated(a, scene, folder, sets, repeats=None):
-    """A configuration run `repeats` (default --repeats) times (the first gives the errors; every one
-    its timings)."""
+    """A configuration run `repeats` (default --repeats) times: the first in full (its errors over the
+    window, against the reference); the others for their timings only (time.steps without settling,
+    no references: a step's time does not include measurement)."""
     n = a.repeats if repeats is None else repeats
     outs = [os.path.join(a.results, "sweeps", folder + ("" if r == 0 else "_r%d" % r)) for r in range(n)]
-    return [(scene, o, sets) for o in outs]
+    timing = [x for x in sets if not x.startswith("references.")] + ["references.solvers=[]", "time.settle=null"]
+    return [(scene, o, sets if r == 0 else timing, r == 0) for r, o in enumerate(outs)]
 
 
 def combine(summaries):
-    """Errors of the first run; contact and step time: median over the runs, and the range."""
+    """Errors of the first run; contact and step time: median over the runs' medians, and the range."""
     f = figures(summaries[0])
     tc = sorted(figures(s)["t_contact_us"] for s in summaries)
     ts = sorted(figures(s)["t_step_us"] for s in summaries)
@@ -338,21 +340,39 @@ def references(a):
 
 
 # ---------------------------------------------------------------------------------------------
+# The equal-footing comparison: the paper's voxel model with voxels at or above the host's node
+# spacing (host mean surface edge: sphere 3.0 mm, layer 5.7 mm, implant 6.1 mm: the smallest
+# power of two above it and twice it), forces from 0.0005 to 0.01 N and `auto`, line and plane;
+# the completed model (voxel_exact) with its voxel swept one size further; spatial hashing, CGAL
+# and FCL with the same responses.
+FOOTING_VOXELS = {"sphere_collision": [0.004, 0.008], "cylinder_press": [0.008, 0.016],
+                  "implant_expansion": [0.008, 0.016]}
+FOOTING_FORCES = ["0.0005", "0.001", "0.003", "0.01", "auto"]
+BOTH_WAYS = ["contacts.0.two_sided=true"]
+
+
 def method_configs(scene):
-    """(label, detector, voxel size or None, eliminator, force, extra sets) of the comparison: the
-    detectors by the responses where they make sense (module docstring of the report's table)."""
+    """(label, detector, voxel size or None, eliminator, force, extra sets) of the comparison."""
     out = []
-    for v in VOXELS:
+    voxels = FOOTING_VOXELS[scene]
+    for v in voxels:
+        label = "voxel %g mm" % (1e3 * v)
         for e in ["line", "plane"]:
-            for f in [CONSTANT, "auto", PENALTY]:
-                out.append(("voxel %g mm" % (1e3 * v), "voxel", v, e, f, []))
-        out.append(("voxel %g mm" % (1e3 * v), "voxel", v, "projection", "auto", []))
+            for f in FOOTING_FORCES:
+                out.append((label, "voxel", v, e, f, []))
+        out.append((label, "voxel", v, "line", PENALTY, []))
+        out.append((label, "voxel", v, "projection", "auto", []))
+    for v in voxels + [2 * voxels[-1]]:
+        label = "voxel_exact %g mm" % (1e3 * v)
+        out.append((label, "voxel_exact", v, "line", "auto", []))
+        out.append((label, "voxel_exact", v, "line", PENALTY, []))
+        out.append((label + ", both ways", "voxel_exact", v, "line", PENALTY, BOTH_WAYS))
     for d in ["hash", "cgal", "fcl"]:
-        for f in [CONSTANT, "auto", PENALTY]:
+        for f in ["auto", PENALTY]:
             out.append((d, d, None, "line", f, []))
         out.append((d, d, None, "projection", "auto", []))
     for d in ["hash", "cgal"]:
-        out.append((d + ", both ways", d, None, "line", PENALTY, ["contacts.0.two_sided=true"]))
+        out.append((d + ", both ways", d, None, "line", PENALTY, BOTH_WAYS))
     return out
 
 
@@ -732,47 +752,117 @@ def refinement(a):
 
 
 # ---------------------------------------------------------------------------------------------
+# Real time, as a reviewer would accept it: per scene and method, the collision unit's time per
+# step (detection + response, against a 1 ms haptic budget) and the whole simulator's, at the
+# scene's dt, at 0.9 of the smallest dt_crit a run at the scene's dt met (the guard substeps if the
+# state needs it: its substeps are counted in the step), and with implicit Euler at ten times the
+# scene's dt; one and two threads; each with its error against the reference beside it. Every row
+# carries the arguments that reproduce it with `harness run SCENE` (and the thread count).
+HAPTIC_BUDGET_US = 1000.0
+REALTIME_METHODS = [
+    ("cgal both ways, penalty (scene default)", "exact", []),
+    ("voxel_exact both ways, penalty", "completed", ['contacts.0.detector="voxel_exact"']),
+    ("hash both ways, penalty", "exact", ['contacts.0.detector="hash"']),
+    ("voxel 4 mm line auto (the paper's)", "paper",
+     ['contacts.0.detector="voxel"', 'contacts.0.eliminator="line"', 'contacts.0.force="auto"', "contacts.0.two_sided=false",
+      "contacts.0.voxel_size=0.004"]),
+]
+
+
+def shell_args(args):
+    """The arguments as one shell-quoted string."""
+    import shlex
+    return " ".join(shlex.quote(x) for x in args)
+
+
+def realtime_run(a, scene, folder, args, threads, compare):
+    """A `harness run SCENE ARGS` (its summary), with the references measuring for the error when
+    compare (timings exclude measurement: summary timing_us are the step's own)."""
+    out = os.path.join(a.results, "sweeps", "realtime", folder)
+    summary = os.path.join(out, "summary.json")
+    if not os.path.exists(summary):
+        cmd = [a.harness, "run", scene, "--out", out, "--quiet", "--set", "output.frames_every=0"] + args
+        if compare:
+            cmd += ["--set", 'references.solvers=["cgal"]', "--set", "references.every=%d" % STUDY_EVERY,
+                    "--compare", os.path.join(a.results, "references", scene)]
+        else:
+            cmd += ["--set", "references.solvers=[]"]
+        if a.quick:
+            cmd += ["--set", "time.steps=300", "--set", "time.settle.max_steps=400"]
+        subprocess.run(cmd, check=False, env=dict(os.environ, HARNESS_THREADS=str(threads)), stderr=subprocess.DEVNULL)
+    with open(summary) as f:
+        return json.load(f)
+
+
 def realtime(a):
-    """Steps per second of the bundled scenes on one core (one thread, no references, no frames),
-    --repeats runs one after the other; the run with the median mean step, and the range."""
     rows = []
     for scene in SCENES:
-        runs = []
-        for r in range(a.repeats):
-            out = os.path.join(a.results, "sweeps", "realtime", "%s_%d" % (scene, r))
-            cmd = [a.harness, "run", scene, "--out", out, "--quiet", "--set", "references.solvers=[]",
-                   "--set", "output.frames_every=0"] + sum((["--set", s] for s in a.extra_sets), [])
-            subprocess.run(cmd, check=True, env=dict(os.environ, HARNESS_THREADS="1"), stderr=subprocess.DEVNULL)
-            with open(os.path.join(out, "summary.json")) as f:
-                s = json.load(f)
-            with open(os.path.join(out, "steps.csv")) as f:
-                per_step = sorted(float(x["t_step_us"]) for x in csv.DictReader(f) if x["t_step_us"] not in ("", "nan"))
-            mean = sum(per_step) / len(per_step)
-            runs.append({"scene": scene, "nodes": s["nodes"], "steps": s["steps_run"], "mean_us": mean,
-                         "median_us": rl.median(per_step), "p99_us": per_step[min(len(per_step) - 1, int(0.99 * len(per_step)))],
-                         "contact_us": num(s["timing_us"]["detect"], 0.0) + num(s["timing_us"]["eliminate"], 0.0),
-                         "steps_per_s": 1e6 / mean, "realtime_factor": s["resolved_scene"]["time"]["dt"] * 1e6 / mean})
-        runs.sort(key=lambda r: r["mean_us"])
-        row = dict(runs[len(runs) // 2])
-        row["steps_per_s_range"] = "%.0f-%.0f" % (runs[-1]["steps_per_s"], runs[0]["steps_per_s"])
-        row["runs"] = len(runs)
-        rows.append(row)
-    cols = ["scene", "nodes", "steps", "mean_us", "median_us", "p99_us", "contact_us", "steps_per_s",
-            "realtime_factor", "steps_per_s_range", "runs"]
-    heads = ["scene", "nodes", "steps", "mean step (µs)", "median step (µs)", "p99 step (µs)", "detect+elim (µs)",
-             "steps/s", "real-time factor", "steps/s over the runs", "runs"]
+        dt0 = rl.bundled_scene(scene)["time"]["dt"]
+        for label, kind, sets in REALTIME_METHODS:
+            base = sum((["--set", x] for x in sets), [])
+            tag = label.split(" (")[0].replace(" ", "_").replace(",", "")
+            # The scene's dt first: its smallest dt_crit sets the dt of the second mode.
+            first = realtime_run(a, scene, "%s/%s_scene_t1" % (scene, tag), base, 1, True)
+            dt_crit_min = num((first.get("stability") or {}).get("dt_crit_min"))
+            modes = [("scene dt", base)]
+            if dt_crit_min > 0:
+                modes.append(("0.9 dt_crit", base + ["--dt", "%.4g" % (0.9 * dt_crit_min), "--set", 'time.guard="substep"']))
+            modes.append(("implicit Euler, 10 dt", base + ["--dt", "%.4g" % (10 * dt0), "--set",
+                                                           'time.integrator="implicit_euler"']))
+            for mode, args in modes:
+                for threads in [1, 2]:
+                    folder = "%s/%s_%s_t%d" % (scene, tag, mode.split(",")[0].replace(" ", "_").replace(".", ""), threads)
+                    s = first if (mode == "scene dt" and threads == 1) else realtime_run(a, scene, folder, args, threads, threads == 1)
+                    t = s.get("timing_us") or {}
+                    st = s.get("stability") or {}
+                    dt = num(st.get("dt"))
+                    step_us, contact_us = num(t.get("step")), num(t.get("detect"), 0.0) + num(t.get("eliminate"), 0.0)
+                    f = figures(s) if threads == 1 else {}
+                    rows.append({"scene": scene, "method": label, "kind": kind, "mode": mode, "threads": threads,
+                                 "dt": dt, "integrator": st.get("integrator"), "substeps_max": st.get("max_substeps"),
+                                 "overrides": shell_args(args), "t_step_us": step_us, "t_contact_us": contact_us,
+                                 "contact_budget_share": contact_us / HAPTIC_BUDGET_US,
+                                 "realtime_factor": dt * 1e6 / step_us if step_us > 0 else float("nan"),
+                                 "pos_err_max_mm": f.get("pos_err_max_mm", float("nan")), "stability": f.get("stability", ""),
+                                 "status": s.get("status"), "steps": s.get("steps_run")})
+        # The best exact method's error at the scene's dt: every row's error against it.
+        exact = [r["pos_err_max_mm"] for r in rows if r["scene"] == scene and r["kind"] == "exact"
+                 and r["mode"] == "scene dt" and r["threads"] == 1 and not math.isnan(r["pos_err_max_mm"])]
+        best = min(exact) if exact else float("nan")
+        for r in rows:
+            if r["scene"] == scene:
+                r["best_exact_mm"] = best
+                r["error_over_best"] = r["pos_err_max_mm"] / best if best > 0 else float("nan")
+        # Errors of the two-thread rows: the same state as one thread (bit-identical): copied.
+        for r in rows:
+            if r["scene"] == scene and r["threads"] == 2:
+                twin = next(o for o in rows if o["scene"] == scene and o["method"] == r["method"] and o["mode"] == r["mode"]
+                            and o["threads"] == 1)
+                r["pos_err_max_mm"], r["stability"], r["error_over_best"] = (twin["pos_err_max_mm"], twin["stability"],
+                                                                              twin["error_over_best"])
+    cols = ["scene", "method", "kind", "mode", "threads", "dt", "integrator", "substeps_max", "t_step_us", "t_contact_us",
+            "contact_budget_share", "realtime_factor", "pos_err_max_mm", "best_exact_mm", "error_over_best", "stability",
+            "status", "steps", "overrides"]
     rl.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
+    heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps", "step (µs)",
+             "detect+response (µs)", "of 1 ms", "real-time factor", "pos. error (mm)", "best exact (mm)", "error / best",
+             "stability", "status", "steps", "arguments after `harness run SCENE`"]
     with open(os.path.join(a.results, "tables", "realtime.md"), "w") as f:
-        f.write("# Real time on one core\n\nThe bundled scenes with their default contact, one thread, no "
-                "references, no frames; steps/s = 1 / mean step (every step counted); real-time factor = simulated "
-                "seconds per wall second. The run (of %d) with the median mean; the range over the runs. Made by "
-                "`scripts/study.py realtime`; timings vary from run to run.\n\n" % a.repeats
+        f.write("# Real time\n\nPer scene and method: the collision unit's time per step (detection + response, "
+                "median over the run's steps, against a 1 ms haptic budget) and the whole step's (the simulator's: "
+                "real-time factor = simulated time per wall time = dt / median step), at the scene's dt, at 0.9 of "
+                "the smallest dt_crit the run at the scene's dt met (guard `substep` as a safety net: its substeps are "
+                "inside the step's time), and with implicit Euler at ten times the scene's dt; one and two threads "
+                "(HARNESS_THREADS); the error against the reference over the final window beside it (the same "
+                "state with two threads), and its ratio to the best exact method's at the scene's dt. Timings "
+                "exclude the references' measurement. `overrides`: the arguments after `harness run SCENE` that "
+                "reproduce the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary.\n\n"
                 + rl.md_table(rows, cols, heads))
     with open(os.path.join(a.results, "tables", "realtime.tex"), "w") as f:
-        tcols = ["scene", "steps", "mean_us", "median_us", "steps_per_s", "realtime_factor", "steps_per_s_range"]
-        f.write(rl.tex_table([{c: (("%.3g" % r[c]) if isinstance(r[c], float) else r[c]) for c in tcols} for r in rows],
-                             tcols, ["scene", "steps", "mean ($\\mu$s)", "median ($\\mu$s)", "steps/s",
-                                     "real-time factor", "steps/s, %d runs" % a.repeats], "Steps per second on one core"))
+        tcols = ["scene", "method", "mode", "threads", "t_step_us", "t_contact_us", "realtime_factor", "error_over_best"]
+        f.write(rl.tex_table([dict(r, scene=r["scene"].replace("_", " ")) for r in rows], tcols,
+                             ["scene", "method", "mode", "threads", "step ($\\mu$s)", "collision ($\\mu$s)",
+                              "real-time factor", "error / best exact"], "Real time"))
 
 
 STUDIES = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime", "swap", "region", "orient",

@@ -23,6 +23,9 @@ done
 if "$H" --help 2>/dev/null | grep -q bench && grep -q "^fcl,1000,1," "$T/bench.csv"; then
   grep -q "^cgal,1000,1," "$T/bench.csv" && ok || bad "cgal row"
 fi
+# step rows carry their ns per spring and their ratio to stream_step of the same run
+head -1 "$T/bench.csv" | grep -q ',ns_per_spring,step_over_stream$' && ok || bad "bench ns_per_spring, step_over_stream columns"
+awk -F, '$1=="step" && !($13 > 0 && $14 > 0) {exit 1}' "$T/bench.csv" && ok || bad "step rows: ns per spring and stream ratio"
 # voxel rows carry the grid's bytes (> 0); voxel_exact rows name their band count
 awk -F, '$1=="voxel_detect" && $5 <= 0 {exit 1}' "$T/bench.csv" && ok || bad "voxel bytes > 0"
 grep -q "^voxel_exact_detect,1000,1,.*beyond the band" "$T/bench.csv" && ok || bad "voxel_exact note"
