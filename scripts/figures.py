@@ -12,8 +12,8 @@ Usage: figures.py [RESULTS_DIR]     (default: results; writes RESULTS_DIR/figure
   timeseries_<scene>  true penetrations (guest, host), detected contacts, maximum residual
                       depth and contact force per step, line against plane
   episodes            how many steps a node stays truly penetrating, line against plane
-Each figure is drawn at the size paper/main.tex prints it (resultslib.TEXT: the text width;
-resultslib.HALF: half of it, the time series), with 8 pt text (7 pt at the least), and written
+Each figure is drawn at the size paper/main.tex prints it (style.TEXT: the text width;
+style.HALF: half of it, the time series), with 8 pt text (7 pt at the least), and written
 as a vector PDF (what the report includes; the 3D surfaces inside it rasterised at 300 dpi) and
 a 300 dpi PNG. Deterministic: fixed run order, no dates, fixed sizes and resolution.
 """
@@ -22,9 +22,9 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import resultslib as rl  # noqa: E402
+from harness_results import reader, rules, runs, style  # noqa: E402
 
-plt = rl.pyplot()
+plt = style.pyplot()
 import matplotlib  # noqa: E402
 import matplotlib.lines  # noqa: E402
 import matplotlib.patches  # noqa: E402
@@ -44,15 +44,7 @@ VIEW = {"sphere_collision": (22, -62), "cylinder_press": (24, -58), "implant_exp
 
 
 def save(fig, root, name, width):
-    rl.save(fig, os.path.join(root, "figures", name), width=width)
-
-
-def by_scene(runs):
-    out = {}
-    for key, scene, title, force, elim, path in runs:
-        out.setdefault(key, {"scene": scene, "title": title, "force": force, "runs": {}})
-        out[key]["runs"][elim] = path
-    return out
+    style.save(fig, os.path.join(root, "figures", name), width=width)
 
 
 def box_edges(lo, hi):
@@ -63,33 +55,34 @@ def box_edges(lo, hi):
 
 
 def load_frame(path, body, step):
-    pts, tris, pen = rl.read_vtk(rl.frame_path(path, body, step))
+    pts, tris, pen = runs.read_vtk(runs.frame_path(path, body, step))
     return np.array(pts, dtype=float), np.array(tris, dtype=int), (None if pen is None else np.array(pen))
 
 
 def snapshot_figure(root, key, info):
-    elims = [e for e in rl.ELIMINATORS if e in info["runs"]]
+    elims = [e for e in runs.ELIMINATORS if e in info["runs"]]
     if not elims:
         return
     first = info["runs"][elims[0]]
-    summary = rl.load_summary(first)
-    host, guest = rl.body_names(summary)
-    steps = rl.snapshot_steps(summary)
-    dt = float(summary["resolved_scene"]["time"]["dt"])
+    summary = reader.load_summary(first)
+    host, guest = reader.contact_bodies(summary)
+    steps = runs.snapshot_steps(summary)
+    dt = reader.scene_dt(summary)
     # Data: frames and regions, and common limits over every panel.
     data = {}
     lo = np.full(3, np.inf)
     hi = np.full(3, -np.inf)
     for e in elims:
         path = info["runs"][e]
-        cols = rl.load_steps(path)
+        cols = reader.load_steps(path)
         for s in steps:
             fh = load_frame(path, host, s)
             fg = load_frame(path, guest, s)
-            reg = rl.region_at(cols, s)
-            k = rl.steps_row(cols, s)
-            data[(e, s)] = (fh, fg, reg, cols["true_pen_guest"][k] if s > 0 else None,
-                            cols["true_pen_host"][k] if s > 0 else None)
+            reg = runs.region_at(cols, s)
+            k = runs.steps_row(cols, s)
+            pen = [cols[c][k] if s > 0 and reader.present(cols[c][k]) else None
+                   for c in ("true_pen_guest", "true_pen_host")]
+            data[(e, s)] = (fh, fg, reg, pen[0], pen[1])
             for f in (fh, fg):
                 lo = np.minimum(lo, f[0].min(axis=0))
                 hi = np.maximum(hi, f[0].max(axis=0))
@@ -105,7 +98,7 @@ def snapshot_figure(root, key, info):
     # above the columns, the key below. Orthographic views without axes; a scale bar in the
     # first column gives the size.
     side = 0.2
-    panel = (rl.TEXT - side) / ncol
+    panel = (style.TEXT - side) / ncol
     # Row height from the view: the height over the width of the scene's box seen from (elev, azim)
     # (orthographic), so that flat scenes leave no empty band.
     ea, aa = np.radians(elev), np.radians(azim)
@@ -117,18 +110,18 @@ def snapshot_figure(root, key, info):
     titles = [0.30] + [0.16] * (len(elims) - 1)  # two lines of title above the first row, one after
     foot = 0.36
     height = sum(titles) + rowh * len(elims) + foot
-    fig = plt.figure(figsize=(rl.TEXT, height))
+    fig = plt.figure(figsize=(style.TEXT, height))
     mm = 1000.0
     ext = (hi - lo) * mm
     bar = [b * 10 ** k for k in range(-1, 4) for b in (1, 2, 5) if b * 10 ** k <= ext[0] / 2.5][-1]
     top = height
     for r, e in enumerate(elims):
         top -= titles[r]
-        fig.text(0.04 / rl.TEXT, (top - rowh / 2) / height, e, rotation=90, ha="left", va="center",
+        fig.text(0.04 / style.TEXT, (top - rowh / 2) / height, e, rotation=90, ha="left", va="center",
                  fontweight="bold")
         for c, s in enumerate(steps):
-            ax = fig.add_axes([(side + c * panel) / rl.TEXT, (top - rowh) / height, panel / rl.TEXT, rowh / height],
-                              projection="3d", proj_type="ortho")
+            ax = fig.add_axes([(side + c * panel) / style.TEXT, (top - rowh) / height, panel / style.TEXT,
+                               rowh / height], projection="3d", proj_type="ortho")
             ax.computed_zorder = False  # markers drawn over the translucent surfaces
             (ph, th, penh), (pg, tg, peng), reg, tpg, tph = data[(e, s)]
             ah, ag = ALPHA.get(info["scene"], (0.35, 0.35))
@@ -148,8 +141,8 @@ def snapshot_figure(root, key, info):
             if c == 0:
                 x0, y0, z0 = lo * mm
                 ax.plot([x0, x0 + bar], [y0, y0], [z0, z0], color="k", lw=1.2, zorder=11)
-                ax.text(x0 + bar / 2, y0, z0 - 0.06 * ext.max(), "%g mm" % bar, fontsize=rl.SMALL, ha="center", va="top",
-                        zorder=11)
+                ax.text(x0 + bar / 2, y0, z0 - 0.06 * ext.max(), "%g mm" % bar, fontsize=style.SMALL, ha="center",
+                        va="top", zorder=11)
             ax.set_xlim(lo[0] * mm, hi[0] * mm)
             ax.set_ylim(lo[1] * mm, hi[1] * mm)
             ax.set_zlim(lo[2] * mm, hi[2] * mm)
@@ -161,7 +154,7 @@ def snapshot_figure(root, key, info):
             else:
                 txt = "rest state"
             ax.text2D(0.5, 1.0, ("step %d, t = %.0f ms\n" % (s, s * dt * 1000.0) if r == 0 else "") + txt,
-                      transform=ax.transAxes, ha="center", va="bottom", fontsize=rl.SMALL)
+                      transform=ax.transAxes, ha="center", va="bottom", fontsize=style.SMALL)
         top -= rowh
     handles = [
         matplotlib.patches.Patch(facecolor=HOST_COLOR, edgecolor="#4a6f96", label="host: %s (voxel lists)" % host),
@@ -173,9 +166,9 @@ def snapshot_figure(root, key, info):
                                 label="truly penetrating %s vertex" % host),
         matplotlib.lines.Line2D([], [], ls="", label="counts: truly penetrating nodes of each body"),
     ]
-    fig.legend(handles=handles, loc="lower center", ncol=3, frameon=False, fontsize=rl.SMALL,
+    fig.legend(handles=handles, loc="lower center", ncol=3, frameon=False, fontsize=style.SMALL,
                bbox_to_anchor=(0.5, 0.0), columnspacing=1.2, handletextpad=0.5)
-    save(fig, root, "snapshots_%s" % key, rl.TEXT)
+    save(fig, root, "snapshots_%s" % key, style.TEXT)
 
 
 # Cross-section of each scene: (axis normal to the plane, its value, in-plane axes (h, v)).
@@ -215,14 +208,14 @@ def mean_edge(pts, tris):
 
 
 def section_figure(root, key_name, info):
-    elims = [e for e in rl.ELIMINATORS if e in info["runs"]]
+    elims = [e for e in runs.ELIMINATORS if e in info["runs"]]
     if not elims or info["scene"] not in SECTION:
         return
     axis, value, (hx, vx) = SECTION[info["scene"]]
-    summary = rl.load_summary(info["runs"][elims[0]])
-    host, guest = rl.body_names(summary)
-    steps = rl.snapshot_steps(summary)
-    dt = float(summary["resolved_scene"]["time"]["dt"])
+    summary = reader.load_summary(info["runs"][elims[0]])
+    host, guest = reader.contact_bodies(summary)
+    steps = runs.snapshot_steps(summary)
+    dt = reader.scene_dt(summary)
     mm = 1000.0
     rest = {}
     slab = {}
@@ -247,9 +240,9 @@ def section_figure(root, key_name, info):
                 if len(seg):
                     lo_h, hi_h = min(lo_h, seg[:, :, hx].min()), max(hi_h, seg[:, :, hx].max())
                     lo_v, hi_v = min(lo_v, seg[:, :, vx].min()), max(hi_v, seg[:, :, vx].max())
-        cols = rl.load_steps(path)
+        cols = reader.load_steps(path)
         for s in steps:
-            reg = rl.region_at(cols, s)
+            reg = runs.region_at(cols, s)
             if reg is not None:
                 lo_h, hi_h = min(lo_h, reg[0][hx]), max(hi_h, reg[1][hx])
                 lo_v, hi_v = min(lo_v, reg[0][vx]), max(hi_v, reg[1][vx])
@@ -257,10 +250,10 @@ def section_figure(root, key_name, info):
     # Printed at the text width: panels of equal scale (mm), sized from the sections' extent; a
     # row per eliminator, the instants above the columns, the key in a row of its own below.
     ncol = len(steps)
-    panel_w = (rl.TEXT - 0.55) / ncol
+    panel_w = (style.TEXT - 0.55) / ncol
     panel_h = min(1.6, panel_w * ext_v / ext_h)
     height = len(elims) * (panel_h + 0.3) + 0.3 + 0.5
-    fig = plt.figure(figsize=(rl.TEXT, height), layout="constrained")
+    fig = plt.figure(figsize=(style.TEXT, height), layout="constrained")
     gs = fig.add_gridspec(len(elims) + 1, ncol, height_ratios=[panel_h] * len(elims) + [0.42])
     axes = [[None] * ncol for _ in elims]
     for r in range(len(elims)):
@@ -270,7 +263,7 @@ def section_figure(root, key_name, info):
     mm = 1000.0
     for r, e in enumerate(elims):
         path = info["runs"][e]
-        cols = rl.load_steps(path)
+        cols = reader.load_steps(path)
         for c, s in enumerate(steps):
             ax = axes[r][c]
             npen = 0
@@ -288,24 +281,24 @@ def section_figure(root, key_name, info):
                     if near.any():
                         ax.plot(p[near, hx] * mm, p[near, vx] * mm, "o" if b == guest else "^", ms=2.2,
                                 color=PEN_GUEST if b == guest else PEN_HOST, ls="", mew=0)
-            reg = rl.region_at(cols, s)
+            reg = runs.region_at(cols, s)
             if reg is not None:
                 ax.add_patch(matplotlib.patches.Rectangle((reg[0][hx] * mm, reg[0][vx] * mm),
                                                           (reg[1][hx] - reg[0][hx]) * mm,
                                                           (reg[1][vx] - reg[0][vx]) * mm, fill=False, ls="--",
                                                           ec=REGION_COLOR, lw=0.7))
             head = ("step %d, t = %.0f ms\n" % (s, s * dt * 1000.0)) if r == 0 else ""
-            ax.set_title(head + ("%d penetrating vertices" % npen if s > 0 else "rest state"), fontsize=rl.SMALL)
+            ax.set_title(head + ("%d penetrating vertices" % npen if s > 0 else "rest state"), fontsize=style.SMALL)
             ax.set_aspect("equal")
-            ax.tick_params(labelsize=rl.SMALL)
+            ax.tick_params(labelsize=style.SMALL)
             ax.xaxis.set_major_locator(MaxNLocator(4))
             ax.yaxis.set_major_locator(MaxNLocator(4))
             if r == len(elims) - 1:
-                ax.set_xlabel("%s (mm)" % AXIS[hx], fontsize=rl.SMALL)
+                ax.set_xlabel("%s (mm)" % AXIS[hx], fontsize=style.SMALL)
             else:
                 ax.tick_params(labelbottom=False)
             if c == 0:
-                ax.set_ylabel("%s\n%s (mm)" % (e, AXIS[vx]), fontsize=rl.SMALL)
+                ax.set_ylabel("%s\n%s (mm)" % (e, AXIS[vx]), fontsize=style.SMALL)
             else:
                 ax.tick_params(labelleft=False)
             ax.grid(True, lw=0.3, alpha=0.5)
@@ -323,45 +316,45 @@ def section_figure(root, key_name, info):
     ]
     key = fig.add_subplot(gs[len(elims), :])
     key.axis("off")
-    key.legend(handles=handles, loc="center", ncol=3, frameon=False, fontsize=rl.SMALL, borderaxespad=0.0,
+    key.legend(handles=handles, loc="center", ncol=3, frameon=False, fontsize=style.SMALL, borderaxespad=0.0,
                columnspacing=1.2)
-    save(fig, root, "section_%s" % key_name, rl.TEXT)
+    save(fig, root, "section_%s" % key_name, style.TEXT)
 
 
 def timeseries_figure(root, key_name, info):
-    """Printed in a minipage of half the text width (rl.HALF), two to a page row."""
-    elims = [e for e in rl.ELIMINATORS if e in info["runs"]]
+    """Printed in a minipage of half the text width (style.HALF), two to a page row."""
+    elims = [e for e in runs.ELIMINATORS if e in info["runs"]]
     if not elims:
         return
-    summary = rl.load_summary(info["runs"][elims[0]])
-    host, guest = rl.body_names(summary)
-    every = int(summary["resolved_scene"]["references"]["every"])
-    fig = plt.figure(figsize=(rl.HALF, 4.7), layout="constrained")
+    summary = reader.load_summary(info["runs"][elims[0]])
+    host, guest = reader.contact_bodies(summary)
+    every = reader.measure_every(summary)
+    fig = plt.figure(figsize=(style.HALF, 4.7), layout="constrained")
     gs = fig.add_gridspec(5, 1, height_ratios=[0.36, 1, 1, 1, 1])
     axes = [fig.add_subplot(gs[k + 1]) for k in range(4)]
     for ax in axes[1:]:
         ax.sharex(axes[0])
     for e in elims:
         path = info["runs"][e]
-        cols = rl.load_steps(path)
-        col = rl.ELIM_STYLE[e]["color"]
+        cols = reader.load_steps(path)
+        col = style.ELIM_STYLE[e]["color"]
         t = np.array(cols["time"]) * 1000.0
-        st, g = rl.measured(cols, "true_pen_guest")
-        _, h = rl.measured(cols, "true_pen_host")
-        _, dep = rl.measured(cols, "max_depth")
-        tm = np.array(st, dtype=float) * float(summary["resolved_scene"]["time"]["dt"]) * 1000.0
+        st, g = reader.measured(cols, "true_pen_guest")
+        _, h = reader.measured(cols, "true_pen_host")
+        _, dep = reader.measured(cols, "max_depth")
+        tm = np.array(st, dtype=float) * reader.scene_dt(summary) * 1000.0
         axes[0].plot(tm, g, color=col, lw=1.0)
         axes[0].plot(tm, h, color=col, lw=0.8, ls="--")
-        axes[1].plot(t, [v if v is not None else np.nan for v in cols["contacts"]], color=col, lw=0.5)
+        axes[1].plot(t, cols["contacts"], color=col, lw=0.5)  # NaN (a gap) where not recorded
         axes[2].plot(tm, np.array(dep) * 1000.0, color=col, lw=0.9)
-        axes[3].plot(t, [v if v is not None else np.nan for v in cols["force"]], color=col, lw=0.5)
+        axes[3].plot(t, cols["force"], color=col, lw=0.5)
     titles = ["truly penetrating nodes (CGAL, every %d steps)" % every,
               "contacts the voxel model detects",
               "largest residual depth, both bodies",
               "largest penalty force of a contact"]
     ylabels = ["nodes", "contacts", "depth (mm)", "force (N)"]
     for ax, ti, yl in zip(axes, titles, ylabels):
-        ax.set_title(ti, fontsize=rl.SMALL, loc="left", pad=2)
+        ax.set_title(ti, fontsize=style.SMALL, loc="left", pad=2)
         ax.set_ylabel(yl)
         ax.grid(True, lw=0.3, alpha=0.6)
         ax.yaxis.set_major_locator(MaxNLocator(4))
@@ -370,70 +363,70 @@ def timeseries_figure(root, key_name, info):
     axes[-1].set_xlabel("time (ms)")
     key = fig.add_subplot(gs[0])
     key.axis("off")
-    handles = [matplotlib.lines.Line2D([], [], color=rl.ELIM_STYLE[e]["color"], label=e) for e in elims]
+    handles = [matplotlib.lines.Line2D([], [], color=style.ELIM_STYLE[e]["color"], label=e) for e in elims]
     handles += [matplotlib.lines.Line2D([], [], color="0.3", lw=1.0, label="%s (guest)" % guest),
                 matplotlib.lines.Line2D([], [], color="0.3", lw=0.8, ls="--", label="%s (host)" % host)]
-    key.legend(handles=handles, loc="center", ncol=2, frameon=False, fontsize=rl.SMALL, borderaxespad=0.0,
+    key.legend(handles=handles, loc="center", ncol=2, frameon=False, fontsize=style.SMALL, borderaxespad=0.0,
                columnspacing=1.0, handlelength=1.8)
-    save(fig, root, "timeseries_%s" % key_name, rl.HALF)
+    save(fig, root, "timeseries_%s" % key_name, style.HALF)
 
 
 def episodes_figure(root, scenes):
     """Printed at the text width: a panel per run setting, two to a row."""
-    keys = [k for k, _s, _t, _f in rl.SCENES if k in scenes]
+    keys = [k for k, _s, _t, _f in runs.SCENES if k in scenes]
     if not keys:
         return
     n = len(keys)
     ncol = 2
     nrow = (n + ncol - 1) // ncol
-    fig, axes = plt.subplots(nrow, ncol, figsize=(rl.TEXT, 1.95 * nrow + 0.1), squeeze=False, layout="constrained")
+    fig, axes = plt.subplots(nrow, ncol, figsize=(style.TEXT, 1.95 * nrow + 0.1), squeeze=False, layout="constrained")
     longest = 10
     for info in scenes.values():
         for path in info["runs"].values():
-            longest = max([longest] + [r["steps"] for r in rl.load_episodes(path)])
+            longest = max([longest] + [r["steps"] for r in reader.load_episodes(path)])
     edges = [5]
     while edges[-1] < longest:
         edges.append(10 * 2 ** len(edges) - 5)  # 5, 15, 35, 75, ...: bins of 10, 20-30, 40-70, ...
     for i, key in enumerate(keys):
         ax = axes[i // ncol][i % ncol]
         info = scenes[key]
-        elims = [e for e in rl.ELIMINATORS if e in info["runs"]]
+        elims = [e for e in runs.ELIMINATORS if e in info["runs"]]
         width = 0.38
         for j, e in enumerate(elims):
-            ep = rl.load_episodes(info["runs"][e])
+            ep = reader.load_episodes(info["runs"][e])
             steps = sorted(r["steps"] for r in ep)
             nopen = sum(r["open"] for r in ep)
             counts, _ = np.histogram(steps, bins=edges)
             x = np.arange(len(counts)) + (j - 0.5) * width
-            med = rl.nearest_rank(steps, 50)
+            med = rules.nearest_rank(steps, 50)
             lab = "%s: %d episodes, median %s steps, %d open" % (e, len(steps), "-" if med is None else med, nopen)
-            ax.bar(x, counts, width=width, color=rl.ELIM_STYLE[e]["color"], label=lab)
+            ax.bar(x, counts, width=width, color=style.ELIM_STYLE[e]["color"], label=lab)
         ax.set_xticks(np.arange(len(edges) - 1))
         ax.set_xticklabels([("%d-%d" % (edges[k] + 5, edges[k + 1] - 5)) if edges[k + 1] - edges[k] > 10
                             else "%d" % (edges[k] + 5) for k in range(len(edges) - 1)],
-                           rotation=40, ha="right", rotation_mode="anchor", fontsize=rl.SMALL)
-        ax.tick_params(axis="y", labelsize=rl.SMALL)
+                           rotation=40, ha="right", rotation_mode="anchor", fontsize=style.SMALL)
+        ax.tick_params(axis="y", labelsize=style.SMALL)
         if i // ncol == nrow - 1 or i + ncol >= n:
-            ax.set_xlabel("episode length (steps; measured every %d)" % int(
-                rl.load_summary(info["runs"][elims[0]])["resolved_scene"]["references"]["every"]))
+            ax.set_xlabel("episode length (steps; measured every %d)" % reader.measure_every(
+                reader.load_summary(info["runs"][elims[0]])))
         if i % ncol == 0:
             ax.set_ylabel("episodes")
         ax.set_title(info["title"])
         ax.set_ylim(0, 1.55 * max(1, ax.get_ylim()[1]))  # room for the key above the bars
-        ax.legend(loc="upper right", frameon=False, fontsize=rl.SMALL, handlelength=1.0, borderaxespad=0.2)
+        ax.legend(loc="upper right", frameon=False, fontsize=style.SMALL, handlelength=1.0, borderaxespad=0.2)
         ax.grid(True, axis="y", lw=0.3, alpha=0.6)
     for i in range(n, nrow * ncol):
         axes[i // ncol][i % ncol].axis("off")
-    save(fig, root, "episodes", rl.TEXT)
+    save(fig, root, "episodes", style.TEXT)
 
 
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else "results"
-    runs = rl.existing_runs(root)
-    if not runs:
-        sys.exit("figures: no runs under %s" % rl.runs_dir(root))
-    scenes = by_scene(runs)
-    for key, _scene, _title, _force in rl.SCENES:
+    found = runs.existing_runs(root)
+    if not found:
+        sys.exit("figures: no runs under %s" % runs.runs_dir(root))
+    scenes = runs.by_setting(found)
+    for key, _scene, _title, _force in runs.SCENES:
         if key not in scenes:
             continue
         info = scenes[key]

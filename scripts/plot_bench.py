@@ -8,22 +8,21 @@ Usage: plot_bench.py [BENCH_CSV] [RESULTS_DIR]
                                          time per step against nodes per body, log-log: every
                                          method with one thread (solid) and two (dashed); the two
                                          memory-bandwidth limits (stream_*) in grey; printed at
-                                         the report's text width (resultslib.TEXT)
+                                         the report's text width (harness_results/style.py: TEXT)
   RESULTS_DIR/tables/bench.md            the ratios the performance targets are stated in, each
                                          with its target and whether it holds, then every time
 A ratio whose rows are missing (e.g. a --quick bench has no 10^6 point) is reported as n/a.
 Deterministic: fixed method order, no dates.
 """
 
-import csv
 import os
 import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import resultslib as rl  # noqa: E402
+from harness_results import reader, style  # noqa: E402
 
-plt = rl.pyplot()
+plt = style.pyplot()
 
 METHODS = ["voxel_detect", "voxel_detect_eliminate", "hash_detect", "fcl", "cgal", "step", "stream_positions",
            "stream_step"]
@@ -52,17 +51,16 @@ LABEL = {
 
 
 def load(path):
-    rows = []
-    with open(path, newline="") as f:
-        for r in csv.DictReader(f):
-            r["nodes"] = int(r["nodes"])
-            r["threads"] = int(r["threads"])
-            r["us_per_step"] = float(r["us_per_step"])
-            r["bytes"] = int(float(r["bytes"] or 0))
-            for k in ("host_nodes", "guest_nodes", "voxels", "reps"):
-                if k in r and r[k] not in (None, ""):
-                    r[k] = int(float(r[k]))
-            rows.append(r)
+    """bench.csv's rows: counts as ints (None where empty), us_per_step a float."""
+    rows = reader.read_csv(path, text=("method", "note"), missing=[])
+    for r in rows:
+        r["nodes"] = int(r["nodes"])
+        r["threads"] = int(r["threads"])
+        r["us_per_step"] = float(r["us_per_step"])
+        r["bytes"] = int(r["bytes"]) if reader.present(r["bytes"]) else 0
+        for k in ("host_nodes", "guest_nodes", "voxels", "reps"):
+            if k in r:
+                r[k] = int(r[k]) if reader.present(r[k]) else None
     return rows
 
 
@@ -97,7 +95,7 @@ def fmt(x, digits=1):
 
 def figure(rows, out_dir):
     from matplotlib.lines import Line2D
-    fig, ax = plt.subplots(figsize=(rl.TEXT, 3.0), layout="constrained")
+    fig, ax = plt.subplots(figsize=(style.TEXT, 3.0), layout="constrained")
     for m in METHODS:
         color, marker = STYLE[m]
         for t, ls in ((1, "-"), (2, "--")):
@@ -109,7 +107,7 @@ def figure(rows, out_dir):
                     markersize=3.5, linewidth=0.9 if lim else 1.2, alpha=0.85 if lim else 1.0)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    rl.plain_log_ticks(ax.xaxis, ax.yaxis)
+    style.plain_log_ticks(ax.xaxis, ax.yaxis)
     ax.set_xlabel("nodes per body")
     ax.set_ylabel("time per step (µs)")
     ax.grid(True, which="major", alpha=0.4)
@@ -117,7 +115,7 @@ def figure(rows, out_dir):
     handles = [Line2D([], [], color=STYLE[m][0], marker=STYLE[m][1], markersize=3.5, label=LABEL[m]) for m in methods]
     handles += [Line2D([], [], color="0.3", ls="-", label="1 thread"), Line2D([], [], color="0.3", ls="--", label="2 threads")]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), ncol=1, frameon=False, borderaxespad=0.0)
-    rl.save(fig, os.path.join(out_dir, "figures", "bench_scaling"), width=rl.TEXT)
+    style.save(fig, os.path.join(out_dir, "figures", "bench_scaling"), width=style.TEXT)
 
 
 def table(rows, out_dir, csv_path):

@@ -7,20 +7,20 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import resultslib as rl  # noqa: E402
+from harness_results import reader, runs  # noqa: E402
 
 
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else "results"
     removed = kept = 0
-    for _key, _scene, _title, _force, _elim, path in rl.existing_runs(root):
-        keep = set(rl.snapshot_steps(rl.load_summary(path)))
-        for body, steps in sorted(rl.frames_available(path).items()):
+    for _key, _scene, _title, _force, _elim, path in runs.existing_runs(root):
+        keep = set(runs.snapshot_steps(reader.load_summary(path)))
+        for body, steps in sorted(runs.frames_available(path).items()):
             for s in steps:
                 if s in keep:
                     kept += 1
                 else:
-                    os.remove(rl.frame_path(path, body, s))
+                    os.remove(runs.frame_path(path, body, s))
                     removed += 1
     print("prune_frames: kept %d frames, removed %d" % (kept, removed))
 

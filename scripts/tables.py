@@ -23,12 +23,12 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import resultslib as rl  # noqa: E402
+from harness_results import reader, runs, writers  # noqa: E402
 
 
 def tex_prose(s):
     """Table text as LaTeX: escaped, with the table's few math expressions typeset."""
-    s = rl.tex_escape(s)
+    s = writers.tex_escape(s)
     return (s.replace(" x ", " $\\times$ ").replace("beta ", "$\\beta$ ").replace(" > ", " $>$ ")
             .replace(" < ", " $<$ ").replace("-z face", "$-z$ face").replace("-x face", "$-x$ face")
             .replace("+x face", "$+x$ face").replace("-y face", "$-y$ face").replace("+y face", "$+y$ face")
@@ -72,8 +72,8 @@ def write_table(root, name, caption, header, rows, tex_header=None, align=None):
 
 
 def penetration_stats(cols):
-    st, g = rl.measured(cols, "true_pen_guest")
-    _, h = rl.measured(cols, "true_pen_host")
+    st, g = reader.measured(cols, "true_pen_guest")
+    _, h = reader.measured(cols, "true_pen_host")
     if not st:
         return None, None, None
     tot = [int(a) + int(b) for a, b in zip(g, h)]
@@ -81,8 +81,8 @@ def penetration_stats(cols):
 
 
 def displacement(path, body, steps):
-    p0, _t, _ = rl.read_vtk(rl.frame_path(path, body, steps[0]))
-    p1, _t, _ = rl.read_vtk(rl.frame_path(path, body, steps[-1]))
+    p0, _t, _ = runs.read_vtk(runs.frame_path(path, body, steps[0]))
+    p1, _t, _ = runs.read_vtk(runs.frame_path(path, body, steps[-1]))
     d = [[b[k] - a[k] for k in range(3)] for a, b in zip(p0, p1)]
     n = len(d)
     mean = [sum(v[k] for v in d) / n for k in range(3)]
@@ -93,36 +93,36 @@ def displacement(path, body, steps):
 
 def collect(root):
     out = []
-    for key, scene, title, force, elim, path in rl.existing_runs(root):
-        s = rl.load_summary(path)
-        p = s["pairs"][0]
-        cols = rl.load_steps(path)
+    for key, scene, title, force, elim, path in runs.existing_runs(root):
+        s = reader.load_summary(path)
+        p = reader.pair(s)
+        cols = reader.load_steps(path)
         final, peak, peak_step = penetration_stats(cols)
-        host, guest = rl.body_names(s)
-        fr = rl.frames_available(path)
+        host, guest = reader.contact_bodies(s)
+        fr = runs.frames_available(path)
         bodies = {}
         for b in (host, guest):
             steps = fr.get(b, [])
-            if len(steps) >= 2 and steps[0] == 0 and steps[-1] == int(s["steps_run"]):
+            if len(steps) >= 2 and steps[0] == 0 and steps[-1] == int(reader.steps_run(s)):
                 bodies[b] = displacement(path, b, [steps[0], steps[-1]])
             else:
                 bodies[b] = (None, None)
         out.append({
             "key": key, "scene": scene, "title": title, "force": force, "elim": elim, "path": path,
-            "summary": s, "pair": p, "host": host, "guest": guest, "steps": int(s["steps_run"]),
+            "summary": s, "pair": p, "host": host, "guest": guest, "steps": int(reader.steps_run(s)),
             "voxel": float(p["voxel_size_used"]), "pen_final": final, "pen_peak": peak,
-            "pen_peak_step": peak_step, "bodies": bodies, "timing": s.get("timing_us", {}),
-            "status": s.get("status"),
+            "pen_peak_step": peak_step, "bodies": bodies, "timing": reader.timings(s),
+            "status": reader.status(s),
         })
     return out
 
 
 def mm(v):
-    return rl.fmt(None if v is None else v * 1000.0, ".3f")
+    return writers.fmt(None if v is None else v * 1000.0, ".3f")
 
 
 def vox(v, size):
-    return rl.fmt(None if v is None else v / size, ".3f")
+    return writers.fmt(None if v is None else v / size, ".3f")
 
 
 def _g(v):
@@ -191,7 +191,7 @@ def scene_tables(root, data):
     crow = []
     seen = set()
     for r in data:
-        sc = r["summary"]["resolved_scene"]
+        sc = reader.resolved(r["summary"])
         if r["scene"] not in seen:
             seen.add(r["scene"])
             c = sc["contacts"][0]
@@ -202,7 +202,7 @@ def scene_tables(root, data):
                 rows.append([r["title"].split(",")[0], "%s (%s)" % (b["name"], role), shape_text(b["shape"]),
                              b["shape"].get("fill", "volume"), "%g" % m["density"], stiffness_text(m), law,
                              "%g" % m["damping"], constraints_text(b, sc["effects"])])
-        if r["elim"] == rl.ELIMINATORS[0]:
+        if r["elim"] == runs.ELIMINATORS[0]:
             c = sc["contacts"][0]
             f = c["force"]
             force = "auto" if f == "auto" else ("k %g N/m" % f["stiffness"] if isinstance(f, dict) else "%g N" % f)
@@ -233,16 +233,16 @@ def main():
     root = sys.argv[1] if len(sys.argv) > 1 else "results"
     data = collect(root)
     if not data:
-        sys.exit("tables: no runs under %s" % rl.runs_dir(root))
+        sys.exit("tables: no runs under %s" % runs.runs_dir(root))
     rows = []
     for r in data:
         p = r["pair"]
         rows.append([r["title"], r["elim"], r["force"], "%.4g" % (r["voxel"] * 1000.0), "%d" % r["steps"],
-                     rl.fmt(r["pen_final"], "d"), rl.fmt(r["pen_peak"], "d"),
+                     writers.fmt(r["pen_final"], "d"), writers.fmt(r["pen_peak"], "d"),
                      mm(p.get("max_depth_final")), vox(p.get("max_depth_final"), r["voxel"]),
                      mm(p.get("max_depth_peak")), vox(p.get("max_depth_peak"), r["voxel"]),
-                     rl.fmt(p.get("recall"), ".3f"), rl.fmt(p.get("precision"), ".4f"),
-                     rl.fmt(p.get("tunnelled"), "d")])
+                     writers.fmt(p.get("recall"), ".3f"), writers.fmt(p.get("precision"), ".4f"),
+                     writers.fmt(p.get("tunnelled"), "d")])
     write_table(
         root, "accuracy",
         "Accuracy per scenario and eliminator. Truly penetrating nodes: guest + host nodes strictly "
@@ -284,9 +284,9 @@ def main():
     rows = []
     for r in data:
         t = r["timing"]
-        rows.append([r["title"], r["elim"], rl.fmt(t.get("step"), ".1f"), rl.fmt(t.get("physics"), ".1f"),
-                     rl.fmt(t.get("detect"), ".1f"), rl.fmt(t.get("eliminate"), ".1f"),
-                     rl.fmt(t.get("fcl"), ".1f"), rl.fmt(t.get("cgal"), ".1f")])
+        rows.append([r["title"], r["elim"], writers.fmt(t.get("step"), ".1f"), writers.fmt(t.get("physics"), ".1f"),
+                     writers.fmt(t.get("detect"), ".1f"), writers.fmt(t.get("eliminate"), ".1f"),
+                     writers.fmt(t.get("fcl"), ".1f"), writers.fmt(t.get("cgal"), ".1f")])
     write_table(
         root, "timing",
         "Median wall time per step, microseconds (one core). Detection and elimination are the voxel "

@@ -14,12 +14,16 @@ trusted). Run deliberately, after a change that is meant to move accuracy (it is
 reproduce.sh: thresholds must not follow the code automatically).
 Usage: scripts/thresholds.py [--harness build/bin/harness] [--results results]
 """
-import argparse, json, os, subprocess, sys, tempfile
+import argparse
+import json
+import os
+import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import study  # noqa: E402
+from harness_results import reader, runner  # noqa: E402
+from harness_results.studies.common import SCENES, force_setting  # noqa: E402
 
-SCENES = ["sphere_collision", "cylinder_press", "implant_expansion"]
 SETTLE = 4000
 EVERY = 50
 MARGIN = {"pos_err_max": 1.5, "gap_max": 1.5, "depth_max": 1.5, "recall": 1.1}
@@ -28,22 +32,19 @@ FLOOR = 5e-5  # m: the reference's own tolerance
 
 def method_sets(d):
     """--set overrides of the chosen default: voxel model, its eliminator, force, voxel size."""
-    f = d["force"]
-    force = "auto" if f == "auto" else (json.dumps({"stiffness": float(f[2:])}) if f.startswith("k=") else f[2:])
+    force = force_setting(d["force"])
     return {"contacts.0.detector": '"voxel"', "contacts.0.eliminator": '"%s"' % d["eliminator"],
             "contacts.0.force": json.dumps(force) if force == "auto" else force,
             "contacts.0.voxel_size": "%g" % d["voxel_size"], "contacts.0.two_sided": "false"}
 
 
-def run(harness, results, scene, sets, out):
-    cmd = [harness, "run", scene, "--out", out, "--quiet", "--compare", os.path.join(results, "references", scene),
-           "--set", "output.frames_every=0", "--set", 'references.solvers=["cgal"]',
-           "--set", "references.every=%d" % EVERY, "--set", "time.settle.max_steps=%d" % SETTLE]
-    for k, v in sets.items():
-        cmd += ["--set", "%s=%s" % (k, v)]
-    subprocess.run(cmd, check=True)
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)
+def run(a, scene, sets, out):
+    """The scene as the CI test runs it (the caller's thread count), compared with its reference."""
+    args = ["run", scene, "--out", out, "--quiet", "--compare", os.path.join(a.results, "references", scene),
+            "--set", "output.frames_every=0", "--set", 'references.solvers=["cgal"]',
+            "--set", "references.every=%d" % EVERY, "--set", "time.settle.max_steps=%d" % SETTLE]
+    args += runner.sets_args("%s=%s" % kv for kv in sets.items())
+    return runner.harness(a, args, out, check=True, show_stderr=True, cached=False, threads=None)
 
 
 def main():
@@ -51,7 +52,7 @@ def main():
     ap.add_argument("--harness", default="build/bin/harness")
     ap.add_argument("--results", default="results")
     a = ap.parse_args()
-    with open(os.path.join(a.results, "defaults.json")) as f:
+    with open(os.path.join(a.results, "defaults.json")) as f:  # must be there: the ablation's defaults
         defaults = json.load(f)
     doc = {"about": "CI accuracy thresholds: measured value times margin, against the committed reference "
                     "solutions; checked by the ctest 'reference:CI accuracy thresholds hold' with its broken "
@@ -67,13 +68,13 @@ def main():
                 print("thresholds: %s has no voxel default; no threshold (said in the file)" % scene, file=sys.stderr)
                 continue
             sets = method_sets(defaults[scene])
-            s = run(a.harness, a.results, scene, sets, os.path.join(tmp, scene))
-            p = s["pairs"][0]
-            e = p["error_vs_reference"]
+            s = run(a, scene, sets, os.path.join(tmp, scene))
+            p = reader.pair(s)
+            e = reader.final_reference_errors(s)
             doc["scenes"][scene] = {
                 "method": sets,
                 "measured": {"pos_err_max": e["pos_err_max"], "gap_max": e["gap_max"], "depth_max": e["depth_max"],
-                             "recall": p["recall"], "git_commit": s["git_commit"]},
+                             "recall": p["recall"], "git_commit": reader.git_commit(s)},
                 "max_pos_err_max": max(FLOOR, e["pos_err_max"] * MARGIN["pos_err_max"]),
                 "max_gap_max": max(FLOOR, e["gap_max"] * MARGIN["gap_max"]),
                 "max_depth_max": max(FLOOR, e["depth_max"] * MARGIN["depth_max"]),

@@ -1,0 +1,24 @@
+"""The paper's claims, one module each. A module has `judge(ctx)` (ctx: common.Context, the results)
+returning its common.Verdict: the verdict, its section of claims.md, its LaTeX macros and tables.
+scripts/claims.py writes them in ORDER.
+
+To add a claim: a module here whose judge() builds its comparisons with rules.compare (which says
+"inconclusive" when a run it rests on is not stable) and its verdict with rules.verdict; its name in
+ORDER (where its section goes in claims.md); its macros follow the others in claims_macros.tex.
+"""
+
+import importlib
+
+# The order of the sections of claims.md.
+ORDER = ["a_penetrations", "a_reference", "b_episodes", "c_restrictions", "d_voxel_speed", "realtime", "swap",
+         "e_region", "a_orient"]
+
+
+def module(name):
+    """The module of claim `name`."""
+    return importlib.import_module("." + name, __name__)
+
+
+def judge_all(ctx, order=ORDER):
+    """Every claim's Verdict, in `order`."""
+    return [module(name).judge(ctx) for name in order]

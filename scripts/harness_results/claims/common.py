@@ -1,0 +1,94 @@
+"""What the claims share: the record each claim returns (Verdict), the results they read (Context:
+the runs of scripts/reproduce.sh and the studies' CSV files) and the penetration series of a run."""
+
+import json
+import os
+
+from .. import reader, runs
+
+# The scenes of the studies, in the order the claims list them; the exact detectors.
+SCENE_ORDER = ["sphere_collision", "cylinder_press", "implant_expansion"]
+EXACT = ["hash", "cgal", "fcl"]
+
+
+class Verdict:
+    """One claim's record. key: its module's name; verdict: "supported", "partly supported", "not
+    supported", "inconclusive", "not tested ..." (None for a finding, which has no verdict); md: its
+    section of claims.md (lines); macros: [(name, value)] for tables/claims_macros.tex; tex: {file
+    name under tables/: text} of its own LaTeX tables; data: whatever else a caller may want."""
+
+    def __init__(self, key, verdict=None, md=(), macros=(), tex=None, data=None):
+        self.key = key
+        self.verdict = verdict
+        self.md = list(md)
+        self.macros = list(macros)
+        self.tex = dict(tex or {})
+        self.data = data
+
+    def __repr__(self):
+        return "Verdict(%r, %r)" % (self.key, self.verdict)
+
+
+class Context:
+    """The results the claims are judged on: root (the results folder), runs (runs.existing_runs),
+    by ({scene key: {"title", "force", "scene", eliminator: path}}), steps_run ({(key, elim): steps})."""
+
+    def __init__(self, root):
+        self.root = root
+        self.runs = runs.existing_runs(root)
+        self.by = {}
+        for key, scene, title, force, elim, path in self.runs:
+            self.by.setdefault(key, {"title": title, "force": force, "scene": scene})[elim] = path
+        self.steps_run = {}
+        for key, _scene, _title, _force, elim, path in self.runs:
+            self.steps_run[(key, elim)] = int(reader.steps_run(reader.load_summary(path)))
+        self._csv = {}
+
+    def csv(self, name, numbers=()):
+        """A CSV file of the results (reader.read_csv; `numbers` NaN where the file lacks them); []
+        when missing."""
+        k = (name, tuple(numbers))
+        if k not in self._csv:
+            self._csv[k] = reader.read_csv(os.path.join(self.root, name), numbers=numbers, text=reader.STUDY_TEXT,
+                                           missing=[])
+        return self._csv[k]
+
+    def pairs(self):
+        """(key, title, force, line path, plane path) of every setting run with both eliminators."""
+        for key, _scene, title, force in runs.SCENES:
+            if key not in self.by or "line" not in self.by[key] or "plane" not in self.by[key]:
+                continue
+            yield key, title, force, self.by[key]["line"], self.by[key]["plane"]
+
+    def shortened_runs(self):
+        """Runs that stopped before the step count of their scene file (e.g. --quick)."""
+        out = []
+        for key, _scene, _title, _force, elim, path in self.runs:
+            s = reader.load_summary(path)
+            try:
+                with open(reader.scene_file(s)) as fh:
+                    asked = int(json.load(fh)["time"]["steps"])
+            except (OSError, ValueError, KeyError, TypeError):
+                continue
+            if int(reader.steps_run(s)) < asked:
+                out.append("%s_%s" % (key, elim))
+        return out
+
+
+def pen_series(path):
+    """A run's truly penetrating nodes (guest + host) on the measured steps: final, peak, sum, how many
+    measured, how many with any; residual depth at its peak and at the end."""
+    cols = reader.load_steps(path)
+    st, g = reader.measured(cols, "true_pen_guest")
+    _, h = reader.measured(cols, "true_pen_host")
+    _, dep = reader.measured(cols, "max_depth")
+    tot = [int(a) + int(b) for a, b in zip(g, h)]
+    return {
+        "final": tot[-1] if tot else None,
+        "peak": max(tot) if tot else None,
+        "sum": sum(tot),
+        "measured": len(tot),
+        "steps_with_pen": sum(1 for v in tot if v > 0),
+        "depth_peak": max(dep) if dep else None,
+        "depth_final": dep[-1] if dep else None,
+    }

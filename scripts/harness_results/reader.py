@@ -1,0 +1,315 @@
+"""Reading what `harness` and the studies write: the one CSV reader and the one place that knows
+summary.json's key paths (core/run/summary.cpp writes them).
+
+CSV files (steps.csv, penetration_episodes.csv, surfaces.csv, the studies' CSV files, bench.csv):
+`read_csv` is the only reader. Its one convention: a column of numbers reads as floats with NaN
+where a cell is empty (a written "nan" is NaN too); a column of text (one holding any cell that is
+not a number, or one the caller names: STUDY_TEXT for the studies' files) reads as strings, "" where
+empty. `present(v)` tells a value from a missing one.
+
+summary.json: `load_summary`, then the accessors below (`pair`, `reference_errors`, `window`,
+`window_stat`, `stability_inputs`, `timings`, `contact_time_us`, `window_figures`, `engine`, ...).
+A script that needs a figure of a summary asks an accessor; a new key path is added here.
+"""
+
+import csv
+import json
+import math
+import os
+
+NAN = float("nan")
+# The columns of the studies' CSV files (scripts/study.py) that are text whatever their cells hold.
+STUDY_TEXT = frozenset([
+    "scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "t_contact_range",
+    "front", "stability", "verdict", "status", "host", "guest", "swapped", "region", "orient", "engine",
+    "reference_converged", "resolution", "body", "steps_per_s_range", "reference", "comparison", "converged"])
+
+
+# ---------------------------------------------------------------------------------------------
+# Numbers and CSV files
+def num(v, default=NAN):
+    """v as a float, `default` when it is not a number (None, "", text)."""
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return default
+
+
+def present(v):
+    """False for a missing value (None, "", NaN), True otherwise."""
+    if v is None or v == "":
+        return False
+    return not (isinstance(v, float) and math.isnan(v))
+
+
+def _number(cell):
+    """(is a number or empty, value): an empty cell is NaN."""
+    if cell is None or cell == "":
+        return True, NAN
+    try:
+        return True, float(cell)
+    except ValueError:
+        return False, None
+
+
+def read_csv(path, numbers=(), text=(), missing=None):
+    """The rows of a CSV file as dicts (the file's column order), typed by the module's convention.
+    `text`: columns read as text whatever they hold; `numbers`: columns that must be there as numbers
+    (NaN in every row when the file lacks them). A file that does not exist gives `missing`."""
+    if not os.path.isfile(path):
+        return missing
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        return rows
+    for k in rows[0].keys():
+        if k in text:
+            continue
+        vals = [_number(r[k]) for r in rows]
+        if all(ok for ok, _ in vals):
+            for r, (_, v) in zip(rows, vals):
+                r[k] = v
+    for k in numbers:
+        for r in rows:
+            r[k] = num(r.get(k))
+    return rows
+
+
+def columns(rows):
+    """Rows (dicts) as {column: list of values}."""
+    return {k: [r[k] for r in rows] for k in (rows[0].keys() if rows else [])}
+
+
+# ---------------------------------------------------------------------------------------------
+# The outputs of one run folder
+def load_steps(path):
+    """steps.csv of a single-pair run as {column: list} (floats, NaN where not measured)."""
+    return columns(read_csv(os.path.join(path, "steps.csv")))
+
+
+def measured(cols, key):
+    """(steps, values) of the steps.csv rows where column `key` was measured."""
+    st, va = [], []
+    for s, v in zip(cols["step"], cols[key]):
+        if present(v):
+            st.append(int(s))
+            va.append(v)
+    return st, va
+
+
+def load_episodes(path):
+    """penetration_episodes.csv (node, first_step, last_step, steps, open as ints); [] without one."""
+    rows = read_csv(os.path.join(path, "penetration_episodes.csv"), missing=[])
+    for r in rows:
+        for k in ("node", "first_step", "last_step", "steps", "open"):
+            r[k] = int(r[k])
+    return rows
+
+
+def load_surfaces(path):
+    """surfaces.csv of a run: {body: [(x, y, z, x0, y0, z0, signed distance or None)]}."""
+    out = {}
+    for r in read_csv(os.path.join(path, "surfaces.csv")):
+        sd = r["signed_distance"]
+        out.setdefault(r["body"], []).append(tuple(r[k] for k in ("x", "y", "z", "x0", "y0", "z0")) +
+                                             (sd if present(sd) else None,))
+    return out
+
+
+def largest_displacements(path):
+    """{body: largest distance of a surface vertex from its rest position (m)} after the run."""
+    return {b: max(math.dist(v[:3], v[3:6]) for v in vs) for b, vs in load_surfaces(path).items()}
+
+
+# ---------------------------------------------------------------------------------------------
+# summary.json: every key path the scripts read is spelled below.
+def load_summary(path):
+    """summary.json of a run folder (or the file itself)."""
+    if os.path.isdir(path):
+        path = os.path.join(path, "summary.json")
+    with open(path) as f:
+        return json.load(f)
+
+
+def has_summary(path):
+    return os.path.exists(os.path.join(path, "summary.json"))
+
+
+def status(s):
+    """"ok", "error" or "interrupted"."""
+    return s.get("status")
+
+
+def steps_run(s):
+    return s["steps_run"]
+
+
+def nodes(s):
+    return s.get("nodes", 0)
+
+
+def git_commit(s):
+    return s["git_commit"]
+
+
+def scene_file(s):
+    """The scene file the run read (None when not recorded)."""
+    return s.get("scene_file")
+
+
+def settled(s):
+    """True or False when the scene settles (time.settle), None when it does not."""
+    return s["settled"]
+
+
+def pair(s, i=0):
+    """The i-th contact pair's figures ({} when the run has none)."""
+    p = s.get("pairs")
+    return p[i] if p and len(p) > i else {}
+
+
+def reference_errors(s, i=0):
+    """The pair's error against the reference (--compare): {} without one."""
+    return pair(s, i).get("error_vs_reference") or {}
+
+
+def final_reference_errors(s, i=0):
+    """pos_err_max, gap_max, depth_max at the end (m), None for a run compared with no reference."""
+    e = pair(s, i).get("error_vs_reference")
+    if not e:
+        return None
+    return {k: e[k] for k in ("pos_err_max", "gap_max", "depth_max")}
+
+
+def window(s):
+    """The run's final window and its stability judgement (summary `window`)."""
+    return s.get("window") or {}
+
+
+def window_stat(d, key, what="mean"):
+    """A window statistic (mean, max, min, amplitude) of figure `key` in `d` (a `window` object), NaN
+    when it was not measured."""
+    v = (d or {}).get(key) or {}
+    return num(v.get(what)) if isinstance(v, dict) else NAN
+
+
+def stability_inputs(s):
+    """What the stability rule (rules.classify) reads from a summary, by name."""
+    w = window(s)
+    return {"status": s.get("status"), "finite": s.get("finite"), "verdict": s.get("stability_verdict"),
+            "rho": num(w.get("contact_power_ratio")), "growth": num(w.get("kinetic_growth")),
+            "kicked": w.get("kicked"), "net_contact_work": num(w.get("net_contact_work_J")),
+            "guard_violations": num((s.get("stability") or {}).get("guard_violations"), 0),
+            "balance_error": num((s.get("energy") or {}).get("energy_balance_error"), 0.0)}
+
+
+def timings(s):
+    """Median microseconds per step: step, physics, detect, eliminate, fcl, cgal (None when not timed)."""
+    return s.get("timing_us") or {}
+
+
+def contact_time_us(s):
+    """Detection plus elimination, µs per step (a missing part counts 0)."""
+    t = timings(s)
+    return num(t.get("detect"), 0.0) + num(t.get("eliminate"), 0.0)
+
+
+def window_figures(s):
+    """The measured figures of one run that the studies use (rules.py's docstring defines window and
+    error); lengths in mm. Without its stability judgement (rules.classify)."""
+    p = pair(s)
+    e = reference_errors(s)
+    ew = e.get("window") or {}
+    w = window(s)
+    t = timings(s)
+    mm = lambda v: 1e3 * v
+    return {
+        "status": status(s), "verdict": s.get("stability_verdict"),
+        "contact_power_ratio": num(w.get("contact_power_ratio")),
+        "settled": s.get("settled"), "steps": s.get("steps_run"), "window_from": w.get("from_step"),
+        "pos_err_max_mm": mm(window_stat(ew, "pos_err_max")), "pos_err_max_max_mm": mm(window_stat(ew, "pos_err_max", "max")),
+        "pos_err_amp_mm": mm(window_stat(ew, "pos_err_max", "amplitude")), "pos_err_final_mm": mm(num(e.get("pos_err_max"))),
+        "pos_err_rms_mm": mm(window_stat(ew, "pos_err_rms")),
+        "gap_max_mm": mm(window_stat(ew, "gap_max")), "gap_mean_mm": mm(window_stat(ew, "gap_mean")),
+        "depth_max_mm": mm(window_stat(ew, "depth_max", "max")), "depth_peak_mm": mm(num(e.get("depth_peak"))),
+        "tunnelled": window_stat(ew, "tunnelled", "max"), "tunnelled_peak": num(e.get("tunnelled_peak")),
+        "t_contact_us": contact_time_us(s), "t_step_us": num(t.get("step")),
+        "recall": num(p.get("recall")), "precision": num(p.get("precision")),
+        "recall_host": num(p.get("recall_host")), "precision_host": num(p.get("precision_host")),
+        "true_pen_final": num(p.get("true_pen_final")), "voxel_size_used": num(p.get("voxel_size_used")),
+        "beyond_band_total": num(p.get("beyond_band_total")),
+    }
+
+
+def pair_figures(s):
+    """The pair's figures over the whole run that some studies add: peak depth (mm), region rebuilds."""
+    p = pair(s)
+    return {"max_depth_peak_mm": 1e3 * num(p.get("max_depth_peak")), "region_rebuilds": num(p.get("region_rebuilds"))}
+
+
+def end_figures(s):
+    """The state at the end of the run: force residual and kinetic energy (NaN when not finite)."""
+    return {"residual": num(s.get("residual")), "kinetic_energy_final": num(s.get("kinetic_energy_final"))}
+
+
+def engine(s):
+    """The stepping engine: {"name": "harness"} or Bullet's settings (name, margin_m, ...)."""
+    return s.get("engine") or {}
+
+
+def version(s, what):
+    return (s.get("versions") or {}).get(what)
+
+
+def resolved(s):
+    """The resolved scene (every default written in)."""
+    return s["resolved_scene"]
+
+
+def scene_dt(s):
+    return float(resolved(s)["time"]["dt"])
+
+
+def measure_every(s):
+    """Steps between two ground-truth measurements (references.every)."""
+    return int(resolved(s)["references"]["every"])
+
+
+def frames_every(s):
+    return int(resolved(s).get("output", {}).get("frames_every", 0) or 0)
+
+
+def contact_bodies(s):
+    """(host, guest) names of the first contact pair."""
+    c = resolved(s)["contacts"][0]
+    return c["host"], c["guest"]
+
+
+def reference_levels(s):
+    """A `harness reference` summary's levels (dt, stiffness, change_max, ...) and whether it converged."""
+    ref = s["reference"]
+    return ref["levels"], ref["converged"]
+
+
+def reference_converged(s):
+    return (s.get("reference") or {}).get("converged", "")
+
+
+# ---------------------------------------------------------------------------------------------
+# Files beside the results
+SOURCE = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+
+
+def bundled_scene(scene):
+    """experiments/scenes/<scene>.json, parsed."""
+    with open(os.path.join(SOURCE, "experiments", "scenes", scene + ".json")) as f:
+        return json.load(f)
+
+
+def read_defaults(results):
+    """results/defaults.json (the ablation's defaults per scene, None where none qualifies); {} when missing."""
+    path = os.path.join(results, "defaults.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            return json.load(f)
+    return {}

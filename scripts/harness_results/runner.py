@@ -1,0 +1,87 @@
+"""Running the harness for the studies: `harness run` and `harness reference` as child processes
+with one thread each (HARNESS_THREADS=1), -j of them at once, a configuration --repeats times.
+
+A run is cached by its summary.json: a folder that has one is not run again (delete the folder, or
+results/sweeps/, to rerun). `a` is the parsed command line of scripts/study.py: harness (path),
+results (folder), quick, jobs (-j), repeats, extra_sets (--set values every run gets: --quick's
+shorter runs).
+"""
+
+import concurrent.futures
+import os
+import shutil
+import subprocess
+
+from . import reader
+
+
+def sets_args(sets):
+    """["--set", s, ...] for every `KEY=JSON` in sets."""
+    return sum((["--set", s] for s in sets), [])
+
+
+def harness(a, args, out, check=False, show_stderr=False, cached=True, threads="1"):
+    """`harness ARGS` (ARGS writes into `out`), unless `cached` and out/summary.json is there; then
+    out's summary. `threads`: HARNESS_THREADS (None: the caller's environment)."""
+    if not (cached and reader.has_summary(out)):
+        env = dict(os.environ, HARNESS_THREADS=threads) if threads else None
+        subprocess.run([a.harness] + args, check=check, env=env, stderr=None if show_stderr else subprocess.DEVNULL)
+    return reader.load_summary(out)
+
+
+def run(a, scene, out, sets, compare=True):
+    """One `harness run` of `scene` into `out` without frames, with the --set overrides `sets` (and
+    --quick's), compared with results/references/<scene> when that reference exists; its summary."""
+    args = ["run", scene, "--out", out, "--quiet", "--set", "output.frames_every=0"]
+    if a.quick:
+        args += ["--set", "time.settle.max_steps=400"]
+    args += sets_args(list(sets) + a.extra_sets)
+    ref = os.path.join(a.results, "references", scene)
+    if compare and os.path.exists(os.path.join(ref, "surfaces.csv")):
+        args += ["--compare", ref]
+    return harness(a, args, out)
+
+
+def parallel(a, fn, items):
+    """fn(item) for every item, -j at once; the results in order."""
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
+        return list(ex.map(fn, items))
+
+
+def run_all(a, jobs):
+    """jobs: list of (scene, out, sets[, compare]); runs them -j at once; returns their summaries in order."""
+    return parallel(a, lambda j: run(a, *j), jobs)
+
+
+def run_configs(a, configs):
+    """configs: (meta, scene, folder under --results/sweeps, sets); runs them -j at once; returns
+    (meta, summary) pairs in order."""
+    sums = run_all(a, [(scene, os.path.join(a.results, "sweeps", folder), sets) for _, scene, folder, sets in configs])
+    return [(c[0], s) for c, s in zip(configs, sums)]
+
+
+def repeated(a, scene, folder, sets, repeats=None):
+    """The jobs of a configuration run `repeats` (default --repeats) times: folder, folder_r1,
+    folder_r2, ... under --results/sweeps. The first runs in full (its errors over the window,
+    against the reference); the others for their timings only (no references, no settling: the
+    scene's time.steps; a step's time does not include measurement)."""
+    n = a.repeats if repeats is None else repeats
+    outs = [os.path.join(a.results, "sweeps", folder + ("" if r == 0 else "_r%d" % r)) for r in range(n)]
+    timing = [x for x in sets if not x.startswith("references.")] + ["references.solvers=[]", "time.settle=null"]
+    return [(scene, o, sets if r == 0 else timing, r == 0) for r, o in enumerate(outs)]
+
+
+def reference(a, scene, work, extra=(), quick_levels=3, cached=True):
+    """`harness reference SCENE` into `work` (--quick: at most `quick_levels` levels of short runs);
+    an error stops the study."""
+    args = ["reference", scene, "--out", work, "--quiet"] + list(extra)
+    if a.quick:
+        args += ["--max-levels", str(quick_levels), "--set", "time.steps=300", "--set", "time.settle.max_steps=400"]
+    return harness(a, args, work, check=True, show_stderr=True, cached=cached)
+
+
+def install_reference(work, dest):
+    """A reference's summary.json and surfaces.csv from its work folder into results/references/<name>."""
+    os.makedirs(dest, exist_ok=True)
+    for f in ["summary.json", "surfaces.csv"]:
+        shutil.copy(os.path.join(work, f), os.path.join(dest, f))

@@ -1,0 +1,122 @@
+"""study.py ablation: the voxel model's force rule and magnitude (constant 0.003 to 0.1 N, `auto`,
+penalty 125 to 2000 N/m) by voxel size (4 to 32 mm), with the scene's paper eliminator; the default
+chosen by the written rule (rules.choose) -> ablation.csv, defaults.json,
+figures/ablation_<scene>.{png,pdf}, tables/ablation.md, tables/ablation_defaults.tex.
+"""
+
+import json
+import os
+
+from .. import rules, runner, style, writers
+from ..rules import USEFUL
+from .common import (PAPER_ELIMINATOR, PARETO_CAP_MM, PENALTY, SCENES, combine, config_sets, figure_path, figures,
+                     force_label, read_rows, table_path)
+
+ABLATION_VOXELS = [0.004, 0.008, 0.016, 0.032]
+CONSTANT_FORCES = ["0.003", "0.01", "0.03", "0.1"]
+ABLATION_FORCES = CONSTANT_FORCES + ["auto", '{"stiffness":125}', PENALTY, '{"stiffness":2000}']
+
+
+def run(a):
+    rows, jobs, index = [], [], []
+    for scene in SCENES:
+        elim = PAPER_ELIMINATOR[scene]
+        for v in ABLATION_VOXELS:
+            for f in ABLATION_FORCES:
+                js = runner.repeated(a, scene, "ablation/%s/v%g_%s" % (scene, 1e3 * v, force_label(f)),
+                                     config_sets("voxel", v, elim, f, []), repeats=1)
+                index.append((scene, v, f, len(jobs), len(js)))
+                jobs += js
+    base_at = len(jobs)
+    for scene in SCENES:  # the baseline: contact measured, never pushed (force 0)
+        jobs += runner.repeated(a, scene, "ablation/%s/no_force" % scene,
+                                config_sets("voxel", ABLATION_VOXELS[0], PAPER_ELIMINATOR[scene], "0", []), repeats=1)
+    sums = runner.run_all(a, jobs)
+    baseline = {scene: figures(sums[base_at + k]) for k, scene in enumerate(SCENES)}
+    for scene, v, f, i, n in index:
+        rows.append(dict(combine(sums[i:i + n]), scene=scene, voxel_mm=1e3 * v, force=force_label(f),
+                         eliminator=PAPER_ELIMINATOR[scene]))
+    md = ["# Ablation: force rule and magnitude by voxel size (the voxel model)\n\n",
+          "The paper's voxel model with its eliminator for the scenario; constant force F (N per contact), "
+          "`auto`, and the depth penalty k (N/m), by voxel size. Errors against the reference (mm) and "
+          "stability as in `accuracy_time.md`; time: the median step of one run (the accuracy study has the "
+          "medians of several). Made by `scripts/study.py ablation`.\n"]
+    reasons = ["% The voxel model's defaults chosen by the rule (made by scripts/study.py)\n"]
+    chosen = {}
+    for scene in SCENES:
+        sr = [r for r in rows if r["scene"] == scene]
+        best = chosen[scene] = rules.choose(sr, baseline[scene])
+        md.append("\n## %s (%s)\n\n" % (scene, PAPER_ELIMINATOR[scene]))
+        md.append(writers.md_table(sr, ["voxel_mm", "force", "stable", "pos_err_max_mm", "gap_max_mm", "depth_max_mm",
+                                        "contact_power_ratio", "t_contact_us", "why_unstable"],
+                                   ["voxel (mm)", "force", "stable", "pos. error max (mm)", "gap max (mm)",
+                                    "depth max (mm)", "contact work / energy in", "detect+elim (µs)", "why unstable"]))
+        text = default_text(scene, sr, best, baseline[scene])
+        md.append("\n" + text + "\n")
+        reasons.append("\\paragraph{Default of \\code{%s}.} %s\n" % (writers.tex_escape(scene),
+                                                                      writers.tex_escape(text)))
+        plot_ablation(a, scene, sr)
+    writers.write_csv(os.path.join(a.results, "ablation.csv"), rows,
+                      ["scene", "eliminator", "voxel_mm", "force", "stable", "why_unstable", "settled", "pos_err_max_mm",
+                       "gap_max_mm", "depth_max_mm", "contact_power_ratio", "stability", "t_contact_us",
+                       "t_contact_range", "recall", "precision"])
+    with open(table_path(a, "ablation.md"), "w") as f:
+        f.write("".join(md))
+    with open(table_path(a, "ablation_defaults.tex"), "w") as f:
+        f.write("\n".join(reasons))
+    with open(os.path.join(a.results, "defaults.json"), "w") as f:
+        json.dump({scene: ({"voxel_size": chosen[scene]["voxel_mm"] / 1e3, "force": chosen[scene]["force"],
+                            "eliminator": PAPER_ELIMINATOR[scene]} if chosen[scene] else None) for scene in SCENES},
+                  f, indent=2, sort_keys=True)
+        f.write("\n")
+
+
+def default_text(scene, rows, best, base):
+    stable = [r for r in rows if r["stable"] == "yes"]
+    good = [r for r in stable if rules.useful(r, base)]
+    out = ("Rule: among the stable settings with a position error or a depth at most %g %% of the run without "
+           "contact force (%.3g mm and %.3g mm here), the smallest largest position error; among those within 10 %% "
+           "of it, the smallest gap; among those, the fastest. %d of %d settings are stable, %d of them clearly "
+           "better than no force. " % (100 * USEFUL, base["pos_err_max_mm"], base["depth_max_mm"], len(stable),
+                                       len(rows), len(good)))
+    if best is None:
+        return out + ("None qualifies: the voxel model has no default for this scenario, and CI has no accuracy "
+                      "threshold for it (results/thresholds.json says why).")
+    return out + ("Chosen: %s at %g mm voxels: position error %.3g mm, gap %.3g mm, depth %.3g mm, %.3g µs per "
+                  "step for detection and elimination." % (best["force"], best["voxel_mm"], best["pos_err_max_mm"],
+                                                            best["gap_max_mm"], best["depth_max_mm"],
+                                                            best["t_contact_us"]))
+
+
+def plot_ablation(a, scene, rows):
+    """Two heat maps (position error, gap) by force rule and voxel size; the stable settings
+    outlined. Printed at the text width."""
+    forces = [force_label(f) for f in ABLATION_FORCES]
+    voxels = [1e3 * v for v in ABLATION_VOXELS]
+    panels = [("pos_err_max_mm", "largest position error (mm)"), ("gap_max_mm", "largest gap (mm)")]
+    plt = style.pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(style.TEXT, 2.35), layout="constrained")
+    for k, (ax, (key, title)) in enumerate(zip(axes, panels)):
+        m = [[float("nan")] * len(forces) for _ in voxels]
+        stable = []
+        for r in rows:
+            i, j = voxels.index(r["voxel_mm"]), forces.index(r["force"])
+            m[i][j] = r[key]
+            if r["stable"] == "yes":
+                stable.append((j, i))
+        im = style.heatmap(ax, m, forces, ["%g" % v for v in voxels], title, stable, cap=PARETO_CAP_MM,
+                           cap_text=">1 m")
+        fig.colorbar(im, ax=ax, fraction=0.06, pad=0.02, aspect=15)
+        ax.set_xlabel("force rule (F: constant, N; k: penalty, N/m)")
+        if k == 0:
+            ax.set_ylabel("voxel size (mm)")
+    fig.suptitle("%s, %s eliminator; outlined: stable (%d of %d); >1 m: blown up" % (
+        scene.replace("_", " "), PAPER_ELIMINATOR[scene], sum(r["stable"] == "yes" for r in rows), len(rows)))
+    style.save(fig, figure_path(a, "ablation_%s" % scene), width=style.TEXT)
+
+
+def plots(a):
+    """The heat maps again from ablation.csv (nothing is run)."""
+    rows = read_rows(a, "ablation.csv")
+    for scene in SCENES:
+        plot_ablation(a, scene, [r for r in rows if r["scene"] == scene])

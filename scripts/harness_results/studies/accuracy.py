@@ -1,0 +1,199 @@
+"""study.py accuracy: what accuracy costs in time.
+
+The voxel model (voxels at and above the host's node spacing; line, plane, projection; constant
+forces 0.0005-0.01 N, `auto`, penalty), the completed voxel model (voxel_exact), spatial hashing,
+CGAL and FCL on the three scenes (FOOTING_VOXELS below), error against the reference over the
+final window, stability, µs per step (median of --repeats runs: the first measured, the others
+timing only) -> accuracy_time.csv, figures/pareto_<scene>.{png,pdf}, tables/accuracy_time.md,
+tables/accuracy_time_front.tex; the Pareto front (rules.pareto) of the stable settings.
+"""
+
+import math
+import os
+
+from .. import rules, runner, style, writers
+from ..rules import INJECTION_LIMIT, MARGIN
+from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
+from .common import (PARETO_CAP_MM, PENALTY, SCENES, STUDY_EVERY, combine, config_sets, figure_path,
+                     folder_name, force_label, read_rows, table_path)
+
+# The equal-footing comparison: the paper's voxel model with voxels at or above the host's node
+# spacing (host mean surface edge: sphere 3.0 mm, layer 5.7 mm, implant 6.1 mm; the smallest power
+# of two above it and twice it: below it a host voxel can hold no node while a guest node sits
+# inside the host), forces from 0.0005 to 0.01 N and `auto`, line and plane, penalty and
+# projection; the completed model (voxel_exact) with its voxel swept one size further; spatial
+# hashing, CGAL and FCL with the same responses; both ways where the detector offers it.
+FOOTING_VOXELS = {"sphere_collision": [0.004, 0.008], "cylinder_press": [0.008, 0.016],
+                  "implant_expansion": [0.008, 0.016]}
+FOOTING_FORCES = ["0.0005", "0.001", "0.003", "0.01", "auto"]
+BOTH_WAYS = ["contacts.0.two_sided=true"]
+
+
+def method_configs(scene):
+    """(label, detector, voxel size or None, eliminator, force, extra sets) of the comparison."""
+    out = []
+    voxels = FOOTING_VOXELS[scene]
+    for v in voxels:
+        label = "voxel %g mm" % (1e3 * v)
+        for e in ["line", "plane"]:
+            for f in FOOTING_FORCES:
+                out.append((label, "voxel", v, e, f, []))
+        out.append((label, "voxel", v, "line", PENALTY, []))
+        out.append((label, "voxel", v, "projection", "auto", []))
+    for v in voxels + [2 * voxels[-1]]:
+        label = "voxel_exact %g mm" % (1e3 * v)
+        out.append((label, "voxel_exact", v, "line", "auto", []))
+        out.append((label, "voxel_exact", v, "line", PENALTY, []))
+        out.append((label + ", both ways", "voxel_exact", v, "line", PENALTY, BOTH_WAYS))
+    for d in ["hash", "cgal", "fcl"]:
+        for f in ["auto", PENALTY]:
+            out.append((d, d, None, "line", f, []))
+        out.append((d, d, None, "projection", "auto", []))
+    for d in ["hash", "cgal"]:
+        out.append((d + ", both ways", d, None, "line", PENALTY, BOTH_WAYS))
+    return out
+
+
+def run(a):
+    rows, jobs, index = [], [], []
+    for scene in SCENES:
+        for label, det, voxel, elim, force, extra in method_configs(scene):
+            js = runner.repeated(a, scene, "accuracy/" + folder_name(scene, label, elim, force),
+                                 config_sets(det, voxel, elim, force, extra))
+            index.append((scene, label, det, voxel, elim, force, len(jobs), len(js)))
+            jobs += js
+    sums = runner.run_all(a, jobs)
+    for scene, label, det, voxel, elim, force, i, n in index:
+        rows.append(dict(combine(sums[i:i + n]), scene=scene, config=label, detector=det, eliminator=elim,
+                         force=force_label(force) if elim != "projection" else "positions"))
+    cols = ["scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "steps",
+            "pos_err_max_mm", "pos_err_max_max_mm", "pos_err_amp_mm", "pos_err_final_mm", "pos_err_rms_mm", "gap_max_mm",
+            "gap_mean_mm", "depth_max_mm", "depth_peak_mm", "tunnelled", "tunnelled_peak", "stability", "verdict",
+            "contact_power_ratio", "recall", "precision", "recall_host", "precision_host", "beyond_band_total",
+            "t_contact_us", "t_contact_range", "t_step_us", "repeats"]
+    for r in rows:
+        r["front"] = ""
+    md = ["# What accuracy costs in time\n\n",
+          "Every method on every scenario, judged by its error against the scenario's reference solution "
+          "(`results/references/`) over the run's final window (`time.window` steps after every driver and "
+          "load has finished; CGAL every %d steps): pos_err_max: largest distance of a surface vertex from "
+          "the reference, window mean (max and chatter amplitude beside it); gap_max: largest gap where the "
+          "reference has contact, window mean; depth_max: deepest node inside the other body, window maximum; "
+          "tunnelled: nodes through the other body; all in mm. Time: detection plus elimination, µs per step, "
+          "median of %d runs (range over them). Stability (scripts/study.py docstring): the contact's power "
+          "over the window against the power put in, rho, with a margin of a factor %g around %g: stable "
+          "(settled, or chatters with rho <= %g), marginal, unstable; chatter: the window's max - min of "
+          "the position error; tunnelled: nodes through the other body, window maximum. The Pareto front (error "
+          "against time) "
+          "is drawn from the stable rows only; every row is listed with its rho and reason. Made by "
+          "`scripts/study.py accuracy`.\n"
+          % (STUDY_EVERY, a.repeats, MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN)]
+    for scene in SCENES:
+        sr = [r for r in rows if r["scene"] == scene]
+        front = rules.pareto(sr)
+        for r in front:
+            r["front"] = "yes"
+        md.append("\n## %s\n\n" % scene)
+        md.append(writers.md_table(sorted(sr, key=lambda r: (r["stable"] != "yes", r["pos_err_max_mm"])),
+                                   ["config", "eliminator", "force", "stability", "pos_err_max_mm", "pos_err_amp_mm",
+                                    "gap_max_mm", "depth_max_mm", "tunnelled", "t_contact_us", "t_contact_range",
+                                    "front", "why_unstable"],
+                                   ["method", "elim.", "force", "stability", "pos. error max (mm)", "chatter (mm)",
+                                    "gap max (mm)", "depth max (mm)", "tunnelled", "detect+elim (µs/step)", "range",
+                                    "front", "why unstable"]))
+        plot_pareto(a, scene, sr, front)
+    writers.write_csv(os.path.join(a.results, "accuracy_time.csv"), rows, cols + ["front"])
+    with open(table_path(a, "accuracy_time.md"), "w") as f:
+        f.write("".join(md))
+    fr = [dict(r, scene=r["scene"].replace("_", " ")) for r in rows if r["front"] == "yes"]
+    with open(table_path(a, "accuracy_time_front.tex"), "w") as f:
+        f.write(writers.tex_table(fr, ["scene", "config", "eliminator", "force", "pos_err_max_mm", "gap_max_mm",
+                                       "t_contact_us", "t_contact_range"],
+                                  ["scenario", "method", "elim.", "force", "pos. err. (mm)", "gap (mm)",
+                                   "detect+elim ($\\mu$s)", "range (%d runs)" % a.repeats],
+                                  "Pareto front of error against time"))
+
+
+def plot_pareto(a, scene, rows, front):
+    """Error against time, one marker per configuration (colour: detector, shape: eliminator,
+    hollow: unstable); the front of the stable ones as a staircase with its points numbered
+    1, 2, ... by time and named in the key beside the axes. Printed at the text width."""
+    from matplotlib.lines import Line2D
+    plt = style.pyplot()
+    fig = plt.figure(figsize=(style.TEXT, 2.9), layout="constrained")
+    gs = fig.add_gridspec(1, 2, width_ratios=[1.3, 1.0])
+    ax = fig.add_subplot(gs[0])
+    key = fig.add_subplot(gs[1])
+    key.axis("off")
+    floor = 1e-3
+    pts, off = [], 0
+    shown = [r for r in rows if not (math.isnan(r["pos_err_max_mm"]) or math.isnan(r["t_contact_us"]))]
+
+    def xy(r):
+        return max(r["t_contact_us"], 0.1), min(max(r["pos_err_max_mm"], floor), PARETO_CAP_MM)
+    for r in shown:
+        x, y = xy(r)
+        ok = r["stable"] == "yes"
+        capped = r["pos_err_max_mm"] > PARETO_CAP_MM
+        off += capped
+        c = DETECTOR_COLOUR.get(r["detector"], "gray")
+        ax.scatter(x, y, marker=ELIMINATOR_MARKER.get(r["eliminator"], "D"), s=26 if r in front else 14,
+                   facecolor=c if ok else "none", edgecolor="k" if r in front else c, linewidth=0.7,
+                   zorder=4 if r in front else 3, clip_on=False)
+        if capped:
+            ax.annotate("", xy=(x, y), xytext=(0, -9), textcoords="offset points", zorder=2,
+                        arrowprops=dict(arrowstyle="->", lw=0.6, color=c, shrinkA=0, shrinkB=3))
+        pts.append((x, y))
+    fr = sorted(front, key=lambda r: (r["t_contact_us"], r["pos_err_max_mm"]))
+    if fr:
+        ax.step([xy(r)[0] for r in fr], [xy(r)[1] for r in fr], where="post", color="k", lw=0.7, zorder=2)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    style.plain_log_ticks(ax.xaxis, ax.yaxis)
+    if off:
+        ax.set_ylim(top=2.0 * PARETO_CAP_MM)  # room above the blown-up runs, drawn at the cap
+    ax.set_xlabel("detection + elimination (µs per step)")
+    ax.set_ylabel("largest position error (mm)")
+    ax.set_title(scene.replace("_", " "))
+    ax.grid(True, which="major", alpha=0.35)
+    ax.grid(True, which="minor", alpha=0.12)
+    # Key: what the marks mean, then the front's points by number.
+    # Two columns (the legend fills column by column): colours and hollow; shapes, front, off scale.
+    col1 = [Line2D([], [], ls="none", marker="o", ms=5, mfc=DETECTOR_COLOUR.get(d, "gray"), mec="none", label=d)
+            for d in sorted({r["detector"] for r in rows})]
+    col1.append(Line2D([], [], ls="none", marker="o", ms=5, mfc="none", mec="0.3", label="unstable (hollow)"))
+    col2 = [Line2D([], [], ls="none", marker=ELIMINATOR_MARKER[e], ms=5, mfc="0.5", mec="none", label=e)
+            for e in ELIMINATOR_MARKER if any(r["eliminator"] == e for r in rows)]
+    col2.append(Line2D([], [], color="k", lw=0.7, marker="o", ms=5, mfc="0.5", mec="k", label="front (stable)"))
+    if off:
+        col2.append(Line2D([], [], ls="none", marker="$\\uparrow$", ms=6, color="0.3",
+                           label="%d above %g m (blown up)" % (off, PARETO_CAP_MM / 1e3)))
+    n = max(len(col1), len(col2))
+    blank = [Line2D([], [], ls="none", label=" ")]
+    handles = col1 + blank * (n - len(col1)) + col2 + blank * (n - len(col2))
+    leg = key.legend(handles=handles, loc="upper left", ncol=2, frameon=False, fontsize=style.SMALL,
+                     handletextpad=0.5, columnspacing=0.8, borderaxespad=0.0, title="marks", alignment="left",
+                     title_fontproperties={"weight": "bold", "size": style.SMALL})
+    key.add_artist(leg)
+    labels = ["%d" % (k + 1) for k in range(len(fr))]
+    entries = [Line2D([], [], ls="none", label="%s  %s, %s, %s: %.3g mm, %s µs" % (
+        labels[k], r["config"], r["eliminator"], r["force"], r["pos_err_max_mm"],
+        ("%.0f" if r["t_contact_us"] >= 100 else "%.3g") % r["t_contact_us"])) for k, r in enumerate(fr)]
+    if entries:
+        key.legend(handles=entries, loc="lower left", frameon=False, fontsize=style.SMALL, handlelength=0,
+                   handletextpad=0, borderaxespad=0.0, title="front, by time", alignment="left",
+                   title_fontproperties={"weight": "bold", "size": style.SMALL})
+    stair = [xy(fr[0])] if fr else []
+    for r0, r1 in zip(fr[:-1], fr[1:]):
+        stair += [(xy(r1)[0], xy(r0)[1]), xy(r1)]
+    style.place_labels(ax, [xy(r) for r in fr], labels, avoid=[p for p in pts if p not in [xy(r) for r in fr]],
+                       lines=[stair])
+    style.save(fig, figure_path(a, "pareto_%s" % scene), width=style.TEXT)
+
+
+def plots(a):
+    """The Pareto figures again from accuracy_time.csv (nothing is run)."""
+    rows = read_rows(a, "accuracy_time.csv")
+    for scene in SCENES:
+        sr = [r for r in rows if r["scene"] == scene]
+        plot_pareto(a, scene, sr, [r for r in sr if r["front"] == "yes"])

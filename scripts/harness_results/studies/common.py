@@ -1,0 +1,100 @@
+"""What the studies share: the scenes, the settings swept, the --set overrides of a configuration,
+and a run's row (its window figures with the stability judgement)."""
+
+import json
+import math
+import os
+
+from .. import reader, rules
+
+SCENES = ["sphere_collision", "cylinder_press", "implant_expansion"]
+# The paper's eliminator for each scenario (line for the spheres and the cylinder, plane for the implant).
+PAPER_ELIMINATOR = {"sphere_collision": "line", "cylinder_press": "line", "implant_expansion": "plane"}
+# Each scene's own voxel size (the studies that keep it: swap, region).
+SCENE_VOXEL = {"sphere_collision": 0.004, "cylinder_press": 0.004, "implant_expansion": 0.008}
+PENALTY = '{"stiffness":500}'
+CONSTANT = "0.01"
+# Every run of every study is measured by CGAL every STUDY_EVERY steps (and scripts/reproduce.sh's
+# runs too): one sampling rule, so that recall and the window figures mean the same everywhere.
+STUDY_EVERY = 10
+# Errors above this (1 m) are runs that blew up: drawn at the top edge (or capped) in the figures.
+PARETO_CAP_MM = 1000.0
+
+
+def force_label(f):
+    """A force setting as the tables name it: auto, k=<stiffness> (penalty), F=<newtons> (constant)."""
+    if f == "auto":
+        return "auto"
+    if f.startswith("{"):
+        return "k=%g" % json.loads(f)["stiffness"]
+    return "F=%s" % f
+
+
+def force_setting(label):
+    """The contacts.0.force value of a label (force_label's inverse; defaults.json holds labels)."""
+    if label == "auto":
+        return "auto"
+    if label.startswith("k="):
+        return json.dumps({"stiffness": float(label[2:])})
+    return label[2:]
+
+
+def config_sets(det, voxel, elim, force, extra):
+    """The --set overrides of one configuration: detector, eliminator, force, one-sided contact, CGAL
+    every STUDY_EVERY steps, the voxel size when given, then `extra`."""
+    sets = ['contacts.0.detector="%s"' % det, 'contacts.0.eliminator="%s"' % elim, "contacts.0.force=" +
+            (json.dumps(force) if force == "auto" else force), "contacts.0.two_sided=false",
+            'references.solvers=["cgal"]', "references.every=%d" % STUDY_EVERY]
+    if voxel:
+        sets.append("contacts.0.voxel_size=%g" % voxel)
+    return sets + extra
+
+
+def folder_name(scene, label, elim, force):
+    return "%s/%s_%s_%s" % (scene, label.replace(" ", "_").replace(",", ""), elim, force_label(force))
+
+
+def figures(s):
+    """A run's row: its window figures (reader.window_figures) and its stability (rules.classify)."""
+    return dict(reader.window_figures(s), **rules.stability_fields(s))
+
+
+def combine(summaries):
+    """Errors of the first run; contact and step time: median over the runs, and the range."""
+    f = figures(summaries[0])
+    tc = sorted(figures(s)["t_contact_us"] for s in summaries)
+    ts = sorted(figures(s)["t_step_us"] for s in summaries)
+    f["t_contact_us"] = rules.median(tc)
+    f["t_contact_range"] = "%.3g-%.3g" % (tc[0], tc[-1])
+    f["t_step_us"] = rules.median(ts)
+    f["repeats"] = len(summaries)
+    return f
+
+
+def refine_sets(scene, r):
+    """The --set overrides that make the scene's meshes r times finer (r a power of two)."""
+    s = reader.bundled_scene(scene)
+    sets = []
+    for i, b in enumerate(s["bodies"]):
+        sh = b["shape"]
+        if sh["type"] == "box":
+            sets.append("bodies.%d.shape.cells=%s" % (i, json.dumps([c * r for c in sh["cells"]])))
+        elif sh["type"] in ("sphere", "ellipsoid"):
+            sets.append("bodies.%d.shape.subdivisions=%d" % (i, sh.get("subdivisions", 2) + int(math.log2(r))))
+        elif sh["type"] == "cylinder":
+            sets.append("bodies.%d.shape.segments=%d" % (i, sh.get("segments", 16) * r))
+            sets.append("bodies.%d.shape.rings=%d" % (i, sh.get("rings", 4) * r))
+    return sets
+
+
+def read_rows(a, name):
+    """A study's CSV in --results (reader.read_csv: numbers as floats, NaN when empty)."""
+    return reader.read_csv(os.path.join(a.results, name), text=reader.STUDY_TEXT)
+
+
+def table_path(a, name):
+    return os.path.join(a.results, "tables", name)
+
+
+def figure_path(a, name):
+    return os.path.join(a.results, "figures", name)

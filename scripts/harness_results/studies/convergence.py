@@ -1,0 +1,76 @@
+"""study.py convergence: the voxel model's error against the reference as the voxel size halves
+from 32 to 2 mm, with each scene's default force rule (defaults.json; the penalty where none) and
+its paper eliminator -> convergence.csv, figures/convergence.{png,pdf}, tables/convergence.md.
+"""
+
+import os
+
+from .. import reader, runner, style, writers
+from .common import (PAPER_ELIMINATOR, PENALTY, SCENES, config_sets, figure_path, figures, force_label,
+                     force_setting, read_rows, table_path)
+
+CONVERGENCE_VOXELS = [0.032, 0.016, 0.008, 0.004, 0.002]
+CONVERGENCE_VOXELS_MM = [1e3 * v for v in CONVERGENCE_VOXELS]
+
+
+def plot_convergence(a, rows):
+    """Error, gap and depth against voxel size, one line per scenario (hollow markers: unstable).
+    Printed at the text width."""
+    from matplotlib.lines import Line2D
+    plt = style.pyplot()
+    fig = plt.figure(figsize=(style.TEXT, 2.6), layout="constrained")
+    gs = fig.add_gridspec(2, 3, height_ratios=[1.0, 0.2])
+    axes = [fig.add_subplot(gs[0, k]) for k in range(3)]
+    keyax = fig.add_subplot(gs[1, :])
+    keyax.axis("off")
+    for k, scene in enumerate(SCENES):
+        sr = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["voxel_mm"])
+        x = [r["voxel_mm"] for r in sr]
+        c = style.PALETTE[k]
+        for ax, key in zip(axes, ["pos_err_max_mm", "gap_max_mm", "depth_max_mm"]):
+            ax.plot(x, [r[key] for r in sr], "-", color=c, lw=1.0,
+                    label="%s (%s)" % (scene.replace("_", " "), sr[0]["force"] if sr else ""))
+            ax.scatter(x, [r[key] for r in sr], s=14, zorder=3, linewidth=0.8, edgecolor=c,
+                       facecolor=[c if r["stable"] == "yes" else "white" for r in sr])
+    for ax, t in zip(axes, ["largest position error (mm)", "largest gap (mm)", "deepest penetration (mm)"]):
+        ax.set_xscale("log", base=2)
+        ax.set_xticks(CONVERGENCE_VOXELS_MM)
+        ax.set_xticklabels(["%g" % v for v in CONVERGENCE_VOXELS_MM])
+        ax.minorticks_off()
+        ax.set_xlabel("voxel size (mm)")
+        ax.set_title(t)
+        ax.grid(True, alpha=0.35)
+    h, lab = axes[0].get_legend_handles_labels()
+    h.append(Line2D([], [], ls="none", marker="o", ms=4, mfc="white", mec="0.3"))
+    lab.append("unstable (hollow)")
+    keyax.legend(h, lab, loc="center", ncol=2, frameon=False, borderaxespad=0.0, columnspacing=3.0)
+    style.save(fig, figure_path(a, "convergence"), width=style.TEXT)
+
+
+def run(a):
+    d = reader.read_defaults(a.results)
+    rows, jobs, index = [], [], []
+    for scene in SCENES:
+        force = d.get(scene) and d[scene]["force"]
+        f = force_setting(force) if force else PENALTY  # no default: the scene's own penalty
+        for v in CONVERGENCE_VOXELS:
+            js = [(scene, os.path.join(a.results, "sweeps", "convergence", scene, "v%g" % (1e3 * v)),
+                   config_sets("voxel", v, PAPER_ELIMINATOR[scene], f, []))]
+            index.append((scene, v, force_label(f), len(jobs)))
+            jobs += js
+    sums = runner.run_all(a, jobs)
+    for scene, v, f, i in index:
+        rows.append(dict(figures(sums[i]), scene=scene, voxel_mm=1e3 * v, force=f))
+    cols = ["scene", "voxel_mm", "force", "stable", "pos_err_max_mm", "pos_err_rms_mm", "gap_max_mm", "depth_max_mm",
+            "t_contact_us", "why_unstable"]
+    writers.write_csv(os.path.join(a.results, "convergence.csv"), rows, cols)
+    plot_convergence(a, rows)
+    with open(table_path(a, "convergence.md"), "w") as f:
+        f.write("# Convergence as the grid refines\n\nThe voxel model with each scenario's default force rule "
+                "(`defaults.json`) and its eliminator; voxel size halved from 32 to 2 mm. Errors against the "
+                "reference, mm. Made by `scripts/study.py convergence`.\n\n" + writers.md_table(rows, cols, cols))
+
+
+def plots(a):
+    """The figure again from convergence.csv (nothing is run)."""
+    plot_convergence(a, read_rows(a, "convergence.csv"))

@@ -1,0 +1,132 @@
+"""study.py realtime: real time as a reviewer would accept it.
+
+Per scene and method: the collision unit's time per step (detection + response, against a 1 ms
+haptic budget) and the whole simulator's (real-time factor = simulated time per wall time = dt /
+median step), in three modes: at the scene's dt; at 0.9 of the smallest dt_crit the run at the
+scene's dt met (the guard `substep` as a safety net: its substeps are inside the step's time); and
+with implicit Euler at ten times the scene's dt. One and two threads (HARNESS_THREADS). Each row
+carries its error against the reference over the final window (the two-thread run steps the same
+state bit for bit: its error is the one-thread run's) and the ratio of that error to the best
+exact method's at the scene's dt, and the arguments after `harness run SCENE` that reproduce it.
+Timings exclude the references' measurement where the run measured (summary timing_us are the
+step's own). -> realtime.csv, tables/realtime.{md,tex}. Cached like every study run.
+"""
+
+import math
+import os
+import shlex
+
+from .. import reader, runner, writers
+from .common import SCENES, STUDY_EVERY, figures, table_path
+
+HAPTIC_BUDGET_US = 1000.0
+# (label, kind, --set overrides): kind "exact" (an exact detector), "completed" (voxel_exact), "paper".
+REALTIME_METHODS = [
+    ("cgal both ways, penalty (scene default)", "exact", []),
+    ("voxel_exact both ways, penalty", "completed", ['contacts.0.detector="voxel_exact"']),
+    ("hash both ways, penalty", "exact", ['contacts.0.detector="hash"']),
+    ("voxel 4 mm line auto (the paper's)", "paper",
+     ['contacts.0.detector="voxel"', 'contacts.0.eliminator="line"', 'contacts.0.force="auto"',
+      "contacts.0.two_sided=false", "contacts.0.voxel_size=0.004"]),
+]
+
+
+def shell_args(args):
+    """The arguments as one shell-quoted string."""
+    return " ".join(shlex.quote(x) for x in args)
+
+
+def realtime_run(a, scene, folder, args, threads, compare):
+    """`harness run SCENE ARGS` with `threads` threads (its summary), measured against the reference
+    by CGAL every STUDY_EVERY steps when compare, without references otherwise."""
+    out = os.path.join(a.results, "sweeps", "realtime", folder)
+    cmd = ["run", scene, "--out", out, "--quiet", "--set", "output.frames_every=0"] + args
+    ref = os.path.join(a.results, "references", scene)
+    if compare and os.path.exists(os.path.join(ref, "surfaces.csv")):
+        cmd += ["--set", 'references.solvers=["cgal"]', "--set", "references.every=%d" % STUDY_EVERY, "--compare", ref]
+    else:
+        cmd += ["--set", "references.solvers=[]"]
+    if a.quick:
+        cmd += ["--set", "time.steps=300", "--set", "time.settle.max_steps=400"]
+    return runner.harness(a, cmd, out, threads=str(threads))
+
+
+def modes(scene, base, first):
+    """(mode, arguments) of one method: the scene's dt, 0.9 of the smallest dt_crit the run at the
+    scene's dt met (when it reported one), implicit Euler at ten times the scene's dt."""
+    dt0 = reader.bundled_scene(scene)["time"]["dt"]
+    dt_crit_min = reader.num((first.get("stability") or {}).get("dt_crit_min"))
+    out = [("scene dt", base)]
+    if dt_crit_min > 0:
+        out.append(("0.9 dt_crit", base + ["--dt", "%.4g" % (0.9 * dt_crit_min), "--set", 'time.guard="substep"']))
+    out.append(("implicit Euler, 10 dt", base + ["--dt", "%.4g" % (10 * dt0), "--set", 'time.integrator="implicit_euler"']))
+    return out
+
+
+def row_of(scene, label, kind, mode, threads, args, s):
+    t = reader.timings(s)
+    st = s.get("stability") or {}
+    dt = reader.num(st.get("dt"))
+    step_us = reader.num(t.get("step"))
+    contact_us = reader.contact_time_us(s)
+    f = figures(s)
+    return {"scene": scene, "method": label, "kind": kind, "mode": mode, "threads": threads, "dt": dt,
+            "integrator": st.get("integrator"), "substeps_max": st.get("max_substeps"), "overrides": shell_args(args),
+            "t_step_us": step_us, "t_contact_us": contact_us, "contact_budget_share": contact_us / HAPTIC_BUDGET_US,
+            "realtime_factor": dt * 1e6 / step_us if step_us > 0 else float("nan"),
+            "pos_err_max_mm": f["pos_err_max_mm"], "tunnelled": f["tunnelled"], "stability": f["stability"],
+            "status": s.get("status"), "steps": s.get("steps_run")}
+
+
+def run(a):
+    rows = []
+    for scene in SCENES:
+        srows = []
+        for label, kind, sets in REALTIME_METHODS:
+            base = runner.sets_args(sets)
+            tag = label.split(" (")[0].replace(" ", "_").replace(",", "")
+            # The scene's dt first, measured: its smallest dt_crit sets the dt of the second mode.
+            first = realtime_run(a, scene, "%s/%s_scene_dt_t1" % (scene, tag), base, 1, True)
+            for mode, args in modes(scene, base, first):
+                for threads in [1, 2]:
+                    folder = "%s/%s_%s_t%d" % (scene, tag, mode.split(",")[0].replace(" ", "_").replace(".", ""), threads)
+                    s = first if (mode == "scene dt" and threads == 1) else realtime_run(a, scene, folder, args, threads,
+                                                                                         threads == 1)
+                    srows.append(row_of(scene, label, kind, mode, threads, args, s))
+        # Two threads step the same state as one (bit-identical): their error is the one-thread run's.
+        for r in srows:
+            if r["threads"] == 2:
+                twin = next(o for o in srows if o["method"] == r["method"] and o["mode"] == r["mode"] and o["threads"] == 1)
+                for k in ["pos_err_max_mm", "tunnelled", "stability"]:
+                    r[k] = twin[k]
+        # The best exact method's error at the scene's dt: every row's error against it.
+        exact = [r["pos_err_max_mm"] for r in srows if r["kind"] == "exact" and r["mode"] == "scene dt"
+                 and r["threads"] == 1 and not math.isnan(r["pos_err_max_mm"])]
+        best = min(exact) if exact else float("nan")
+        for r in srows:
+            r["best_exact_mm"] = best
+            r["error_over_best"] = r["pos_err_max_mm"] / best if best > 0 else float("nan")
+        rows += srows
+    cols = ["scene", "method", "kind", "mode", "threads", "dt", "integrator", "substeps_max", "t_step_us", "t_contact_us",
+            "contact_budget_share", "realtime_factor", "pos_err_max_mm", "tunnelled", "best_exact_mm", "error_over_best",
+            "stability", "status", "steps", "overrides"]
+    writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
+    heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps", "step (µs)",
+             "detect+response (µs)", "of 1 ms", "real-time factor", "pos. error (mm)", "tunnelled", "best exact (mm)",
+             "error / best", "stability", "status", "steps", "arguments after `harness run SCENE`"]
+    with open(table_path(a, "realtime.md"), "w") as f:
+        f.write("# Real time\n\nPer scene and method: the collision unit's time per step (detection + response, "
+                "median over the run's steps, against a 1 ms haptic budget) and the whole step's (the simulator's: "
+                "real-time factor = simulated time per wall time = dt / median step), at the scene's dt, at 0.9 of "
+                "the smallest dt_crit the run at the scene's dt met (guard `substep` as a safety net: its substeps are "
+                "inside the step's time), and with implicit Euler at ten times the scene's dt; one and two threads "
+                "(HARNESS_THREADS); the error against the reference over the final window beside it (the same "
+                "state with two threads), and its ratio to the best exact method's at the scene's dt. Timings "
+                "exclude the references' measurement. `arguments`: what follows `harness run SCENE` to reproduce "
+                "the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary.\n\n"
+                + writers.md_table(rows, cols, heads))
+    with open(table_path(a, "realtime.tex"), "w") as f:
+        tcols = ["scene", "method", "mode", "threads", "t_step_us", "t_contact_us", "realtime_factor", "error_over_best"]
+        f.write(writers.tex_table([dict(r, scene=r["scene"].replace("_", " ")) for r in rows], tcols,
+                                  ["scene", "method", "mode", "threads", "step ($\\mu$s)", "collision ($\\mu$s)",
+                                   "real-time factor", "error / best exact"], "Real time"))

@@ -1,0 +1,191 @@
+"""The written rules (scripts/harness_results/rules.py) on small hand-made summaries and tables:
+stability with its margin, the defaults' choice, the Pareto front."""
+
+import math
+
+import pytest
+
+from harness_results import rules
+from harness_results.studies.common import figures
+
+NAN = float("nan")
+LOW = rules.INJECTION_LIMIT / rules.MARGIN    # 0.01: stable at or below (a run that does not settle)
+HIGH = rules.INJECTION_LIMIT * rules.MARGIN   # 0.04: unstable above; marginal in between
+
+
+def summary(status="ok", verdict="chatters", rho=None, growth=1.0, kicked=False, work=0.0, balance=0.0, guard=0,
+            finite=True):
+    """A summary.json holding only what the stability rule reads."""
+    return {"status": status, "finite": finite, "stability_verdict": verdict,
+            "window": {"contact_power_ratio": rho, "kinetic_growth": growth, "kicked": kicked,
+                       "net_contact_work_J": work},
+            "energy": {"energy_balance_error": balance}, "stability": {"guard_violations": guard}}
+
+
+def cls(**kw):
+    return rules.classify(summary(**kw))[0]
+
+
+# ---------------------------------------------------------------------------------------------
+# Stability: stable / marginal / unstable / failed, at and around the margin
+def test_margin_is_a_factor_two_around_the_harness_limit():
+    assert rules.INJECTION_LIMIT == 0.02 and rules.MARGIN == 2.0
+    assert LOW == pytest.approx(0.01) and HIGH == pytest.approx(0.04)
+
+
+@pytest.mark.parametrize("rho, expected", [
+    (None, "stable"),                 # no contact power measured
+    (0.0, "stable"),
+    (LOW, "stable"),                  # at the lower edge of the margin: still stable
+    (LOW * 1.0001, "marginal"),       # just above it
+    (0.02, "marginal"),               # the harness's own limit: inside the margin
+    (HIGH, "marginal"),               # at the upper edge: still marginal
+    (HIGH * 1.0001, "unstable"),      # just above it
+    (1.0, "unstable"),
+])
+def test_contact_power_classes_a_run_that_chatters(rho, expected):
+    assert cls(verdict="chatters", rho=rho) == expected
+
+
+@pytest.mark.parametrize("rho, expected", [(0.0, "stable"), (LOW * 1.5, "stable"), (HIGH, "stable"),
+                                           (HIGH * 1.0001, "unstable")])
+def test_a_settled_run_is_never_marginal(rho, expected):
+    assert cls(verdict="settled", rho=rho) == expected
+
+
+def test_marginal_says_why():
+    c, why = rules.classify(summary(rho=0.03))
+    assert c == "marginal" and "0.03" in why[0] and "factor 2" in why[0]
+
+
+@pytest.mark.parametrize("kw, reason", [
+    (dict(verdict="grows", growth=2.5), "kinetic energy grows"),
+    (dict(kicked=True, work=0.01), "kicked"),
+    (dict(guard=1), "dt above the limit"),
+    (dict(balance=0.0101), "energy audit open"),
+    (dict(balance=-0.0101), "energy audit open"),
+    (dict(rho=0.5), "contact power 0.5"),
+])
+def test_unstable_whatever_the_contact_power(kw, reason):
+    c, why = rules.classify(summary(**dict(dict(rho=0.0, verdict="settled"), **kw)))
+    assert c == "unstable"
+    assert any(reason in w for w in why)
+
+
+def test_the_energy_audit_closes_at_one_percent():
+    assert cls(verdict="settled", rho=0.0, balance=rules.BALANCE) == "stable"
+    assert cls(verdict="settled", rho=0.0, balance=-rules.BALANCE) == "stable"
+
+
+def test_reasons_add_up():
+    c, why = rules.classify(summary(verdict="grows", kicked=True, rho=0.5, guard=2, balance=0.5))
+    assert c == "unstable" and len(why) == 5
+
+
+@pytest.mark.parametrize("status, finite, why", [("error", False, "not finite"), ("error", True, "error"),
+                                                  ("interrupted", True, "interrupted")])
+def test_a_run_that_did_not_end_ok_failed(status, finite, why):
+    c, reasons = rules.classify(summary(status=status, finite=finite, rho=0.0, verdict="settled"))
+    assert (c, reasons) == ("failed", [why])
+
+
+def test_only_stable_rows_count_as_stable():
+    for kw, yes in [(dict(rho=0.0), "yes"), (dict(rho=0.03), "no"), (dict(rho=0.5), "no"), (dict(status="error"), "no")]:
+        f = rules.stability_fields(summary(**kw))
+        assert f["stable"] == yes
+        assert rules.is_stable(f) == (yes == "yes")
+    f = figures(summary(rho=0.03))  # a study's row: window figures with the judgement
+    assert (f["stable"], f["stability"]) == ("no", "marginal") and math.isnan(f["pos_err_max_mm"])
+
+
+# ---------------------------------------------------------------------------------------------
+# The defaults' rule: stable, useful, smallest error, within 10 % the smallest gap, then the fastest
+def row(name, pos, gap=1.0, t=10.0, stable="yes", depth=5.0):
+    return {"name": name, "pos_err_max_mm": pos, "gap_max_mm": gap, "t_contact_us": t, "stable": stable,
+            "depth_max_mm": depth}
+
+
+def chosen(rows, baseline=None):
+    r = rules.choose(rows, baseline)
+    return None if r is None else r["name"]
+
+
+def test_choose_the_smallest_error_among_the_stable():
+    rows = [row("unstable best", 0.1, stable="no"), row("a", 2.0), row("b", 1.0), row("nan", NAN)]
+    assert chosen(rows) == "b"
+
+
+def test_within_ten_percent_the_smallest_gap():
+    # b is within 10 % of the best error (1.1 <= 1.1 x 1.0) and has the smaller gap: b.
+    assert chosen([row("a", 1.0, gap=2.0), row("b", 1.1, gap=1.0)]) == "b"
+    # c is not within 10 % (1.11 > 1.1): the best error wins whatever c's gap.
+    assert chosen([row("a", 1.0, gap=2.0), row("c", 1.11, gap=0.1)]) == "a"
+
+
+def test_within_ten_percent_of_the_gap_the_fastest():
+    rows = [row("a", 1.0, gap=2.0, t=30.0),   # best error, slow
+            row("b", 1.05, gap=2.2, t=20.0),  # gap within 10 % of 2.0: in; faster than a
+            row("c", 1.02, gap=2.3, t=1.0),   # gap over 10 % above 2.0: out, however fast
+            row("d", 1.5, gap=2.0, t=0.5)]    # error not within 10 %: out, however fast
+    assert chosen(rows) == "b"
+    assert chosen(rows[:1] + rows[2:]) == "a"
+
+
+def test_a_default_must_beat_no_force_by_ten_percent():
+    base = {"pos_err_max_mm": 10.0, "depth_max_mm": 10.0}
+    assert chosen([row("a", 9.5, depth=9.5)], base) is None                      # 95 %: not useful
+    assert chosen([row("a", 9.0, depth=9.5)], base) == "a"                       # 90 % in position
+    assert chosen([row("a", 12.0, depth=9.0)], base) == "a"                      # 90 % in depth
+    assert chosen([row("a", 9.5, depth=9.5), row("b", 20.0, depth=1.0)], base) == "b"
+    assert rules.useful(row("a", 9.0, depth=20.0), base) and not rules.useful(row("a", 9.01, depth=9.01), base)
+
+
+def test_none_qualifies():
+    assert chosen([]) is None
+    assert chosen([row("a", 1.0, stable="no"), row("b", NAN)]) is None
+    assert chosen([row("a", 50.0, depth=50.0)], {"pos_err_max_mm": 10.0, "depth_max_mm": 10.0}) is None
+
+
+def test_choose_when_no_tied_row_has_a_gap():
+    # No gap figure in any tied row: the gap rule cannot split them; the faster one is chosen.
+    assert chosen([row("a", 1.0, gap=NAN), row("b", 1.05, gap=NAN)]) in ("a", "b")
+    # One tied row with a gap, one without: the one without is not dropped by the other's gap.
+    assert chosen([row("a", 1.0, gap=NAN), row("b", 1.05, gap=0.5)]) in ("a", "b")
+
+
+# ---------------------------------------------------------------------------------------------
+# The Pareto front of error against time over the stable rows
+def point(name, t, err, stable="yes"):
+    return {"name": name, "t_contact_us": t, "pos_err_max_mm": err, "stable": stable}
+
+
+def front(rows):
+    return sorted(r["name"] for r in rules.pareto(rows))
+
+
+def test_pareto_front():
+    rows = [point("fast", 1.0, 5.0), point("mid", 2.0, 3.0), point("dominated", 3.0, 4.0),
+            point("accurate", 4.0, 1.0), point("slow and bad", 5.0, 5.0)]
+    assert front(rows) == ["accurate", "fast", "mid"]
+
+
+def test_pareto_ties_and_dominance_on_one_axis():
+    # equal on both axes: neither beats the other; equal time and a larger error: beaten
+    rows = [point("a", 2.0, 3.0), point("a2", 2.0, 3.0), point("same time, worse", 2.0, 3.5),
+            point("same error, slower", 2.5, 3.0)]
+    assert front(rows) == ["a", "a2"]
+
+
+def test_pareto_only_stable_and_measured():
+    rows = [point("unstable", 0.1, 0.1, stable="no"), point("nan", NAN, 0.1), point("nan err", 0.1, NAN),
+            point("a", 1.0, 1.0)]
+    assert front(rows) == ["a"]
+
+
+def test_median_and_nearest_rank():
+    assert rules.median([3.0, NAN, 1.0, 2.0]) == 2.0
+    assert rules.median([4.0, 1.0, 2.0, 3.0]) == 2.5
+    assert math.isnan(rules.median([NAN]))
+    assert rules.nearest_rank([10, 20, 30, 40, 50, 60, 70, 80, 90, 100], 90) == 90
+    assert rules.nearest_rank([10, 20, 30], 50) == 20
+    assert rules.nearest_rank([], 50) is None
