@@ -33,6 +33,12 @@ struct Measurement {
   // nodes: a one-sided detector reports none, so every penetrating host node is a miss.
   int tp_host = 0, fp_host = 0, fn_host = 0;
   double max_depth = 0.0, mean_depth = 0.0;  // m, over penetrating nodes of both bodies
+  // CGAL: nodes that have passed through the other body: entered it through one face and left it
+  // through a face turned away from that one (outward normals with a negative dot product),
+  // followed along each node's straight path between measured steps. A node that passes back
+  // again no longer counts; one pushed back out where it came in, or one that wraps around the
+  // other body without entering it, never counts.
+  int tunnelled_guest = 0, tunnelled_host = 0;
   bool surfaces_intersect = false;
   double t_cgal_us = 0.0;
   double penetration_volume = 0.0;  // m^3, when has_volume

@@ -214,6 +214,11 @@ class ProgressLine {
   Clock::time_point start_ = Clock::now(), last_ = Clock::now();
 };
 
+// A count of a pair's summary (null when it was not measured: 0).
+long long count_or_zero(const nlohmann::json& pj, const char* key) {
+  return pj.contains(key) && pj[key].is_number() ? pj[key].get<long long>() : 0LL;
+}
+
 // One line at the end of a run: status, steps, settling, the stability verdict, penetration, the
 // error against the reference when compared (at the end and over the final window), wall time
 // and the folder.
@@ -222,7 +227,7 @@ void end_line(const Simulation& sim, const nlohmann::json& sum, const std::strin
   for (const auto& p : sum["pairs"]) {
     if (p.contains("true_pen_final") && p["true_pen_final"].is_number())
       pen += ", " + std::to_string(p["true_pen_final"].get<long long>()) + " penetrating nodes";
-    const long long tun = p.value("tunnelled", 0LL) + p.value("tunnelled_host", 0LL);
+    const long long tun = count_or_zero(p, "tunnelled") + count_or_zero(p, "tunnelled_host");
     if (tun > 0) pen += ", " + std::to_string(tun) + " tunnelled";
     if (p.contains("error_vs_reference") && p["error_vs_reference"].is_object() &&
         p["error_vs_reference"]["pos_err_max"].is_number()) {
@@ -262,13 +267,13 @@ std::vector<std::string> end_warnings(const nlohmann::json& sum) {
   std::vector<std::string> out;
   for (std::size_t p = 0; p < sum["pairs"].size(); ++p) {
     const auto& pj = sum["pairs"][p];
-    const long long g = pj.value("tunnelled", 0LL), h = pj.value("tunnelled_host", 0LL);
+    const long long g = count_or_zero(pj, "tunnelled"), h = count_or_zero(pj, "tunnelled_host");
     if (g > 0)
       out.push_back("contacts." + std::to_string(p) + ": " + std::to_string(g) +
-                    " guest nodes tunnelled through the host (beyond its far side)");
+                    " guest nodes tunnelled through the host (entered through one side, left through the other)");
     if (h > 0)
       out.push_back("contacts." + std::to_string(p) + ": " + std::to_string(h) +
-                    " host nodes tunnelled through the guest (beyond its far side)");
+                    " host nodes tunnelled through the guest (entered through one side, left through the other)");
   }
   const std::string v = sum.value("stability_verdict", std::string());
   const auto& w = sum["window"];

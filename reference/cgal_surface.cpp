@@ -10,6 +10,8 @@
 #include <CGAL/version_macros.h>
 
 #include <algorithm>
+#include <cmath>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 
@@ -156,6 +158,52 @@ int CgalSurface::closest_face(const Vec3& p, Vec3* closest, int hint) const {
   const Nearest n = nearest(*impl_, p, hint);
   if (closest) *closest = n.point;
   return n.face;
+}
+
+Vec3 CgalSurface::face_normal(int f) const {
+  const Impl& s = *impl_;
+  const Tri& t = s.faces[static_cast<std::size_t>(f)];
+  const Vec3 p0 = cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[0])));
+  const Vec3 n = (cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[1]))) - p0)
+                     .cross(cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[2]))) - p0);
+  const double len = n.norm();
+  return len > 0.0 && std::isfinite(len) ? Vec3(n / len) : Vec3(Vec3::Zero());
+}
+
+void CgalSurface::crossings(const Vec3& a, const Vec3& b, std::vector<SurfaceCrossing>& out) const {
+  out.clear();
+  const Impl& s = *impl_;
+  const Vec3 d = b - a;
+  if (s.tree.empty() || !(d.squaredNorm() > 0.0)) return;
+  const cgal::Kernel::Segment_3 seg(cgal::to_point(a), cgal::to_point(b));
+  std::vector<cgal::Tree::Primitive_id> faces;
+  s.tree.all_intersected_primitives(seg, std::back_inserter(faces));
+  for (const auto fd : faces) {
+    const int f = static_cast<int>(fd);
+    const Tri& t = s.faces[static_cast<std::size_t>(f)];
+    const Vec3 p0 = cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[0])));
+    const Vec3 n = face_normal(f);
+    const double den = n.dot(d);
+    // Along a face's plane (or a collapsed face): the middle of the segment stands for the point.
+    const double tt = std::fabs(den) > 0.0 ? n.dot(p0 - a) / den : 0.5;
+    out.push_back({std::clamp(std::isfinite(tt) ? tt : 0.5, 0.0, 1.0), n});
+  }
+  std::sort(out.begin(), out.end(), [](const SurfaceCrossing& x, const SurfaceCrossing& y) { return x.t < y.t; });
+  // One point shared by several faces (an edge, a vertex) is one crossing.
+  constexpr double kSame = 1e-9;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (k > 0 && out[i].t - out[k - 1].t <= kSame) {
+      out[k - 1].normal += out[i].normal;
+      continue;
+    }
+    out[k++] = out[i];
+  }
+  out.resize(k);
+  for (SurfaceCrossing& c : out) {
+    const double len = c.normal.norm();
+    c.normal = len > 0.0 ? Vec3(c.normal / len) : Vec3(Vec3::Zero());
+  }
 }
 
 int CgalSurface::num_degenerate_faces() const { return static_cast<int>(impl_->degenerate.size()); }

@@ -14,6 +14,13 @@ namespace harness {
 // Where a point lies with respect to a closed surface (CGAL's Bounded_side).
 enum class SurfaceSide { outside = -1, boundary = 0, inside = 1 };
 
+// Where a segment crosses a surface: its parameter along the segment (0 at the start, 1 at the
+// end) and the crossed face's unit outward normal (zero for a collapsed face).
+struct SurfaceCrossing {
+  double t = 0.0;
+  Vec3 normal = Vec3::Zero();
+};
+
 // A closed, outward-oriented triangle surface whose vertices move: the topology is set once,
 // the points are replaced every measured step and the AABB tree (and everything cached from
 // it) is rebuilt on each update, because CGAL 5.5 cannot refit and a stale tree answers
@@ -48,6 +55,13 @@ class CgalSurface {
   // its construction is most of a query-light step's cost); -1: none. The answer is exact either
   // way (the seed only bounds the first search radius).
   int closest_face(const Vec3& p, Vec3* closest = nullptr, int hint = -1) const;
+  // Unit outward normal of face f at the current positions (zero for a collapsed face).
+  Vec3 face_normal(int f) const;
+  // The crossings of segment [a, b] with the surface in order along it (exact segment-triangle
+  // predicates choose the faces; their parameters are computed in double). Crossings at one point
+  // (an edge or a vertex shared by faces) are merged into one, their normals averaged; a
+  // segment that only grazes the surface may still report one: callers reconcile with side().
+  void crossings(const Vec3& a, const Vec3& b, std::vector<SurfaceCrossing>& out) const;
   // Bounding box of the current vertices.
   void bounds(Vec3& lo, Vec3& hi) const;
   // Faces collapsed (is_degenerate) at the last update: distances to them are taken to their

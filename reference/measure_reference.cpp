@@ -40,7 +40,66 @@ int classify(const World& w, const Body& b, const CgalSurface& other, double& ma
   return count;
 }
 
+bool all_finite(const World& w, const Body& b) {
+  for (int i = b.begin; i < b.end; ++i)
+    if (!w.x[i].allFinite()) return false;
+  return true;
+}
+
 }  // namespace
+
+int Passages::update(const World& w, const Body& b, const CgalSurface& other, const std::vector<std::uint8_t>& pen) {
+  const std::size_t n = static_cast<std::size_t>(b.size());
+  auto nearest_normal = [&](const Vec3& x) { return other.face_normal(other.closest_face(x)); };
+  if (!started) {
+    prev.assign(n, Vec3::Zero());
+    inside.assign(n, 0);
+    entry.assign(n, Vec3::Zero());
+    through.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      prev[i] = w.x[b.begin + static_cast<int>(i)];
+      inside[i] = pen[i];
+      if (pen[i]) entry[i] = nearest_normal(prev[i]);
+    }
+    started = true;
+    return 0;
+  }
+  Vec3 lo, hi;
+  other.bounds(lo, hi);
+  int count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& x = w.x[b.begin + static_cast<int>(i)];
+    const Vec3& a = prev[i];
+    bool state = inside[i] != 0;
+    Vec3 n_in = entry[i];
+    // Only a path whose box meets the other body's box can cross it.
+    if ((a.cwiseMin(x).array() <= hi.array()).all() && (a.cwiseMax(x).array() >= lo.array()).all())
+      other.crossings(a, x, hits_);
+    else
+      hits_.clear();
+    for (const SurfaceCrossing& c : hits_) {
+      if (state) {
+        if (n_in.dot(c.normal) < 0.0) through[i] ^= 1;
+      } else {
+        n_in = c.normal;
+      }
+      state = !state;
+    }
+    // A crossing missed or counted twice (a path grazing an edge, a collapsed face): the exact
+    // side decides, with the face nearest to where the node is now.
+    const bool in_now = pen[i] != 0;
+    if (state != in_now) {
+      const Vec3 nn = nearest_normal(x);
+      if (in_now) n_in = nn;
+      else if (n_in.dot(nn) < 0.0) through[i] ^= 1;
+    }
+    entry[i] = in_now ? n_in : Vec3::Zero();
+    inside[i] = pen[i];
+    prev[i] = x;
+    count += through[i];
+  }
+  return count;
+}
 
 ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
                                      const ReferenceSpec& spec, FclBv bv, FclRefitPolicy refit)
@@ -58,6 +117,17 @@ ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
     seen_.assign(G.size(), 0);
     seen_host_.assign(H.size(), 0);
   }
+  // Passages are followed from the state the measurer is made on (the run's first), not from its
+  // first measured step: a node that passes through before that step counts too.
+  if (spec_.cgal && all_finite(w, H) && all_finite(w, G)) {
+    cg_host_.update(&w.x[H.begin]);
+    cg_guest_.update(&w.x[G.begin]);
+    double max_depth = 0.0, sum_depth = 0.0;
+    classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data(), sd_guest_.data());
+    classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data(), sd_host_.data());
+    pass_guest_.update(w, G, cg_host_, pen_guest_);
+    pass_host_.update(w, H, cg_guest_, pen_host_);
+  }
   if (spec_.fcl) {
     fc_host_.set_topology(H.n_surface, H.faces);
     fc_guest_.set_topology(G.n_surface, G.faces);
@@ -72,9 +142,7 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair, const s
   const Body& H = w.bodies[host_];
   const Body& G = w.bodies[guest_];
   // Exact predicates on a NaN abort inside GMP: a diverged state is not measured (has_* false).
-  for (const Body* b : {&H, &G})
-    for (int i = b->begin; i < b->end; ++i)
-      if (!w.x[i].allFinite()) return;
+  if (!all_finite(w, H) || !all_finite(w, G)) return;
 
   if (spec_.cgal || spec_.volume) {
     const auto t0 = Clock::now();
@@ -84,6 +152,8 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair, const s
       double max_depth = 0.0, sum_depth = 0.0;
       out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data(), sd_guest_.data());
       out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data(), sd_host_.data());
+      out.tunnelled_guest = pass_guest_.update(w, G, cg_host_, pen_guest_);
+      out.tunnelled_host = pass_host_.update(w, H, cg_guest_, pen_host_);
       out.pen_guest = &pen_guest_;
       out.pen_host = &pen_host_;
       out.sd_guest = &sd_guest_;

@@ -19,7 +19,8 @@ namespace harness {
 //  cgal: every node of each body (interior nodes too) classified against the other body's
 //        closed surface; residual depths; the signed distance of every surface vertex to the
 //        other body's surface (negative inside); tp/fp/fn of `detected`; surfaces_intersect with the
-//        bounded-side test (containment counts); t_cgal_us. With spec.volume also the penetration
+//        bounded-side test (containment counts); nodes that have passed through the other body
+//        (tunnelled_guest / tunnelled_host: Passages below); t_cgal_us. With spec.volume also the penetration
 //        volume by corefinement (has_volume false when CGAL cannot give it), timed apart in
 //        t_volume_us and not in t_cgal_us.
 //  fcl:  intersecting triangle pairs of the two surfaces and the deepest local contact depth;
@@ -28,6 +29,25 @@ namespace harness {
 //        t_ccd_us (hulls included).
 // spec.every is the caller's business: every call measures. A state with a non-finite position
 // is not measured (all has_* false): exact predicates abort on NaN.
+// Each node's passages through the other body, followed from one measure() call to the next
+// along the straight path between them: the crossings of that path with the other body's surface
+// (CgalSurface::crossings), reconciled with the node's exact side at both ends. On entering, the
+// crossed face's outward normal is kept; on leaving through a face whose normal has a negative dot
+// product with it, the node's parity flips (it is on the other side of the body now).
+struct Passages {
+  std::vector<Vec3> prev;              // position at the last call
+  std::vector<std::uint8_t> inside;    // strictly inside at the last call
+  std::vector<Vec3> entry;             // while inside: outward normal of the face it entered by
+  std::vector<std::uint8_t> through;   // parity of the passages through
+  bool started = false;
+  // Follows the nodes of `b` (pen: this call's inside flags, body-local) against `other`;
+  // returns how many have passed through.
+  int update(const World& w, const Body& b, const CgalSurface& other, const std::vector<std::uint8_t>& pen);
+
+ private:
+  std::vector<SurfaceCrossing> hits_;
+};
+
 class ReferenceMeasurer final : public Measurer {
  public:
   ReferenceMeasurer(const World& w, const ContactSpec& pair, const ReferenceSpec& spec,
@@ -49,6 +69,7 @@ class ReferenceMeasurer final : public Measurer {
   std::vector<std::uint8_t> pen_guest_;
   std::vector<std::uint8_t> pen_host_;
   std::vector<double> sd_guest_, sd_host_;  // per surface vertex: signed distance to the other body, m
+  Passages pass_guest_, pass_host_;         // guest nodes through the host, host nodes through the guest
   std::vector<int> seen_;       // per guest node: stamp of the last call that counted it as detected
   std::vector<int> seen_host_;  // the same per host node
   int stamp_ = 0;

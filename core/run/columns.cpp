@@ -78,12 +78,12 @@ const std::vector<Column>& steps_columns() {
       {"pos_err_max", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.pos_err_max); }},
       {"pos_err_rms", [](O o, R r) { if (r.fig && r.fig->vs_reference) o.g9(r.fig->errors.pos_err_rms); }},
       // Host nodes detected the other way round (two-sided contact) against those truly inside the
-      // guest; nodes that passed through the other body (recorder.hpp tunnelled_nodes).
+      // guest; nodes that have passed through the other body (core/measure.hpp tunnelled_guest).
       {"tp_host", [](O o, R r) { if (cgal(r)) o.integer(r.m->tp_host); }},
       {"fp_host", [](O o, R r) { if (cgal(r)) o.integer(r.m->fp_host); }},
       {"fn_host", [](O o, R r) { if (cgal(r)) o.integer(r.m->fn_host); }},
-      {"tunnelled_guest", [](O o, R r) { if (r.fig) o.integer(r.fig->tunnelled.guest); }},
-      {"tunnelled_host", [](O o, R r) { if (r.fig) o.integer(r.fig->tunnelled.host); }},
+      {"tunnelled_guest", [](O o, R r) { if (r.fig && r.fig->tunnelled.measured) o.integer(r.fig->tunnelled.guest); }},
+      {"tunnelled_host", [](O o, R r) { if (r.fig && r.fig->tunnelled.measured) o.integer(r.fig->tunnelled.host); }},
       // Guest nodes found inside beyond the detector's guaranteed band (voxel_exact), both ways;
       // empty for detectors without a band.
       {"beyond_band", [](O o, R r) { if (contact(r) && r.pair->last.beyond_band >= 0) o.integer(r.pair->last.beyond_band); }},

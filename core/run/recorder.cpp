@@ -6,46 +6,6 @@
 
 namespace harness {
 
-Vec3 approach_axis(const World& w, const ContactSpec& pair) {
-  Vec3 hl, hh, gl, gh;
-  body_bounds(w, pair.host, hl, hh);
-  body_bounds(w, pair.guest, gl, gh);
-  Vec3 a = 0.5 * (gl + gh) - 0.5 * (hl + hh);
-  const double n = a.norm();
-  return n > 0.0 && std::isfinite(n) ? Vec3(a / n) : Vec3(Vec3::UnitZ());
-}
-
-namespace {
-
-// Nodes of `mover` beyond the far side of `other` along -axis (axis . x below every node of
-// `other`) and within the shadow of `other` (its extent along two directions across the axis).
-int beyond_far_side(const World& w, const Body& other, const Body& mover, const Vec3& axis) {
-  const Vec3 u = axis.unitOrthogonal(), v = axis.cross(u);
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  double lo = inf, ulo = inf, uhi = -inf, vlo = inf, vhi = -inf;
-  for (int i = other.begin; i < other.end; ++i) {
-    const Vec3& x = w.x[i];
-    lo = std::min(lo, x.dot(axis));
-    ulo = std::min(ulo, x.dot(u)), uhi = std::max(uhi, x.dot(u));
-    vlo = std::min(vlo, x.dot(v)), vhi = std::max(vhi, x.dot(v));
-  }
-  int n = 0;
-  for (int i = mover.begin; i < mover.end; ++i) {
-    const Vec3& x = w.x[i];
-    const double a = x.dot(axis), pu = x.dot(u), pv = x.dot(v);
-    if (a < lo && pu >= ulo && pu <= uhi && pv >= vlo && pv <= vhi) ++n;
-  }
-  return n;
-}
-
-}  // namespace
-
-TunnelCount tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis) {
-  const Body& H = w.bodies[pair.host];
-  const Body& G = w.bodies[pair.guest];
-  return {beyond_far_side(w, H, G, axis), beyond_far_side(w, G, H, -axis)};
-}
-
 Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_(options) {
   const Scene& sc = sim.scene();
   const World& w = sim.world();
@@ -61,7 +21,6 @@ Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_
   for (const Pair& p : pairs) {
     open_.emplace_back(static_cast<std::size_t>(w.bodies[p.spec.guest].size()), -1);
     open_.emplace_back(static_cast<std::size_t>(w.bodies[p.spec.host].size()), -1);
-    axes_.push_back(approach_axis(w, p.spec));
   }
   for (const Body& b : w.bodies) pen_flags_.emplace_back(static_cast<std::size_t>(b.size()), 0);
   ke_ = ke_peak_ = sim.kinetic_energy();
@@ -153,8 +112,9 @@ void Recorder::record(const Simulation& sim, bool last) {
   if (measured_now_) pair_figures(sim);
 }
 
-TunnelCount Recorder::tunnel_count(const Simulation& sim, std::size_t p) const {
-  return tunnelled_nodes(sim.world(), sim.pairs()[p].spec, axes_[p]);
+TunnelCount Recorder::tunnel_count(std::size_t p) const {
+  const Measurement& m = meas_[p];
+  return m.has_cgal ? TunnelCount{m.tunnelled_guest, m.tunnelled_host, true} : TunnelCount{};
 }
 
 StabilityJudgement Recorder::judge(const Simulation& sim, bool settled) const {
@@ -195,11 +155,13 @@ void Recorder::pair_figures(const Simulation& sim) {
     PairSeries& ser = series_[p];
     const Measurement& m = meas_[p];
     f = PairStepFigures{};
-    f.tunnelled = tunnel_count(sim, p);
-    ser.tunnelled.add(step, f.tunnelled.guest + f.tunnelled.host);
+    f.tunnelled = tunnel_count(p);
     PairTotals& t = totals_[p];
-    t.tunnelled_guest_peak = std::max(t.tunnelled_guest_peak, f.tunnelled.guest);
-    t.tunnelled_host_peak = std::max(t.tunnelled_host_peak, f.tunnelled.host);
+    if (f.tunnelled.measured) {
+      ser.tunnelled.add(step, f.tunnelled.guest + f.tunnelled.host);
+      t.tunnelled_guest_peak = std::max(t.tunnelled_guest_peak, f.tunnelled.guest);
+      t.tunnelled_host_peak = std::max(t.tunnelled_host_peak, f.tunnelled.host);
+    }
     if (m.has_cgal) {
       ser.depth_max.add(step, m.max_depth);
       ser.true_pen.add(step, m.true_pen_guest + m.true_pen_host);

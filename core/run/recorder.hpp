@@ -32,10 +32,12 @@ struct PairTotals {
   int beyond_band_peak = 0;
 };
 
-// Guest nodes beyond the host's far side, and host nodes beyond the guest's far side, along the
-// pair's approach axis at rest, within the other body's shadow (tunnelled_nodes below).
+// Guest nodes that have passed through the host, and host nodes through the guest, at the last
+// CGAL measurement (Measurement::tunnelled_guest / tunnelled_host: entered through one face, left
+// through one turned away from it); measured false when the run has no CGAL reference.
 struct TunnelCount {
   int guest = 0, host = 0;
+  bool measured = false;
 };
 
 // One pair's figures over the run, one value per measured step (run/window.hpp).
@@ -105,9 +107,9 @@ class Recorder {
   double kinetic_energy() const { return ke_; }
   double kinetic_energy_peak() const { return ke_peak_; }
   double potential_energy() const { return pe_; }
-  // Guest nodes beyond the host's far side (and host nodes beyond the guest's) now.
-  int tunnelled(const Simulation& sim, std::size_t p) const { return tunnel_count(sim, p).guest; }
-  TunnelCount tunnel_count(const Simulation& sim, std::size_t p) const;
+  // Nodes that have passed through the other body, at the last CGAL measurement.
+  int tunnelled(std::size_t p) const { return tunnel_count(p).guest; }
+  TunnelCount tunnel_count(std::size_t p) const;
   bool references() const { return !measurers_.empty(); }
 
  private:
@@ -126,7 +128,6 @@ class Recorder {
   std::vector<std::vector<int>> open_;  // per pair and role (guest, host): open episode per node or -1
   std::vector<std::vector<std::uint8_t>> pen_flags_;  // per body
   int pen_step_ = -1;
-  std::vector<Vec3> axes_;  // per pair: approach axis at rest
   RunTimings timings_;
   double ke_ = 0.0, ke_peak_ = 0.0, pe_ = 0.0;
   std::vector<PairSeries> series_;
@@ -134,13 +135,5 @@ class Recorder {
   double initial_energy_ = 0.0;
 };
 
-// Unit vector from the host's to the guest's bounding-box centre (the approach side).
-Vec3 approach_axis(const World& w, const ContactSpec& pair);
-// Nodes that passed through the other body: guest nodes that lie beyond the host's far side along
-// `axis` (the approach axis at rest) and within the host's shadow (the host's current extent
-// across the axis), and host nodes beyond the guest's far side (along -axis) within the guest's
-// shadow. A node that went around the other body, outside its shadow, is not counted.
-// summary.json: pairs[].tunnelled (guest), pairs[].tunnelled_host.
-TunnelCount tunnelled_nodes(const World& w, const ContactSpec& pair, const Vec3& axis);
 
 }  // namespace harness

@@ -108,9 +108,10 @@ json pair_json(const Simulation& sim, const Recorder& rec, std::size_t pi) {
   // the most in one step; null for the others.
   pj["beyond_band_total"] = t.has_band ? json(t.beyond_band_total) : json(nullptr);
   pj["beyond_band_peak"] = t.has_band ? json(t.beyond_band_peak) : json(nullptr);
-  const TunnelCount tun = rec.tunnel_count(sim, pi);
-  pj["tunnelled"] = tun.guest;
-  pj["tunnelled_host"] = tun.host;
+  // Nodes that have passed through the other body (CGAL; null without it).
+  const TunnelCount tun = rec.tunnel_count(pi);
+  pj["tunnelled"] = tun.measured ? json(tun.guest) : json(nullptr);
+  pj["tunnelled_host"] = tun.measured ? json(tun.host) : json(nullptr);
   pj["tunnelled_peak"] = measured(json{{"guest", t.tunnelled_guest_peak}, {"host", t.tunnelled_host_peak}});
   pj["true_pen_final"] = measured(t.true_pen_final);
   pj["max_depth_final"] = measured(t.max_depth_final);
@@ -203,7 +204,7 @@ void add_comparison(json& sum, const Simulation& sim, const Recorder& rec, const
     const bool sd = rec.sd_step() == sim.step_index() && e.distances;
     const PairTotals& t = rec.totals()[p];
     const PairSeries& ser = rec.series()[p];
-    const TunnelCount tun = rec.tunnel_count(sim, p);
+    const TunnelCount tun = rec.tunnel_count(p);
     sum["pairs"][p]["error_vs_reference"] = {
         {"pos_err_max", e.pos_err_max},
         {"pos_err_rms", e.pos_err_rms},
@@ -211,8 +212,8 @@ void add_comparison(json& sum, const Simulation& sim, const Recorder& rec, const
         {"gap_mean", sd ? json(e.gap_mean) : json(nullptr)},
         {"depth_max", sd ? json(e.depth_max) : json(nullptr)},
         {"depth_peak", t.measured ? json(std::max(t.max_depth_peak, sd ? e.depth_max : 0.0)) : json(nullptr)},
-        {"tunnelled_guest", tun.guest},
-        {"tunnelled_host", tun.host},
+        {"tunnelled_guest", tun.measured ? json(tun.guest) : json(nullptr)},
+        {"tunnelled_host", tun.measured ? json(tun.host) : json(nullptr)},
         {"tunnelled_peak", t.measured ? json(std::max(t.tunnelled_guest_peak + t.tunnelled_host_peak, tun.guest + tun.host))
                                       : json(nullptr)},
         {"touching_nodes", e.touching},

@@ -77,7 +77,7 @@ inline SceneRun run_scene_measured(const std::string& name,
     r.max_depth_final = std::max(r.max_depth_final, t.max_depth_final);
     r.true_pen_final += t.true_pen_final;
     r.contacts_total += t.contacts_total;
-    r.tunnelled += rec.tunnelled(sim, i);
+    r.tunnelled += rec.tunnelled(i);
     if (sim.pairs()[i].collision) r.voxel = sim.pairs()[i].collision->voxel_size();
   }
   return r;

@@ -359,3 +359,52 @@ TEST_CASE("collapsed triangles: distances without CGAL's projection, no abort", 
   CHECK(out.true_pen_guest > 0);
   CHECK_FALSE(out.has_volume);
 }
+
+// Tunnelled nodes (Measurement::tunnelled_guest / host, ReferenceMeasurer's Passages): a small
+// cube (the guest) moved by hand against a thin slab (the host) between measurements. Through the
+// slab in one jump or in steps (inside on a measured step), it counts; back out where it came in,
+// around the slab to its far side, or through and back again, it does not.
+TEST_CASE("tunnelled: through counts, pushed back, around and back again do not", "[reference][cgal]") {
+  // Host: a slab 1 x 1 x 0.2 (z from 0 to 0.2); guest: a cube of side 0.05 above its middle.
+  const Surface slab = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 0.2), Vec3i(2, 2, 1));
+  const Surface cube = box_surface(Vec3(0.475, 0.475, 0.3), Vec3(0.525, 0.525, 0.35), Vec3i(1, 1, 1));
+  World w;
+  const int host = add_body(w, "slab", slab);
+  const int guest = add_body(w, "cube", cube);
+  const ContactSpec pair = pair_of(host, guest);
+  ReferenceMeasurer m(w, pair, cgal_only());
+  Measurement out;
+  auto move_to = [&](const Vec3& d) { translate_body(w, guest, d); m.measure(w, pair, {}, out); return out.tunnelled_guest; };
+  REQUIRE(move_to(Vec3::Zero()) == 0);  // the first measurement only starts the record
+  const int n = static_cast<int>(cube.V.size());
+  REQUIRE(n == 8);
+
+  SECTION("through in one jump between measurements") {
+    CHECK(move_to(Vec3(0, 0, -0.6)) == n);  // from z 0.3 to -0.3: every vertex crossed both faces
+    CHECK(out.tunnelled_host == 0);
+    CHECK(move_to(Vec3(0, 0, 0.6)) == 0);   // and back through: on its side again
+  }
+  SECTION("through in steps, seen inside on the way") {
+    CHECK(move_to(Vec3(0, 0, -0.22)) == 0);  // z 0.08 to 0.13: wholly inside
+    CHECK(out.true_pen_guest == n);
+    CHECK(move_to(Vec3(0, 0, -0.1)) == 4);   // the bottom four out through the slab's bottom
+    CHECK(move_to(Vec3(0, 0, -0.1)) == n);   // all of them
+  }
+  SECTION("in and pushed back out where it came in") {
+    CHECK(move_to(Vec3(0, 0, -0.12)) == 0);  // the bottom four inside (z 0.18)
+    CHECK(out.true_pen_guest > 0);
+    CHECK(move_to(Vec3(0, 0, 0.12)) == 0);
+  }
+  SECTION("around the slab's edge to its far side: never inside, never through") {
+    CHECK(move_to(Vec3(0.7, 0, 0)) == 0);   // beside the slab (x beyond 1)
+    CHECK(move_to(Vec3(0, 0, -0.6)) == 0);  // down past its side
+    CHECK(move_to(Vec3(-0.7, 0, 0)) == 0);  // under its middle: beyond the far side, in its shadow
+    CHECK(out.true_pen_guest == 0);
+  }
+  SECTION("in through the top, out through a side: not through") {
+    CHECK(move_to(Vec3(0, 0, -0.2)) == 0);  // wholly inside
+    CHECK(out.true_pen_guest == n);
+    CHECK(move_to(Vec3(0.6, 0, 0)) == 0);   // slid sideways out of the slab (x beyond 1)
+    CHECK(out.true_pen_guest == 0);
+  }
+}
