@@ -295,6 +295,36 @@ def reference_converged(s):
     return (s.get("reference") or {}).get("converged", "")
 
 
+# The orders of convergence the loop's Richardson reading is trusted in (first order in dt and
+# in 1/k_c is what the reference loop expects).
+SANE_ORDER = (0.5, 4.0)
+
+
+def reference_floor(s):
+    """(floor in m, why) of a `harness reference` summary: how far its answer may be from the
+    converged one, below which no error measured against it means anything. The last level's
+    change when the last order of convergence is sane (SANE_ORDER: the change then bounds the
+    remaining error from above); otherwise the largest of the last two changes (the loop is not in
+    its asymptotic range: a jump between levels stays possible). NaN when fewer than two levels."""
+    levels = (s.get("reference") or {}).get("levels") or []
+    changes = [num(lv.get("change_max")) for lv in levels if present(lv.get("change_max"))]
+    if not changes:
+        return float("nan"), "one level only"
+    order = num(levels[-1].get("order"))
+    if SANE_ORDER[0] <= order <= SANE_ORDER[1]:
+        return changes[-1], "last change (order %.2f)" % order
+    return max(changes[-2:]), ("largest of the last two changes (order %.2f: not asymptotic)" % order
+                               if present(levels[-1].get("order")) else "largest change (no order yet)")
+
+
+def reference_floor_mm(results, name):
+    """reference_floor of results/references/<name> in mm (NaN when it is missing)."""
+    path = os.path.join(results, "references", name)
+    if not has_summary(path):
+        return float("nan")
+    return 1e3 * reference_floor(load_summary(path))[0]
+
+
 # ---------------------------------------------------------------------------------------------
 # Files beside the results
 SOURCE = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))

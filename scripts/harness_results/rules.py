@@ -27,11 +27,19 @@ Definitions:
                 those within 10 % of it, the smallest gap_max; among those, the fastest. None such:
                 no default (and no CI threshold) for that scenario, said in ablation.md.
   front         the Pareto front of error (pos_err_max) against time (t_contact) over the stable settings.
-  comparison    (claims) two runs by a figure, smaller better: one is better when its figure is smaller
-                by over a stated share of the other's, a tie otherwise; "inconclusive" when either run
-                is not stable. A verdict over comparisons: "inconclusive" when any of them is,
-                "supported" when all come out as the claim says, "partly supported" when some do, "not
-                supported" when none does ("not tested" without any).
+  noise         (claims) two runs' figures differ only by more than the larger of: 10 % of the larger
+                figure, the sum of the two runs' chatter amplitudes over the window (position error),
+                and the floor of the reference they are measured against (reader.reference_floor: its
+                last level's change, or the largest of its last two when the loop is not asymptotic).
+                Times differ only when their ranges over the repeats do not overlap.
+  comparison    (claims) two runs by a figure, smaller better: "a" or "b" when one is smaller by more
+                than the noise, "within noise" otherwise, "not stable" when either run is not stable
+                (the comparison is not judged), "missing" without the figure.
+  verdict       (claims) over a claim's comparisons: "not supported" when any decisive one goes
+                against the claim, "supported" when at least one goes for it and none against,
+                "inconclusive" when none is decisive (every run that would decide it is unstable or
+                within the noise), "not tested" without any comparison. Each verdict is printed with
+                its counts (for, against, within noise, not judged).
 """
 
 import math
@@ -141,78 +149,84 @@ def nearest_rank(sorted_vals, q):
 
 
 # ---------------------------------------------------------------------------------------------
-# The claims' comparisons and verdicts
-def compare(a, b, key="pos_err_max_mm", tie=0.10):
-    """Two runs (rows) by `key`, smaller better: "a" or "b" when its figure is smaller than the other's
-    by over `tie` (a share), "tie" otherwise; INCONCLUSIVE when either run is not stable or either
-    figure is missing (comparison above)."""
+# The claims on equal footing: comparisons beyond the noise, four verdicts
+TIE = 0.10
+WITHIN_NOISE, NOT_STABLE, MISSING = "within noise", "not stable", "missing"
+SUPPORTED, NOT_SUPPORTED, NOT_TESTED = "supported", "not supported", "not tested"
+VERDICTS = (SUPPORTED, NOT_SUPPORTED, INCONCLUSIVE, NOT_TESTED)
+
+
+def noise(a, b, key="pos_err_max_mm", floor=0.0, tie=TIE):
+    """How far apart two rows' figures `key` must be to differ (noise above): the largest of `tie`
+    times the larger figure, the two rows' chatter amplitudes summed (pos_err_amp_mm; position
+    error only) and the reference's floor (same unit as the figure)."""
+    amp = 0.0
+    if key == "pos_err_max_mm":
+        amp = reader.num(a.get("pos_err_amp_mm"), 0.0) + reader.num(b.get("pos_err_amp_mm"), 0.0)
+    return max(tie * max(a[key], b[key]), amp, reader.num(floor, 0.0))
+
+
+def decide(a, b, key="pos_err_max_mm", floor=0.0, tie=TIE):
+    """Two rows by `key`, smaller better (comparison above): "a", "b", WITHIN_NOISE, NOT_STABLE or
+    MISSING."""
     if not (is_stable(a) and is_stable(b)):
-        return INCONCLUSIVE
-    x, y = a.get(key), b.get(key)
-    if not (reader.present(x) and reader.present(y)):
-        return INCONCLUSIVE
-    if x < (1 - tie) * y:
+        return NOT_STABLE
+    if not (reader.present(a.get(key)) and reader.present(b.get(key))):
+        return MISSING
+    m = noise(a, b, key, floor, tie)
+    if a[key] + m < b[key]:
         return "a"
-    if y < (1 - tie) * x:
+    if b[key] + m < a[key]:
         return "b"
-    return "tie"
+    return WITHIN_NOISE
 
 
-def verdict(outcomes, expected="a"):
-    """A claim's verdict over the outcomes of its comparisons (compare()), `expected` the outcome
-    the claim predicts (comparison above)."""
+def time_decide(a, b, key="t_contact", factor=1.0):
+    """Two rows by time (`key`_us median, `key`_min_us / `key`_max_us the range over repeats): "a"
+    when a is faster by more than `factor` (its median times factor below b's) and a's slowest run is
+    faster than b's fastest; "b" the other way; WITHIN_NOISE otherwise; MISSING without times."""
+    ta, tb = a.get(key + "_us"), b.get(key + "_us")
+    if not (reader.present(ta) and reader.present(tb)):
+        return MISSING
+    amax, amin = reader.num(a.get(key + "_max_us"), ta), reader.num(a.get(key + "_min_us"), ta)
+    bmax, bmin = reader.num(b.get(key + "_max_us"), tb), reader.num(b.get(key + "_min_us"), tb)
+    if ta * factor < tb and amax < bmin:
+        return "a"
+    if tb * factor < ta and bmax < amin:
+        return "b"
+    return WITHIN_NOISE
+
+
+def claim_verdict(outcomes, expected="a"):
+    """A claim's verdict over its comparisons' outcomes (verdict above); `expected` the outcome the
+    claim predicts. Outcomes other than `expected`, WITHIN_NOISE, NOT_STABLE and MISSING go against it."""
     outcomes = list(outcomes)
     if not outcomes:
-        return "not tested"
-    if INCONCLUSIVE in outcomes:
-        return INCONCLUSIVE
-    hits = sum(1 for o in outcomes if o == expected)
-    return share_verdict(hits, len(outcomes))
+        return NOT_TESTED
+    if any(o not in (expected, WITHIN_NOISE, NOT_STABLE, MISSING) for o in outcomes):
+        return NOT_SUPPORTED
+    if expected in outcomes:
+        return SUPPORTED
+    return INCONCLUSIVE
 
 
-def share_verdict(hits, total):
-    """"supported" when the claim holds in all `total` cases, "partly supported" in some, "not supported" in none."""
-    if hits == total:
-        return "supported"
-    if hits > 0:
-        return "partly supported"
-    return "not supported"
+def tally(outcomes, expected="a"):
+    """{"for", "against", "noise", "not judged"}: the counts a verdict is printed with."""
+    outcomes = list(outcomes)
+    t = {"for": 0, "against": 0, "noise": 0, "not judged": 0}
+    for o in outcomes:
+        if o == expected:
+            t["for"] += 1
+        elif o == WITHIN_NOISE:
+            t["noise"] += 1
+        elif o in (NOT_STABLE, MISSING):
+            t["not judged"] += 1
+        else:
+            t["against"] += 1
+    return t
 
 
-def better_of(a, b, key="pos_err_max_mm", tie=0.10):
-    """'a', 'b' or None: stable where the other is not; else the smaller key by over `tie`; both
-    unstable: None. (Claim (a) without its confound.)"""
-    if (a["stable"] == "yes") != (b["stable"] == "yes"):
-        return "a" if a["stable"] == "yes" else "b"
-    if a["stable"] != "yes":
-        return None
-    if a[key] < (1 - tie) * b[key]:
-        return "a"
-    if b[key] < (1 - tie) * a[key]:
-        return "b"
-    return None
-
-
-def plane_verdict(rows, wins, untested):
-    """Claim (a)'s verdict over the implant rows (row[5] the comparison's result)."""
-    if not rows:
-        return untested
-    if wins == len(rows):
-        return "supported"
-    if wins > 0:
-        return "partly supported"
-    if all(r[5] == "equal" for r in rows):
-        return "inconclusive (no difference)"
-    return "not supported"
-
-
-def dominance(a, b, keys):
-    """Of two records compared on `keys` (smaller better): "b better" when b is no worse on all and
-    better on one, "a better" the other way round, "equal" when equal on all, "mixed" otherwise."""
-    if all(b[k] <= a[k] for k in keys) and any(b[k] < a[k] for k in keys):
-        return "b better"
-    if all(a[k] <= b[k] for k in keys) and any(a[k] < b[k] for k in keys):
-        return "a better"
-    if all(a[k] <= b[k] for k in keys) and all(b[k] <= a[k] for k in keys):
-        return "equal"
-    return "mixed"
+def tally_text(t):
+    """"2 for, 1 against, 3 within the noise, 4 not judged (a run not stable)"."""
+    return "%d for, %d against, %d within the noise, %d not judged (a run not stable or a figure missing)" % (
+        t["for"], t["against"], t["noise"], t["not judged"])

@@ -2,16 +2,15 @@
 returning its common.Verdict: the verdict, its section of claims.md, its LaTeX macros and tables.
 scripts/claims.py writes them in ORDER.
 
-To add a claim: a module here whose judge() builds its comparisons with rules.compare (which says
-"inconclusive" when a run it rests on is not stable) and its verdict with rules.verdict; its name in
+To add a claim: a module here whose judge() builds its comparisons with rules.decide (beyond the
+noise; "not stable" when a run it rests on is not) and its verdict with rules.claim_verdict; its name in
 ORDER (where its section goes in claims.md); its macros follow the others in claims_macros.tex.
 """
 
 import importlib
 
 # The order of the sections of claims.md.
-ORDER = ["a_penetrations", "a_reference", "b_episodes", "c_restrictions", "d_voxel_speed", "realtime", "swap",
-         "e_region", "a_orient"]
+ORDER = ["a_plane", "b_episodes", "c_restrictions", "d_voxel_speed", "e_region", "swap", "realtime", "completed"]
 
 
 def module(name):

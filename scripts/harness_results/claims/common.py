@@ -4,7 +4,7 @@ the runs of scripts/reproduce.sh and the studies' CSV files) and the penetration
 import json
 import os
 
-from .. import reader, runs
+from .. import reader, rules, runs
 
 # The scenes of the studies, in the order the claims list them; the exact detectors.
 SCENE_ORDER = ["sphere_collision", "cylinder_press", "implant_expansion"]
@@ -92,3 +92,41 @@ def pen_series(path):
         "depth_peak": max(dep) if dep else None,
         "depth_final": dep[-1] if dep else None,
     }
+
+
+def floor_mm(ctx, name):
+    """The floor (mm) of results/references/<name> (reader.reference_floor; NaN when missing)."""
+    return reader.reference_floor_mm(ctx.root, name)
+
+
+def word(outcome, a_name, b_name):
+    """An outcome of rules.decide in words: the better one's name, "within noise", "not judged"."""
+    if outcome == "a":
+        return a_name
+    if outcome == "b":
+        return b_name
+    if outcome == rules.WITHIN_NOISE:
+        return "within noise"
+    return "not judged (%s)" % outcome
+
+
+def figure(r, key="pos_err_max_mm", fmt="%.3g"):
+    """A row's figure with its stability when it is not stable: "1.23" or "1.23 (unstable)"."""
+    v = r.get(key)
+    if not reader.present(v):
+        return "-"
+    return (fmt % v) + ("" if r.get("stable") == "yes" else " (%s)" % (r.get("stability") or "not stable"))
+
+
+def verdict_line(label, verdict, outcomes, expected="a", rule=""):
+    """The closing line of a claim's section: its verdict, the counts, the rule."""
+    t = rules.tally(outcomes, expected)
+    return "**Verdict %s: %s** (%s)%s" % (label, verdict, rules.tally_text(t), (". " + rule) if rule else "")
+
+
+def tally_macros(prefix, verdict, outcomes, expected="a"):
+    """The verdict and its counts as macros: <prefix>Verdict, <prefix>For, <prefix>Against,
+    <prefix>Noise, <prefix>NotJudged."""
+    t = rules.tally(outcomes, expected)
+    return [(prefix + "Verdict", verdict), (prefix + "For", str(t["for"])), (prefix + "Against", str(t["against"])),
+            (prefix + "Noise", str(t["noise"])), (prefix + "NotJudged", str(t["not judged"]))]

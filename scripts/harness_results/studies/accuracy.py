@@ -11,7 +11,7 @@ tables/accuracy_time_front.tex; the Pareto front (rules.pareto) of the stable se
 import math
 import os
 
-from .. import rules, runner, style, writers
+from .. import reader, rules, runner, style, writers
 from ..rules import INJECTION_LIMIT, MARGIN
 from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
 from .common import (PARETO_CAP_MM, PENALTY, SCENES, STUDY_EVERY, combine, config_sets, figure_path,
@@ -27,6 +27,8 @@ FOOTING_VOXELS = {"sphere_collision": [0.004, 0.008], "cylinder_press": [0.008, 
                   "implant_expansion": [0.008, 0.016]}
 FOOTING_FORCES = ["0.0005", "0.001", "0.003", "0.01", "auto"]
 BOTH_WAYS = ["contacts.0.two_sided=true"]
+BOUND = "references.volume=true"
+NO_FORCE = "no contact force"
 
 
 def method_configs(scene):
@@ -39,7 +41,7 @@ def method_configs(scene):
             for f in FOOTING_FORCES:
                 out.append((label, "voxel", v, e, f, []))
         out.append((label, "voxel", v, "line", PENALTY, []))
-        out.append((label, "voxel", v, "projection", "auto", []))
+        out.append((label, "voxel", v, "projection", "auto", [BOUND]))
     for v in voxels + [2 * voxels[-1]]:
         label = "voxel_exact %g mm" % (1e3 * v)
         out.append((label, "voxel_exact", v, "line", "auto", []))
@@ -48,10 +50,29 @@ def method_configs(scene):
     for d in ["hash", "cgal", "fcl"]:
         for f in ["auto", PENALTY]:
             out.append((d, d, None, "line", f, []))
-        out.append((d, d, None, "projection", "auto", []))
+        # The restriction (positions projected out): its run also times the penetration region's
+        # bound (CGAL's corefinement of the two surfaces, references.volume) for claim (c).
+        out.append((d, d, None, "projection", "auto", [BOUND]))
     for d in ["hash", "cgal"]:
         out.append((d + ", both ways", d, None, "line", PENALTY, BOTH_WAYS))
+    # The baseline: contact detected, never pushed (the run a useful setting must beat).
+    out.append((NO_FORCE, "voxel", voxels[0], "line", "0", []))
     return out
+
+
+def method_extra(scene, label, det, voxel, elim, force):
+    """The extra --set overrides of one configuration of method_configs."""
+    return next(c[5] for c in method_configs(scene) if c[:5] == (label, det, voxel, elim, force))
+
+
+def bound_time_us(folder):
+    """Median µs of CGAL's corefinement of the two surfaces (the penetration region's bound) over the
+    run's measured steps that computed it (steps.csv t_volume_us); NaN when none did."""
+    try:
+        _, v = reader.measured(reader.load_steps(folder), "t_volume_us")
+    except (OSError, KeyError):
+        return float("nan")
+    return rules.median(v)
 
 
 def run(a):
@@ -64,13 +85,18 @@ def run(a):
             jobs += js
     sums = runner.run_all(a, jobs)
     for scene, label, det, voxel, elim, force, i, n in index:
+        extra = method_extra(scene, label, det, voxel, elim, force)
         rows.append(dict(combine(sums[i:i + n]), scene=scene, config=label, detector=det, eliminator=elim,
-                         force=force_label(force) if elim != "projection" else "positions"))
+                         force=force_label(force) if elim != "projection" else "positions",
+                         voxel_mm=1e3 * voxel if voxel else float("nan"),
+                         two_sided="yes" if BOTH_WAYS[0] in extra else "no",
+                         t_bound_us=bound_time_us(jobs[i][1]) if BOUND in extra else float("nan")))
     cols = ["scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "steps",
             "pos_err_max_mm", "pos_err_max_max_mm", "pos_err_amp_mm", "pos_err_final_mm", "pos_err_rms_mm", "gap_max_mm",
             "gap_mean_mm", "depth_max_mm", "depth_peak_mm", "tunnelled", "tunnelled_peak", "stability", "verdict",
             "contact_power_ratio", "recall", "precision", "recall_host", "precision_host", "beyond_band_total",
-            "t_contact_us", "t_contact_range", "t_step_us", "repeats"]
+            "t_contact_us", "t_contact_range", "t_contact_min_us", "t_contact_max_us", "t_step_us", "t_step_min_us",
+            "t_step_max_us", "t_bound_us", "voxel_mm", "two_sided", "repeats"]
     for r in rows:
         r["front"] = ""
     md = ["# What accuracy costs in time\n\n",
@@ -90,7 +116,7 @@ def run(a):
           % (STUDY_EVERY, a.repeats, MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN)]
     for scene in SCENES:
         sr = [r for r in rows if r["scene"] == scene]
-        front = rules.pareto(sr)
+        front = rules.pareto([r for r in sr if r["config"] != NO_FORCE])
         for r in front:
             r["front"] = "yes"
         md.append("\n## %s\n\n" % scene)
@@ -127,6 +153,8 @@ def plot_pareto(a, scene, rows, front):
     key.axis("off")
     floor = 1e-3
     pts, off = [], 0
+    base = [r for r in rows if r["config"] == NO_FORCE and not math.isnan(r["pos_err_max_mm"])]
+    rows = [r for r in rows if r["config"] != NO_FORCE]
     shown = [r for r in rows if not (math.isnan(r["pos_err_max_mm"]) or math.isnan(r["t_contact_us"]))]
 
     def xy(r):
@@ -147,6 +175,8 @@ def plot_pareto(a, scene, rows, front):
     fr = sorted(front, key=lambda r: (r["t_contact_us"], r["pos_err_max_mm"]))
     if fr:
         ax.step([xy(r)[0] for r in fr], [xy(r)[1] for r in fr], where="post", color="k", lw=0.7, zorder=2)
+    for r in base:  # the error with contact detected and never pushed: a useful setting is below it
+        ax.axhline(min(max(r["pos_err_max_mm"], floor), PARETO_CAP_MM), color="0.45", lw=0.7, ls=":", zorder=1)
     ax.set_xscale("log")
     ax.set_yscale("log")
     style.plain_log_ticks(ax.xaxis, ax.yaxis)
@@ -165,6 +195,8 @@ def plot_pareto(a, scene, rows, front):
     col2 = [Line2D([], [], ls="none", marker=ELIMINATOR_MARKER[e], ms=5, mfc="0.5", mec="none", label=e)
             for e in ELIMINATOR_MARKER if any(r["eliminator"] == e for r in rows)]
     col2.append(Line2D([], [], color="k", lw=0.7, marker="o", ms=5, mfc="0.5", mec="k", label="front (stable)"))
+    if base:
+        col2.append(Line2D([], [], color="0.45", lw=0.7, ls=":", label="no contact force"))
     if off:
         col2.append(Line2D([], [], ls="none", marker="$\\uparrow$", ms=6, color="0.3",
                            label="%d above %g m (blown up)" % (off, PARETO_CAP_MM / 1e3)))

@@ -10,8 +10,9 @@ from .. import reader, runner, writers
 from .common import config_sets, figures, force_label, table_path
 
 ORIENT_SCENE = "implant_expansion"
-ORIENT_FORCES = ["0.003", "0.03", "auto"]
-ORIENT_VOXELS = [0.004, 0.008, 0.016]
+# The equal-footing grid (accuracy.FOOTING_VOXELS: voxels at and above the host's node spacing).
+ORIENT_FORCES = ["0.001", "0.003", "0.01", "auto"]
+ORIENT_VOXELS = [0.008, 0.016]
 
 
 def run(a):
@@ -26,13 +27,15 @@ def run(a):
     for (force, voxel, elim, o), s in runner.run_configs(a, configs):
         rows.append(dict(figures(s), scene=ORIENT_SCENE, eliminator=elim, orient=o, force=force_label(force),
                          voxel_mm=1e3 * voxel, max_depth_peak_mm=reader.pair_figures(s)["max_depth_peak_mm"]))
-    cols = ["scene", "eliminator", "orient", "force", "voxel_mm", "stable", "why_unstable", "pos_err_max_mm",
-            "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "recall", "t_contact_us"]
+    cols = ["scene", "eliminator", "orient", "force", "voxel_mm", "stable", "stability", "why_unstable", "pos_err_max_mm",
+            "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "tunnelled", "true_pen_final", "recall",
+            "t_contact_us"]
     writers.write_csv(os.path.join(a.results, "orient.csv"), rows, cols)
     md = ["# Claim (a) without its confound: line and plane, each oriented both ways\n\n",
           "The voxel model on %s: line and plane with `orient` `guest` (pushed from the host node, or the plane, "
           "toward the guest node: the paper's line) and `outward` (agreeing with the host's outward normals: the "
-          "paper's plane), over forces %s and voxels %s mm, against the converged reference (errors at the end, mm). "
+          "paper's plane), over forces %s and voxels %s mm, against the converged reference (errors over the "
+          "final window, mm: rules.py). "
           "Made by `scripts/study.py orient`; the verdict is in claims.md.\n\n" % (
               ORIENT_SCENE, ", ".join(force_label(f) for f in ORIENT_FORCES), ", ".join("%g" % (1e3 * v) for v in ORIENT_VOXELS)),
           writers.md_table(rows, ["force", "voxel_mm", "eliminator", "orient", "stable", "pos_err_max_mm",

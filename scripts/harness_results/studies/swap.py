@@ -42,13 +42,13 @@ def run(a):
         rows.append(dict(figures(s), scene=scene, eliminator=elim, force=force_label(force), voxel_mm=1e3 * voxel,
                          host=h, guest=g, swapped="yes" if swapped else "no",
                          max_depth_peak_mm=reader.pair_figures(s)["max_depth_peak_mm"]))
-    cols = ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "swapped", "stable", "why_unstable",
-            "pos_err_max_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "recall",
+    cols = ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "swapped", "stable", "stability", "why_unstable",
+            "pos_err_max_mm", "pos_err_amp_mm", "tunnelled", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "recall",
             "precision", "t_contact_us"]
     writers.write_csv(os.path.join(a.results, "swap.csv"), rows, cols)
     md = ["# Which body carries the grid\n\n",
           "The voxel model with host and guest as the scene has them and swapped (the grid on the other body), "
-          "against the converged reference (errors at the end of the run, mm; peak depth over the run; recall "
+          "against the converged reference (errors over the final window, mm; peak depth over the run; recall "
           "and precision of the guest nodes detected, CGAL every 10 steps). Made by `scripts/study.py swap`.\n\n",
           writers.md_table(rows, ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "stable",
                                   "pos_err_max_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final",

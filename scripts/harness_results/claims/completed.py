@@ -1,0 +1,60 @@
+"""The paper's "future work", the completed voxel model (detector voxel_exact: the grid of the paper
+whose voxels also hold the host's triangles, an exact inside test and the nearest face), judged on
+results/accuracy_time.csv: per scenario, its most accurate stable setting against the most accurate
+stable exact method (CGAL or hashing, either contact sense): for the claim "both fast and right"
+when its position error is within the noise of that method's (or smaller) and its detection and
+elimination is faster than the fastest exact setting that reaches its error, beyond the repeats'
+spread; against it otherwise; not judged without a stable setting.
+"""
+
+import math
+
+from .. import rules
+from .c_restrictions import accuracy_rows
+from .common import SCENE_ORDER, Verdict, figure, floor_mm, tally_macros, verdict_line
+
+EXACT = ["cgal", "hash"]
+
+
+def judge(ctx):
+    rows = accuracy_rows(ctx)
+    head = ["## The completed model (voxel_exact): both fast and right?", ""]
+    if not rows:
+        return Verdict("completed", rules.NOT_TESTED, head + ["Not tested: results/accuracy_time.csv is missing.", ""])
+    md = head + ["Per scenario: voxel_exact's most accurate stable setting against the most accurate stable exact "
+                 "method (CGAL, hashing); then against the fastest exact setting at least as accurate as it (within "
+                 "the noise).", "",
+                 "| scenario | voxel_exact | error (mm) | µs | best exact | error (mm) | fastest exact as accurate | µs | "
+                 "speed-up | outcome |", "|---|---|---:|---:|---|---:|---|---:|---:|---|"]
+    outcomes, speedups = [], []
+    for scene in SCENE_ORDER:
+        floor = floor_mm(ctx, scene)
+        sr = [r for r in rows if r["scene"] == scene and rules.is_stable(r) and not math.isnan(r["pos_err_max_mm"])]
+        ve = [r for r in sr if r["detector"] == "voxel_exact"]
+        ex = [r for r in sr if r["detector"] in EXACT]
+        if not ve or not ex:
+            outcomes.append(rules.NOT_STABLE)
+            md.append("| %s | none stable | | | | | | | | not judged |" % scene)
+            continue
+        v = min(ve, key=lambda r: (r["pos_err_max_mm"], r["t_contact_us"]))
+        e = min(ex, key=lambda r: (r["pos_err_max_mm"], r["t_contact_us"]))
+        right = rules.decide(v, e, floor=floor) in ("a", rules.WITHIN_NOISE)
+        limit = v["pos_err_max_mm"] + rules.noise(v, v, floor=floor)
+        rivals = [r for r in ex if r["pos_err_max_mm"] <= limit]
+        f = min(rivals, key=lambda r: r["t_contact_us"]) if rivals else None
+        fast = f is None or rules.time_decide(v, f, "t_contact") == "a"
+        o = "a" if (right and fast) else "b"
+        outcomes.append(o)
+        if f is not None and v["t_contact_us"] > 0:
+            speedups.append(f["t_contact_us"] / v["t_contact_us"])
+        md.append("| %s | %s | %s | %.3g | %s | %s | %s | %s | %s | %s |" % (
+            scene, "%s, %s" % (v["config"], v["force"]), figure(v), v["t_contact_us"], "%s, %s" % (e["config"], e["force"]),
+            figure(e), "%s, %s" % (f["config"], f["force"]) if f else "none", "%.3g" % f["t_contact_us"] if f else "-",
+            "%.3g" % (f["t_contact_us"] / v["t_contact_us"]) if f and v["t_contact_us"] > 0 else "-",
+            "for" if o == "a" else "against (%s)" % ("less accurate" if not right else "not faster beyond the spread")))
+    verdict = rules.claim_verdict(outcomes, "a")
+    md += ["", verdict_line("(completed model)", verdict, outcomes), ""]
+    macros = tally_macros("ClaimVE", verdict, outcomes)
+    if speedups:
+        macros += [("ClaimVESpeedupMin", "%.2g" % min(speedups)), ("ClaimVESpeedupMax", "%.2g" % max(speedups))]
+    return Verdict("completed", verdict, md, macros, data=outcomes)
