@@ -3,6 +3,7 @@
 // size before anything is reserved, and every token is parsed with std::from_chars.
 #include "core/mesh.hpp"
 
+#include "core/edge_key.hpp"
 #include "core/geometry.hpp"
 
 #include <algorithm>
@@ -26,13 +27,6 @@ constexpr double kMaxCoordinate = 1e12;                  // m; beyond this volum
 template <class C>
 int isize(const C& c) {
   return static_cast<int>(c.size());
-}
-
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
 }
 
 // How vertices and faces are named in messages: check_surface uses mesh indices, the reader

@@ -2,6 +2,7 @@
 
 #include "core/collision/collision.hpp"
 #include "core/effects/effects.hpp"
+#include "core/shapes.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -274,7 +275,7 @@ ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json&
       s.radii = o.vec3("radii", std::nullopt);
       if ((s.radii.array() <= 0.0).any()) c.fail(o.at("radii"), "radii must be > 0");
     }
-    s.subdivisions = static_cast<int>(o.integer("subdivisions", 2, 0, 7));
+    s.subdivisions = static_cast<int>(o.integer("subdivisions", 2, 0, kMaxSubdivisions));
     fill();
   } else if (s.type == "cylinder") {
     s.center = o.vec3("center", Vec3::Zero());

@@ -1,4 +1,4 @@
-// Scene format (DESIGN.md, "Scene format"): one JSON object, SI units, loaded once and
+// Scene format (docs/scenes.md): one JSON object, SI units, loaded once and
 // validated strictly. Every bad input throws InputError naming the file and the key path
 // (or line and column for malformed JSON). Defaults are written into `resolved`, which the
 // run records in summary.json.

@@ -1,8 +1,9 @@
 // Mass-spring models from shape descriptions. Everything here runs once at load time, so it is
-// written for clarity and robustness, but stays O(n log n) so that fine icospheres (10
-// subdivisions, 10 million vertices) remain buildable.
+// written for clarity and robustness, but stays O(n log n) so that fine surfaces (millions of
+// vertices) remain buildable.
 #include "core/shapes.hpp"
 
+#include "core/edge_key.hpp"
 #include "core/geometry.hpp"
 
 #include <algorithm>
@@ -18,7 +19,6 @@ namespace harness {
 namespace {
 
 constexpr long long kMaxBoxNodes = 20'000'000;
-constexpr int kMaxSubdivisions = 10;
 constexpr long long kMaxCylinderNodes = 20'000'000;
 // Volume fill: the interior lattice spans the bounding box with at most this many points; a
 // finer lattice (mean edge length on a very fine surface) is coarsened to fit.
@@ -34,15 +34,6 @@ int isize(const C& c) {
 
 void require(bool ok, const std::string& msg) {
   if (!ok) throw std::invalid_argument(msg);
-}
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
-}
-Edge key_edge(std::uint64_t k) {
-  return {static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)};
 }
 
 void sort_unique(std::vector<std::uint64_t>& v) {

@@ -32,6 +32,10 @@ struct ShapeModel {
 // Always volumetric. Lumped volume: each cell gives 1/8 of its volume to each corner.
 ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells);
 
+// Icosphere subdivisions at most (163842 surface vertices): the generators' limit and the scene
+// format's (bodies.N.shape.subdivisions).
+constexpr int kMaxSubdivisions = 7;
+
 // Icosphere: an icosahedron subdivided `subdivisions` times (each splits every triangle in
 // four), projected onto the sphere; 10*4^s + 2 surface vertices.
 ShapeModel make_sphere(const Vec3& center, double radius, int subdivisions, Fill fill);

@@ -1,4 +1,4 @@
-// The command-line program `harness` (DESIGN.md, "Command line").
+// The command-line program `harness` (README.md, "Usage").
 #include "core/parallel.hpp"
 #include "core/run.hpp"
 #include "core/scene.hpp"

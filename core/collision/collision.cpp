@@ -26,8 +26,8 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
   magnitude_.reserve(contacts_.capacity());
   pushes_.reserve(contacts_.capacity());
   share_.assign(w.x.size(), 0);
-  // Length scale of the automatic force for detectors without a grid: mean host spring length.
-  length_scale_ = mean_rest_length(w, spec_.host);
+  // Length scale of the automatic force for detectors without a grid: the host's node spacing.
+  length_scale_ = node_spacing(w, spec_.host);
   if (spec_.two_sided) {
     reverse_spec_ = spec_;
     std::swap(reverse_spec_.host, reverse_spec_.guest);

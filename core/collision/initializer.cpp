@@ -17,12 +17,6 @@ std::string pair_name(const World& w, const ContactSpec& s) {
          "')";
 }
 
-// A body's bounding box (body_bounds, in parallel: points_bounds in voxel_data.hpp).
-void bounds_of(const World& w, int body, Vec3& lo, Vec3& hi) {
-  const Body& b = w.bodies[body];
-  points_bounds(w.x, b.begin, b.end, lo, hi);
-}
-
 }  // namespace
 
 double resolve_voxel_size(const World& w, const ContactSpec& spec) {
@@ -31,13 +25,7 @@ double resolve_voxel_size(const World& w, const ContactSpec& spec) {
   if (spec.voxel_size > 0.0) return round_down_pow2(spec.voxel_size);
 
   const Body& b = w.bodies[spec.host];
-  double spacing = mean_rest_length(w, spec.host);
-  if (b.spring_end <= b.spring_begin && b.size() > 0) {
-    // No springs (a rigid or hand-made host): the spacing of a uniform lattice of its nodes.
-    Vec3 lo, hi;
-    body_bounds(w, spec.host, lo, hi);
-    spacing = (hi - lo).maxCoeff() / std::cbrt(static_cast<double>(b.size()));
-  }
+  const double spacing = node_spacing(w, spec.host);
   if (!(spacing > 0.0) || !std::isfinite(spacing))
     throw std::invalid_argument("cannot choose an automatic voxel_size for host '" + b.name +
                                 "' (no springs and no extent); give voxel_size");
@@ -56,7 +44,7 @@ void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData&
   rebuilds_ = 0;
 
   Vec3 lo, hi;
-  bounds_of(w, spec.host, lo, hi);
+  body_bounds(w, spec.host, lo, hi);
   const Vec3 c = 0.5 * (lo + hi);
   const Vec3 h = 0.5 * (hi - lo);
   if (!all_finite(c) || !all_finite(h))
@@ -70,7 +58,7 @@ void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData&
 
 Vec3 Initializer::guest_center(const World& w) const {
   Vec3 lo, hi;
-  bounds_of(w, spec_.guest, lo, hi);
+  body_bounds(w, spec_.guest, lo, hi);
   return 0.5 * (lo + hi);
 }
 
@@ -138,7 +126,7 @@ void Initializer::build(const World& w, const Vec3& host_half, const Vec3& host_
 
 GridGeometry Initializer::update(const World& w, VoxelData& grid) {
   Vec3 lo, hi;
-  bounds_of(w, spec_.host, lo, hi);
+  body_bounds(w, spec_.host, lo, hi);
   const Vec3 c = 0.5 * (lo + hi);
   const Vec3 h = 0.5 * (hi - lo);
   center_ = c;
@@ -162,7 +150,7 @@ GridGeometry Initializer::update(const World& w, VoxelData& grid) {
   }
 
   Vec3 glo, ghi;
-  bounds_of(w, spec_.guest, glo, ghi);
+  body_bounds(w, spec_.guest, glo, ghi);
   const double inv_v = 1.0 / voxel_;
   const double m = spec_.margin;
   for (int a = 0; a < 3; ++a) {

@@ -3,6 +3,7 @@
 // definitions': voxel_of, the serial scatter) in every kernel. set_parallel_grain(1) makes the
 // small worlds here take the parallel code paths, where the spring and dashpot gathers run.
 #include "core/collision/voxel_data.hpp"
+#include "core/world.hpp"
 #include "core/cpu.hpp"
 #include "core/parallel.hpp"
 #include "core/scene.hpp"

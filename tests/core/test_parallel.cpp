@@ -2,6 +2,7 @@
 // fast forms equal their plain serial definitions bit for bit. set_parallel_grain(1) makes the
 // small worlds here take the parallel code paths.
 #include "core/collision/voxel_data.hpp"
+#include "core/world.hpp"
 #include "core/spring_forces.hpp"
 #include "core/parallel.hpp"
 #include "core/scene.hpp"
