@@ -470,15 +470,19 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
   p.path = path;
   p.host = o.string("host", std::nullopt);
   p.guest = o.string("guest", std::nullopt);
-  auto known = [&](const std::string& name) {
-    for (const BodySpec& b : s.bodies)
-      if (b.name == name) return true;
-    return false;
+  // The one check of the names a scene gives; the spec gets the bodies' indices (the world lays
+  // the bodies out in scene order).
+  auto index = [&](const std::string& name) {
+    for (std::size_t i = 0; i < s.bodies.size(); ++i)
+      if (s.bodies[i].name == name) return static_cast<int>(i);
+    return -1;
   };
-  if (!known(p.host)) c.fail(o.at("host"), "unknown body \"" + p.host + "\"");
-  if (!known(p.guest)) c.fail(o.at("guest"), "unknown body \"" + p.guest + "\"");
-  if (p.host == p.guest) c.fail(o.at("guest"), "host and guest must be different bodies");
   ContactSpec& cs = p.spec;
+  cs.host = index(p.host);
+  cs.guest = index(p.guest);
+  if (cs.host < 0) c.fail(o.at("host"), "unknown body \"" + p.host + "\"");
+  if (cs.guest < 0) c.fail(o.at("guest"), "unknown body \"" + p.guest + "\"");
+  if (p.host == p.guest) c.fail(o.at("guest"), "host and guest must be different bodies");
   std::vector<std::pair<DetectorKind, const char*>> detectors;
   for (const DetectorName& d : detector_names()) detectors.emplace_back(d.kind, d.name);
   cs.detector = pick(o, "detector", "voxel", detectors);

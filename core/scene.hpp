@@ -105,9 +105,9 @@ struct BodySpec {
 };
 
 struct ContactPairSpec {
-  std::string host, guest;
-  ContactSpec spec;  // host/guest indices filled when the world is built
-  std::string path;  // "contacts.N"
+  std::string host, guest;  // body names, as the scene gives them
+  ContactSpec spec;         // the pair's parameters; host and guest are the bodies' indices
+  std::string path;         // "contacts.N"
 };
 
 struct Scene {

@@ -218,14 +218,8 @@ void Simulation::build_kinematics() {
 }
 
 void Simulation::build_pairs() {
-  for (const ContactPairSpec& cp : scene_.contacts) {
-    Pair p;
-    p.spec = cp.spec;
-    p.spec.host = world_.find_body(cp.host);
-    p.spec.guest = world_.find_body(cp.guest);
-    p.label = cp.host + "/" + cp.guest;
-    pairs_.push_back(std::move(p));
-  }
+  pairs_.reserve(scene_.contacts.size());
+  for (const ContactPairSpec& cp : scene_.contacts) pairs_.emplace_back(cp.spec, cp.host + "/" + cp.guest);
 }
 
 void Simulation::build_effects(const SimulationOptions& options) {

@@ -168,9 +168,6 @@ double VoxelExactDetector::automatic_voxel_size(const World& w, const ContactSpe
 }
 
 void VoxelExactDetector::initialize(const World& w, const ContactSpec& spec) {
-  const int nb = static_cast<int>(w.bodies.size());
-  if (spec.host < 0 || spec.host >= nb || spec.guest < 0 || spec.guest >= nb)
-    throw std::invalid_argument("contact pair: host or guest body index out of range");
   const Body& h = w.bodies[spec.host];
   if (h.faces.empty() || h.n_surface <= 0)
     throw std::invalid_argument("voxel_exact detector: the host '" + h.name + "' has no surface");
@@ -180,8 +177,7 @@ void VoxelExactDetector::initialize(const World& w, const ContactSpec& spec) {
   ContactSpec grid_spec = spec;
   grid_spec.host_nodes = HostNodes::surface;
   if (spec.voxel_size == 0.0) grid_spec.voxel_size = automatic_voxel_size(w, spec);
-  init_.initialize(w, grid_spec, grid_);  // validates the rest of the spec
-  spec_ = spec;
+  init_.initialize(w, grid_spec, grid_);
   host_begin_ = h.begin;
   n_surface_ = h.n_surface;
   faces_ = h.faces;
@@ -480,7 +476,7 @@ void VoxelExactDetector::scan(const World& w, const VoxelIndexer& idx, int begin
   }
 }
 
-void VoxelExactDetector::detect(const World& w, const ContactSpec&, std::vector<Contact>& out) {
+void VoxelExactDetector::detect(const World& w, std::vector<Contact>& out) {
   out.clear();
   beyond_ = 0;
   if (++now_ == 0) {  // the counter wrapped: forget every stamp
