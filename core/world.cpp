@@ -59,6 +59,12 @@ double enclosed_volume(const World& w, int body) {
   return v / 6.0;
 }
 
+double kinetic_energy(const World& w) {
+  double e = 0.0;
+  for (int i = 0; i < w.num_nodes(); ++i) e += 0.5 * w.m[i] * w.v[i].squaredNorm();
+  return e;
+}
+
 double mean_rest_length(const World& w, int body) {
   const Body& b = w.bodies[body];
   if (b.spring_end <= b.spring_begin) return 0.0;

@@ -92,6 +92,9 @@ void body_bounds(const World& w, int body, Vec3& lo, Vec3& hi);
 Vec3 vertex_normal(const World& w, int body, int s);
 // Enclosed volume of a body's current surface (divergence theorem), m^3.
 double enclosed_volume(const World& w, int body);
+// Kinetic energy of every node, sum of m v^2 / 2, J, in node order: the state's, outside the
+// step (the energy audit books it within the step's own pass over the nodes, energy_audit.hpp).
+double kinetic_energy(const World& w);
 // Mean rest length of a body's springs, m (0 without springs).
 double mean_rest_length(const World& w, int body);
 // The node spacing of a body, m, the one estimate of how far apart its nodes are: the mean rest
