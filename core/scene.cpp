@@ -2,7 +2,7 @@
 
 #include "core/collision/collision.hpp"
 #include "core/effects/effects.hpp"
-#include "core/shapes.hpp"
+#include "core/shapes/shapes.hpp"
 
 #include <cctype>
 #include <cmath>

@@ -1,7 +1,7 @@
 #include "core/world_build.hpp"
 
 #include "core/mesh.hpp"
-#include "core/shapes.hpp"
+#include "core/shapes/shapes.hpp"
 
 #include <cmath>
 #include <limits>
