@@ -7,7 +7,7 @@
 
 #include "core/measure.hpp"
 #include "core/run/report.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 
 #include <functional>

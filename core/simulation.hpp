@@ -10,7 +10,7 @@
 #include "core/energy_audit.hpp"
 #include "core/engine.hpp"
 #include "core/implicit.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/stability.hpp"
 #include "core/state_hash.hpp"
 #include "core/world.hpp"

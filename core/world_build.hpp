@@ -7,7 +7,7 @@
 #pragma once
 
 #include "core/effects/effects.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/world.hpp"
 
 #include <vector>

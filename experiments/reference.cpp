@@ -32,18 +32,20 @@ double default_stiffness(const Scene& sc) {
 
 // The scene of level i: exact detection, penalty k, contact both ways (or one), dt / 2^i, the
 // guard substepping wherever dt_crit requires it, the scene's own settling tolerance.
+// The base scene's document edited, validated once.
 Scene level_scene(const Scene& base, int level, double k, bool one_sided) {
-  json s = rescale_dt(base, 1 << level).resolved;
+  json s = base.resolved;
+  rescale_steps(s, 1 << level);
   const double tol = base.settle.present ? base.settle.tolerance : 1e-5;
   const long long max_steps = base.settle.present ? 4LL * base.settle.max_steps : 20LL * std::max(1, base.steps);
   s["time"]["settle"] = {{"tolerance", tol}, {"max_steps", max_steps * (1 << level)}};
-  s["time"]["guard"] = "substep";
+  s["time"]["guard"] = scene_word(Guard::substep);
   bool contact = false;
   for (const auto& e : s["effects"]) contact = contact || e == "contact";
   if (!contact) s["effects"].push_back("contact");
   for (json& c : s["contacts"]) {
-    c["detector"] = "cgal";
-    c["eliminator"] = "line";
+    c["detector"] = scene_word(DetectorKind::cgal);
+    c["eliminator"] = scene_word(EliminatorKind::line);
     c["force"] = {{"stiffness", k}};
     c["two_sided"] = !one_sided;
   }

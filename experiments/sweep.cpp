@@ -1,7 +1,7 @@
 #include "experiments/sweep.hpp"
 
 #include "core/run/summary_keys.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 #include <nlohmann/json.hpp>
 

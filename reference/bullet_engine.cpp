@@ -1,7 +1,7 @@
 #include "reference/bullet_engine.hpp"
 
 #include "core/clock.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/world.hpp"
 
 #include <BulletSoftBody/btSoftBody.h>

@@ -59,7 +59,7 @@ void FrameWriter::write(const Simulation& sim, const Recorder& rec, int step) {
   std::snprintf(num, sizeof num, "%06d", step);
   const World& w = sim.world();
   const FrameFormat fmt = sc.frame_format;
-  const char* ext = fmt == FrameFormat::vtp ? ".vtp" : fmt == FrameFormat::vtu ? ".vtu" : ".vtk";
+  const std::string ext = std::string(".") + scene_word(fmt);
   Points force;
   if (fmt != FrameFormat::vtk) force = contact_forces(sim);
   for (std::size_t b = 0; b < w.bodies.size(); ++b) {

@@ -82,11 +82,11 @@ json window_json(const StabilityJudgement& j) {
 json stability_json(const Simulation& sim) {
   const Scene& sc = sim.scene();
   const SimulationStats& st = sim.stats();
-  json j = {{"integrator", sc.integrator == Integrator::symplectic_euler ? "symplectic_euler" : "implicit_euler"},
+  json j = {{"integrator", scene_word(sc.integrator)},
             {"dt", sc.dt},
             {"dt_crit", num_or_null(st.stability.dt_crit)},
             {"dt_crit_min", num_or_null(st.stability.dt_crit_min)},
-            {"guard", sc.guard == Guard::refuse ? "refuse" : "substep"},
+            {"guard", scene_word(sc.guard)},
             {"guard_every_steps", StabilityGuard::kEvery},
             {"substeps", st.stability.substeps}};
   if (sc.integrator == Integrator::implicit_euler)
@@ -101,7 +101,7 @@ json pair_json(const Simulation& sim, const Recorder& rec, const RunOutcome& out
   auto measured = [&](json v) { return t.measured ? v : json(nullptr); };
   json pj;
   pj["pair"] = p.label;
-  pj["detector"] = p.collision        ? json(to_string(p.spec.detector))
+  pj["detector"] = p.collision        ? json(scene_word(p.spec.detector))
                    : p.engine_contact ? json(p.engine_contact)
                                       : json(nullptr);
   at(pj, key::kVoxelSizeUsed) =

@@ -6,7 +6,7 @@
 #include "core/world.hpp"
 #include "core/cpu.hpp"
 #include "core/parallel.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simd/kernels.hpp"
 #include "core/simulation.hpp"
 #include "core/spring_forces.hpp"

@@ -5,7 +5,7 @@
 #include "core/world.hpp"
 #include "core/spring_forces.hpp"
 #include "core/parallel.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 
 #include "tests/core/scatter_reference.hpp"
