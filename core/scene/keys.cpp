@@ -214,7 +214,7 @@ const std::vector<SceneKey>& scene_keys() {
 
 const std::vector<SceneKind>& scene_kinds() {
   static const std::vector<SceneKind> kinds = {
-      {"scene", "", "A scene of the harness (docs/scenes.md): one JSON object in SI units (m, kg, s, N, Pa). This schema mirrors the loader (core/scene.cpp) for unknown keys, types, missing keys and ranges; the checks it cannot express (unique body names, contact bodies that exist, min below max, node budgets, mesh files) are listed in docs/scenes.md, \"JSON Schema\". Printed by `harness schema`.", json::object()},
+      {"scene", "", "A scene of the harness (docs/scenes.md): one JSON object in SI units (m, kg, s, N, Pa). This schema is generated from the loader's key table (core/scene/keys.cpp) for unknown keys, types, missing keys and ranges; the checks it cannot express (unique body names, contact bodies that exist, min below max, node budgets, mesh files) are listed in docs/scenes.md, \"JSON Schema\". Printed by `harness schema`.", json::object()},
       {"time", "", "", json::object()},
       {"settle", "", "", json::object()},
       {"references", "", "", json::object()},
