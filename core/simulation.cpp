@@ -46,7 +46,7 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : s
 
 void Simulation::build_pairs() {
   pairs_.reserve(scene_.contacts.size());
-  for (const ContactPairSpec& cp : scene_.contacts) pairs_.emplace_back(cp.spec, cp.host + "/" + cp.guest);
+  for (const ContactPairSpec& cp : scene_.contacts) pairs_.emplace_back(cp.spec, cp.label);
 }
 
 void Simulation::build_effects(const SimulationOptions& options) {

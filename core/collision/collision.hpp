@@ -105,7 +105,7 @@ class Collision {
 struct Pair {
   Pair(const ContactSpec& s, std::string l) : spec(s), label(std::move(l)) {}
   const ContactSpec& spec;  // the scene's (Scene::contacts[i].spec, owned by the simulation)
-  std::string label;  // "host/guest"
+  std::string label;  // contacts.N.label ("host/guest")
   std::unique_ptr<Collision> collision;
   // Set when a peer engine (engine.hpp) handles this pair's contact: its contact model's name
   // (collision is then null; last.contacts and last.detect_us come from the engine).

@@ -281,6 +281,7 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
   p.path = path;
   p.host = o.string("host");
   p.guest = o.string("guest");
+  p.label = o.string("label", p.host + "/" + p.guest);
   // The one check of the names a scene gives; the spec gets the bodies' indices (the world lays
   // the bodies out in scene order).
   auto index = [&](const std::string& name) {

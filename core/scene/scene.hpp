@@ -107,6 +107,7 @@ struct BodySpec {
 
 struct ContactPairSpec {
   std::string host, guest;  // body names, as the scene gives them
+  std::string label;        // the pair's name in the outputs (default "host/guest")
   ContactSpec spec;         // the pair's parameters; host and guest are the bodies' indices
   std::string path;         // "contacts.N"
 };
