@@ -4,7 +4,6 @@
 #include "core/shapes/shapes.hpp"
 
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 namespace harness {
@@ -65,12 +64,7 @@ void append_body(World& w, const BodySpec& bs, ShapeModel&& model) {
   std::vector<int> fill(b.vf_start.begin(), b.vf_start.end() - 1);
   for (std::size_t fi = 0; fi < b.faces.size(); ++fi)
     for (int v : b.faces[fi]) b.vf_faces[fill[v]++] = static_cast<int>(fi);
-  b.rest_min = Vec3::Constant(std::numeric_limits<double>::infinity());
-  b.rest_max = -b.rest_min;
-  for (const Vec3& p : model.nodes) {
-    b.rest_min = b.rest_min.cwiseMin(p);
-    b.rest_max = b.rest_max.cwiseMax(p);
-  }
+  points_bounds(model.nodes, 0, static_cast<int>(model.nodes.size()), b.rest_min, b.rest_max);
   const int body_index = static_cast<int>(w.bodies.size());
   b.spring_begin = static_cast<int>(w.springs.size());
   for (std::size_t s = 0; s < model.springs.size(); ++s) {
