@@ -1,6 +1,7 @@
-// The energy audit of a run. Every effect that adds forces belongs to one category
-// (Effect::category()); the simulation keeps, per substep, the force each category added (by
-// snapshots of World::f between categories, so auditing never changes the state's bits).
+// The energy audit of a run: what is booked and why (energy_audit.hpp books it). Every effect that
+// adds forces belongs to one category (Effect::category()); per substep the force pass keeps the
+// forces the audit needs apart (the external effects' in their own array, the springs' and the
+// dashpots' as side outputs of their pass), so auditing never changes the state's bits.
 //
 // Symplectic Euler is leapfrog with staggered velocities: v_{n+1/2} = v_{n-1/2} + h F(x_n) / m,
 // x_{n+1} = x_n + h v_{n+1/2}. Its energy in the usual form oscillates by about h omega / 2 of

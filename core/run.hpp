@@ -1,10 +1,13 @@
 // `harness run`: simulates a scene and writes DIR/steps.csv (run/columns.hpp),
-// DIR/summary.json (run/summary.hpp), DIR/frames/*.vtk (run/frames.hpp) and, with CGAL,
-// DIR/penetration_episodes.csv. One loop: step, check, record (run/recorder.hpp), write.
+// DIR/summary.json (run/summary.hpp), DIR/surfaces.csv and DIR/trajectory.bin (run/surfaces.hpp),
+// DIR/frames/ (run/frame_writer.hpp) and, with CGAL, DIR/penetration_episodes.csv. One loop:
+// step, check, record (run/recorder.hpp), write; progress (run/progress.hpp), SIGINT and SIGTERM
+// (run/signals.hpp), the outcome, the warnings and the end line (run/report.hpp).
 #pragma once
 
 #include "core/measure.hpp"
-#include "core/scene.hpp"
+#include "core/run/report.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 
 #include <functional>
@@ -28,8 +31,9 @@ struct RunOptions {
 // 130 / 143 stopped by SIGINT / SIGTERM (outputs written, summary status "interrupted"),
 // 2 with `strict` when a warning was found at the end (tunnelled nodes; outputs written).
 // Throws InputError before anything is written when the scene cannot be built, or with
-// `strict` when a start warning (run/warnings.hpp) is found.
-int run_scene(const Scene& scene, const RunOptions& options);
+// `strict` when a start warning (run/warnings.hpp) is found. `outcome`, when given, receives what
+// the run found (what summary.json was written from).
+int run_scene(const Scene& scene, const RunOptions& options, RunOutcome* outcome = nullptr);
 
 // One step with the run's checks: the state before it is kept, and when the step throws (the
 // voxel region outgrew its cap) or leaves a non-finite state, it is put back and the reason is

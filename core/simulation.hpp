@@ -1,16 +1,20 @@
 // Builds a World from a Scene, with only the effects the scene lists, and advances it step by
-// step. Built in named steps: the world (bodies laid out in one set of arrays), the kinematic
-// selections (pins, drivers: resolved and checked whether listed or not), the contact pairs,
-// the effects (effects/effects.hpp: one factory, one interface), and the stability guard.
+// step. Built in named steps: the world (world_build.hpp: bodies laid out in one set of arrays),
+// the kinematic selections (pins, drivers, loads: resolved and checked whether listed or not),
+// the contact pairs, the effects (effects/effects.hpp: one factory, one interface), the
+// stability guard, and the energy audit (energy_audit.hpp).
 #pragma once
 
 #include "core/collision/collision.hpp"
 #include "core/effects/effects.hpp"
+#include "core/energy_audit.hpp"
 #include "core/engine.hpp"
 #include "core/implicit.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/stability.hpp"
+#include "core/state_hash.hpp"
 #include "core/world.hpp"
+#include "core/world_build.hpp"
 
 #include <memory>
 #include <string>
@@ -65,40 +69,31 @@ class Simulation {
   const StepEngine* engine() const { return engine_.get(); }  // null: the harness's own
   // Names of the effects simulated, in canonical order.
   std::vector<std::string> effects_simulated() const;
-  double kinetic_energy() const;
+  double kinetic_energy() const;    // of the current state (kinetic_energy(World), world.hpp)
   double potential_energy() const;  // stored energy of the built effects (springs, gravity)
   double elastic_energy() const;    // stored in the springs
   // The energy audit so far (audit on); zeros otherwise.
-  const EnergyLedger& energy() const { return ledger_; }
+  const EnergyLedger& energy() const;
   // Restarts the audit from the current state (after a caller changed it by hand).
   void reset_energy();
   // |net force on the free nodes| / |applied forces on them| (gravity, pressure, loads), or,
   // where nothing is applied, over the largest |spring forces| of the run so far, at the start
   // of the last substep; 0 without either, NaN with the audit off.
-  double residual() const { return residual_; }
+  double residual() const;
   double critical_dt() const;       // of the built effects at the current state, s
-  bool audited() const { return audit_; }
+  bool audited() const { return audit_ != nullptr; }
 
  private:
-  void build_world();
-  void build_kinematics();
   void build_pairs();
   void build_effects(const SimulationOptions& options);
   void integrate(const StepContext& s);
   void add_forces(StepContext& s);
   void after_integration(const StepContext& s);
-  // Symplectic Euler with the audit's booking in the same pass over the nodes (no position
-  // corrections), or the booking after the integrator and the corrections (the general path).
-  void integrate_and_book(const StepContext& s);
-  void book(const StepContext& s);
-  void close_substep(const StepContext& s, const double* sums);
   void engine_step();
 
   Scene scene_;
   World world_;
-  std::vector<int> pinned_nodes_;
-  std::vector<DriverNodes> drivers_;
-  std::vector<LoadNodes> loads_;
+  Kinematics kinematics_;
   std::vector<Pair> pairs_;
   Effects effects_;
   std::unique_ptr<StabilityGuard> guard_;
@@ -107,33 +102,12 @@ class Simulation {
   ImplicitEuler implicit_;
   LinearSystem system_;
   int step_index_ = 0;
-  bool audit_ = true;
   bool external_ = false;   // some external effect (gravity, pressure, loads) is built
   bool corrects_ = false;   // some effect corrects positions after integration (projection)
-  const Effect* contact_ = nullptr;  // the contact effect, for its work
   Points f_ext_;            // this substep's external forces: those effects add here (then into f)
-  // The audit's per-node arrays: the force pass's springs' and dashpots' parts, the springs'
-  // energy of each node, the previous substep's displacement, the velocities before the update
-  // (general path only).
-  Points f_spring_, f_dashpot_, disp_prev_, v_before_;
-  std::vector<double> node_energy_;
-  std::vector<double> mass_damping_;  // per node: its body's mass_damping where damping is built
-  std::vector<double> chunk_sums_;    // the booking pass's partial sums, per chunk of nodes
-  bool drivers_built_ = false;
-  // Work of the interval ahead of the last force point, booked when the next one closes it
-  // (energy.hpp): external, dissipative, drivers, contact.
-  double pending_[4] = {0.0, 0.0, 0.0, 0.0};
-  EnergyLedger ledger_;
-  double residual_ = 0.0;
-  double spring_force_peak_ = 0.0;  // largest |spring forces|^2 on the free nodes so far
+  std::unique_ptr<EnergyAudit> audit_;  // null: the audit is off
   StepTimes last_;
   SimulationStats stats_;
 };
-
-// Global node indices of a body that a selection picks (on the rest positions).
-std::vector<int> select_nodes(const World& w, int body, const Selection& sel);
-
-// 64-bit FNV-1a hash of the positions and velocities, as 16 hex digits.
-std::string state_hash(const World& w);
 
 }  // namespace harness

@@ -1,4 +1,4 @@
-// Nonlinear spring laws (DESIGN.md). Strain eps = (l - L0)/L0, tension positive:
+// Nonlinear spring laws (docs/scenes.md, "material"). Strain eps = (l - L0)/L0, tension positive:
 //   linear       f = k L0 eps
 //   cubic        f = k L0 (eps + beta eps^3)
 //   exponential  f = k L0 (exp(beta eps) - 1)/beta        (linear as beta -> 0)

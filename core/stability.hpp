@@ -9,7 +9,7 @@
 #pragma once
 
 #include "core/effects/effect.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 #include <memory>
 #include <vector>

@@ -82,14 +82,28 @@ struct World {
   }
 };
 
-// Axis-aligned bounding box of a body's current nodes.
+// Axis-aligned bounding box of x[begin, end), the one definition of a bounding box: NaN
+// coordinates are ignored, a zero bound is +0; computed in parallel (simd kernels), the same
+// for any thread count and instruction set.
+void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi);
+// The bounding box of a body's current nodes (points_bounds).
 void body_bounds(const World& w, int body, Vec3& lo, Vec3& hi);
 // Area-weighted outward normal (unnormalised) of a body's surface vertex at body-local index s.
 Vec3 vertex_normal(const World& w, int body, int s);
 // Enclosed volume of a body's current surface (divergence theorem), m^3.
 double enclosed_volume(const World& w, int body);
+// Kinetic energy of every node, sum of m v^2 / 2, J, in node order: the state's, outside the
+// step (the energy audit books it within the step's own pass over the nodes, energy_audit.hpp).
+double kinetic_energy(const World& w);
 // Mean rest length of a body's springs, m (0 without springs).
 double mean_rest_length(const World& w, int body);
+// The node spacing of a body, m, the one estimate of how far apart its nodes are: the mean rest
+// length of its springs; for a body without springs (a rigid or hand-made one) the spacing of a
+// uniform lattice of its nodes over its bounding box, largest extent / cbrt(nodes). The paper's
+// automatic voxel size (initializer.hpp) and the automatic force's length scale without a grid
+// (collision.hpp) are taken from it. (Surface quantities, a hash cell or the spacing a surface
+// leaves for nodes to pass through, use mean_surface_edge below.)
+double node_spacing(const World& w, int body);
 // Mean length of a body's surface edges (faces' edges, each interior edge counted from both of its
 // faces: the mean is unchanged) at positions x (w.x or w.x0), m; 0 without faces.
 double mean_surface_edge(const World& w, int body, const Points& x);

@@ -6,7 +6,7 @@
 #include "core/collision/detectors/voxel_exact.hpp"
 #include "core/cpu.hpp"
 #include "core/parallel.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE

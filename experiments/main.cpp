@@ -1,11 +1,11 @@
-// The command-line program `harness` (DESIGN.md, "Command line").
+// The command-line program `harness` (README.md, "Usage").
 #include "core/parallel.hpp"
 #include "core/run.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "experiments/bench.hpp"
 #include "experiments/reference.hpp"
 #include "experiments/sweep.hpp"
-#include "scene_schema.hpp"
+#include "core/scene/schema.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
 #include "reference/reference.hpp"
@@ -102,16 +102,21 @@ RunOptions run_options() {
   return opt;
 }
 
-// Overrides of --set and --steps (exactly N steps: time.settle off).
-std::vector<std::pair<std::string, std::string>> scene_overrides(const std::vector<std::string>& sets, CLI::App* cmd,
-                                                                 int steps) {
+// The scene as the command line edits it, validated once: the file's document, --set overrides
+// in order, --steps (exactly N steps: time.settle off), then --dt-divide N or --dt S (every step
+// count scaled: the same physical time).
+Scene edited_scene(const std::string& scene, const std::vector<std::string>& sets, bool steps_given, int steps,
+                   int dt_divide, bool dt_given, double dt) {
   auto overrides = parse_sets(sets);
-  if (cmd->count("--steps")) {
+  if (steps_given) {
     if (steps < 0) throw InputError("--steps", "must be >= 0");
-    overrides.emplace_back("time.steps", std::to_string(steps));
-    overrides.emplace_back("time.settle", "null");
+    for (auto& o : steps_overrides(steps)) overrides.push_back(std::move(o));
   }
-  return overrides;
+  SceneSource src = read_scene_source(resolve_scene(scene));
+  for (const auto& [k, v] : overrides) apply_override(src.doc, k, v);
+  if (dt_given) rescale_to_dt(src.doc, dt);
+  else rescale_steps(src.doc, dt_divide);
+  return scene_from_source(src);
 }
 
 struct RunCommand {
@@ -136,9 +141,12 @@ struct RunCommand {
     cmd->add_flag("--strict", strict, "warnings are errors (exit 2): a rounded voxel size, tunnelling expected or found");
     cmd->add_option("--threads", threads,
                     "threads of the parallel kernels (default $HARNESS_THREADS or 1); results do not depend on it");
-    cmd->add_option("--dt-divide", dt_divide, "run at dt / N over the same physical time (every step count times N)");
-    cmd->add_option("--dt", dt, "run at this dt (s) over the same physical time (every step count times the scene's "
-                                "dt / this one, rounded; --steps counts steps of the scene's dt)");
+    auto* divide =
+        cmd->add_option("--dt-divide", dt_divide, "run at dt / N over the same physical time (every step count times N)");
+    cmd->add_option("--dt", dt, "run at time step S (s) over the same physical time: every step count times the "
+                                "scene's dt / S (exact when that is a whole number, rounded otherwise); --steps counts "
+                                "steps of the scene's dt")
+        ->excludes(divide);
     cmd->add_option("--compare", compare, "a reference (harness reference) or finished run of the same scene: "
                                           "error_vs_reference in summary.json, pos_err/gap columns");
     cmd->add_option("--engine", engine, "harness (its own effects and integrator) or bullet (Bullet's soft bodies, "
@@ -157,9 +165,7 @@ struct RunCommand {
       set_threads(threads);
     }
     if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
-    if (cmd->count("--dt") && cmd->count("--dt-divide")) throw InputError("--dt", "give --dt or --dt-divide, not both");
-    Scene sc = rescale_dt(load_scene(resolve_scene(scene), scene_overrides(sets, cmd, steps)), dt_divide);
-    if (cmd->count("--dt")) sc = rescale_to_dt(sc, dt);
+    const Scene sc = edited_scene(scene, sets, cmd->count("--steps") > 0, steps, dt_divide, cmd->count("--dt") > 0, dt);
     RunOptions opt = run_options();
     opt.out_dir = out;
     opt.progress = !quiet;
@@ -184,6 +190,7 @@ struct ReferenceCommand {
   ReferenceOptions ro;
   bool quiet = false;
   int dt_divide = 1;
+  double dt = 0.0;
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("reference", "the converged reference solution of a scene (exact detection, penalty; "
@@ -195,7 +202,11 @@ struct ReferenceCommand {
     cmd->add_option("--max-levels", ro.max_levels, "levels at most")->capture_default_str();
     cmd->add_option("--min-levels", ro.min_levels, "levels at least (3: an observed order of convergence)")->capture_default_str();
     cmd->add_flag("--one-sided", ro.one_sided, "contact one way only: the guest's nodes kept out of the host (the paper's model)");
-    cmd->add_option("--dt-divide", dt_divide, "level 0 at dt / N over the same physical time (a finer mesh needs it)");
+    auto* divide =
+        cmd->add_option("--dt-divide", dt_divide, "level 0 at dt / N over the same physical time (a finer mesh needs it)");
+    cmd->add_option("--dt", dt, "level 0 at time step S (s) over the same physical time (step counts times the "
+                                "scene's dt / S, rounded when not whole)")
+        ->excludes(divide);
     cmd->add_option("--stiffness", ro.stiffness, "k_c of level 0, N/m (default: the scene's penalty stiffness)");
     cmd->add_flag("--quiet", quiet, "no progress line");
   }
@@ -206,7 +217,7 @@ struct ReferenceCommand {
       throw InputError("--min-levels", "must be from 2 to --max-levels");
     if (cmd->count("--stiffness") && !(ro.stiffness > 0.0)) throw InputError("--stiffness", "must be > 0");
     if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
-    const Scene sc = rescale_dt(load_scene(resolve_scene(scene), parse_sets(sets)), dt_divide);
+    const Scene sc = edited_scene(scene, sets, false, -1, dt_divide, cmd->count("--dt") > 0, dt);
     ro.run = run_options();
     ro.progress = !quiet;
     return run_reference(sc, ro);
@@ -309,7 +320,7 @@ int main(int argc, char** argv) {
   try {
     check_threads_env();
     if (list->parsed()) return cmd_list();
-    if (schema->parsed()) return std::fputs(kSceneSchema, stdout) < 0 ? 1 : 0;
+    if (schema->parsed()) return std::fputs(scene_schema_text().c_str(), stdout) < 0 ? 1 : 0;
     if (bench.cmd->parsed()) return bench.exec();
     if (sweep.cmd->parsed()) return sweep.exec(argv[0]);
     if (reference.cmd->parsed()) return reference.exec();

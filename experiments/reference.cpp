@@ -1,5 +1,7 @@
 #include "experiments/reference.hpp"
 
+#include "core/run/summary.hpp"
+#include "core/run/summary_keys.hpp"
 #include "core/run/surfaces.hpp"
 
 #include <nlohmann/json.hpp>
@@ -30,18 +32,20 @@ double default_stiffness(const Scene& sc) {
 
 // The scene of level i: exact detection, penalty k, contact both ways (or one), dt / 2^i, the
 // guard substepping wherever dt_crit requires it, the scene's own settling tolerance.
+// The base scene's document edited, validated once.
 Scene level_scene(const Scene& base, int level, double k, bool one_sided) {
-  json s = rescale_dt(base, 1 << level).resolved;
+  json s = base.resolved;
+  rescale_steps(s, 1 << level);
   const double tol = base.settle.present ? base.settle.tolerance : 1e-5;
   const long long max_steps = base.settle.present ? 4LL * base.settle.max_steps : 20LL * std::max(1, base.steps);
   s["time"]["settle"] = {{"tolerance", tol}, {"max_steps", max_steps * (1 << level)}};
-  s["time"]["guard"] = "substep";
+  s["time"]["guard"] = scene_word(Guard::substep);
   bool contact = false;
   for (const auto& e : s["effects"]) contact = contact || e == "contact";
   if (!contact) s["effects"].push_back("contact");
   for (json& c : s["contacts"]) {
-    c["detector"] = "cgal";
-    c["eliminator"] = "line";
+    c["detector"] = scene_word(DetectorKind::cgal);
+    c["eliminator"] = scene_word(EliminatorKind::line);
     c["force"] = {{"stiffness", k}};
     c["two_sided"] = !one_sided;
   }
@@ -75,20 +79,19 @@ int run_reference(const Scene& scene, const ReferenceOptions& opt) {
     ro.out_dir = (dir / "levels" / std::to_string(level)).string();
     ro.progress = opt.progress;
     const auto t0 = std::chrono::steady_clock::now();
-    code = run_scene(sc, ro);
+    RunOutcome lv;
+    code = run_scene(sc, ro, &lv);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::ifstream in(fs::path(ro.out_dir) / "summary.json");
-    const json sum = json::parse(in);
     const SurfaceState state = read_surfaces((fs::path(ro.out_dir) / "surfaces.csv").string());
-    const json& st = sum["stability"];
+    const StabilityStats& st = lv.stability;
     json row = {{"level", level},           {"dt", sc.dt},
-                {"stiffness", k},           {"steps_run", sum["steps_run"]},
-                {"settled", sum["settled"]}, {"residual", sum["residual"]},
+                {"stiffness", k},           {"steps_run", lv.steps_run},
+                {"settled", lv.status.settled}, {"residual", number_or_null(lv.residual)},
                 {"wall_s", wall},           {"change_max", nullptr},
                 {"order", nullptr},         {"error_estimate", nullptr},
-                {"dt_crit", st["dt_crit"]}, {"dt_crit_min", st["dt_crit_min"]},
-                {"max_substeps", st["max_substeps"]}, {"guard_violations", st["guard_violations"]},
-                {"stability_verdict", sum["stability_verdict"]}};
+                {"dt_crit", number_or_null(st.dt_crit)}, {"dt_crit_min", number_or_null(st.dt_crit_min)},
+                {"max_substeps", st.max_substeps}, {"guard_violations", st.guard_violations},
+                {"stability_verdict", lv.verdict}};
     if (level > 0) {
       const double change = max_change(state, previous);
       row["change_max"] = change;
@@ -101,12 +104,11 @@ int run_reference(const Scene& scene, const ReferenceOptions& opt) {
           if (p > 0.0) row["error_estimate"] = change / (std::exp2(p) - 1.0);
         }
       }
-      converged = change < opt.tolerance && sum["settled"] == true && level + 1 >= opt.min_levels &&
-                  st["guard_violations"].get<int>() == 0;
+      converged = change < opt.tolerance && lv.status.settled && level + 1 >= opt.min_levels &&
+                  st.guard_violations == 0;
     }
     std::fprintf(stderr, "reference: level %d (dt %.3g s, k_c %.4g N/m, substeps up to %d): %s after %d steps, change %s\n",
-                 level, sc.dt, k, st["max_substeps"].get<int>(), sum["settled"] == true ? "settled" : "NOT settled",
-                 sum["steps_run"].get<int>(),
+                 level, sc.dt, k, st.max_substeps, lv.status.settled ? "settled" : "NOT settled", lv.steps_run,
                  level > 0 ? (std::to_string(row["change_max"].get<double>() * 1e3) + " mm").c_str() : "-");
     levels.push_back(row);
     previous = state;
@@ -127,7 +129,7 @@ int run_reference(const Scene& scene, const ReferenceOptions& opt) {
   json order = nullptr, estimate = nullptr;
   for (const json& lv : levels)
     if (lv["order"].is_number()) order = lv["order"], estimate = lv["error_estimate"];
-  sum["reference"] = {{"converged", converged},
+  sum[json::json_pointer(summary_key::kReference)] = {{"converged", converged},
                       {"tolerance", opt.tolerance},
                       {"min_levels", opt.min_levels},
                       {"two_sided", !opt.one_sided},

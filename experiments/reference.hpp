@@ -19,7 +19,7 @@
 #pragma once
 
 #include "core/run.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 #include <string>
 

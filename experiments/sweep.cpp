@@ -1,6 +1,7 @@
 #include "experiments/sweep.hpp"
 
-#include "core/scene.hpp"
+#include "core/run/summary_keys.hpp"
+#include "core/scene/scene.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -165,47 +166,51 @@ std::string csv_field(const json& v) {
 
 }  // namespace
 
-// The summary figures of runs.csv: column name and JSON pointer into summary.json (the first
-// pair's figures under /pairs/0). A new figure is one line.
-const std::vector<std::pair<const char*, const char*>>& merged_figures() {
-  static const std::vector<std::pair<const char*, const char*>> figures = {
-      {"status", "/status"},
-      {"steps_run", "/steps_run"},
-      {"finite", "/finite"},
-      {"state_hash", "/state_hash"},
-      {"kinetic_energy_final", "/kinetic_energy_final"},
-      {"kinetic_energy_peak", "/kinetic_energy_peak"},
-      {"substeps", "/stability/max_substeps"},
-      {"guard_violations", "/stability/guard_violations"},
-      {"t_step_us", "/timing_us/step"},
-      {"t_physics_us", "/timing_us/physics"},
-      {"t_detect_us", "/timing_us/detect"},
-      {"t_eliminate_us", "/timing_us/eliminate"},
-      {"t_cgal_us", "/timing_us/cgal"},
-      {"t_fcl_us", "/timing_us/fcl"},
-      {"voxel_size_used", "/pairs/0/voxel_size_used"},
-      {"region_rebuilds", "/pairs/0/region_rebuilds"},
-      {"contacts_total", "/pairs/0/contacts_total"},
-      {"true_pen_final", "/pairs/0/true_pen_final"},
-      {"max_depth_final", "/pairs/0/max_depth_final"},
-      {"max_depth_peak", "/pairs/0/max_depth_peak"},
-      {"recall", "/pairs/0/recall"},
-      {"precision", "/pairs/0/precision"},
-      {"tunnelled", "/pairs/0/tunnelled"},
-      {"settled", "/settled"},
-      {"residual", "/residual"},
-      {"settle_steps", "/settle_steps"},
-      {"work_external", "/energy/work_external"},
-      {"energy_dissipated", "/energy/energy_dissipated"},
-      {"work_contact", "/energy/work_contact"},
-      {"work_contact_peak", "/energy/work_contact_peak"},
-      {"energy_balance_error", "/energy/energy_balance_error"},
-      {"pos_err_max", "/pairs/0/error_vs_reference/pos_err_max"},
-      {"pos_err_rms", "/pairs/0/error_vs_reference/pos_err_rms"},
-      {"gap_max", "/pairs/0/error_vs_reference/gap_max"},
-      {"gap_mean", "/pairs/0/error_vs_reference/gap_mean"},
-      {"depth_max", "/pairs/0/error_vs_reference/depth_max"},
-      {"reference_converged", "/compare/converged"},
+// The summary figures of runs.csv: column name and JSON pointer into summary.json (key paths from
+// core/run/summary_keys.hpp; the first pair's figures under /pairs/0). A new figure is one line.
+const std::vector<std::pair<std::string, std::string>>& merged_figures() {
+  namespace k = summary_key;
+  auto pair0 = [](const char* key) { return k::pair_key(0, key); };
+  auto under = [](const char* parent, const char* key) { return std::string(parent) + "/" + key; };
+  auto error = [&](int i) { return pair0(k::kErrorVsReference) + "/" + k::kErrorFigures[i]; };
+  static const std::vector<std::pair<std::string, std::string>> figures = {
+      {"status", k::kStatus},
+      {"steps_run", k::kSteps},
+      {"finite", k::kFinite},
+      {"state_hash", k::kStateHash},
+      {"kinetic_energy_final", k::kKineticFinal},
+      {"kinetic_energy_peak", k::kKineticPeak},
+      {"substeps", k::kMaxSubsteps},
+      {"guard_violations", k::kGuardViolations},
+      {"t_step_us", under(k::kTiming, k::kTimingParts[0])},
+      {"t_physics_us", under(k::kTiming, k::kTimingParts[1])},
+      {"t_detect_us", under(k::kTiming, k::kTimingParts[2])},
+      {"t_eliminate_us", under(k::kTiming, k::kTimingParts[3])},
+      {"t_cgal_us", under(k::kTiming, k::kTimingParts[4])},
+      {"t_fcl_us", under(k::kTiming, k::kTimingParts[5])},
+      {"voxel_size_used", pair0(k::kVoxelSizeUsed)},
+      {"region_rebuilds", pair0(k::kRegionRebuilds)},
+      {"contacts_total", pair0(k::kContactsTotal)},
+      {"true_pen_final", pair0(k::kTruePenFinal)},
+      {"max_depth_final", pair0(k::kMaxDepthFinal)},
+      {"max_depth_peak", pair0(k::kMaxDepthPeak)},
+      {"recall", pair0(k::kRecall)},
+      {"precision", pair0(k::kPrecision)},
+      {"tunnelled", pair0(k::kTunnelled)},
+      {"settled", k::kSettled},
+      {"residual", k::kResidual},
+      {"settle_steps", k::kSettleSteps},
+      {"work_external", under(k::kEnergy, k::kWorkExternal)},
+      {"energy_dissipated", under(k::kEnergy, k::kDissipated)},
+      {"work_contact", under(k::kEnergy, k::kWorkContact)},
+      {"work_contact_peak", under(k::kEnergy, k::kWorkContactPeak)},
+      {"energy_balance_error", under(k::kEnergy, k::kBalanceError)},
+      {"pos_err_max", error(0)},
+      {"pos_err_rms", error(1)},
+      {"gap_max", error(2)},
+      {"gap_mean", error(3)},
+      {"depth_max", error(4)},
+      {"reference_converged", k::kCompareConverged},
   };
   return figures;
 }

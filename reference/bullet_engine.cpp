@@ -1,7 +1,7 @@
 #include "reference/bullet_engine.hpp"
 
 #include "core/clock.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/world.hpp"
 
 #include <BulletSoftBody/btSoftBody.h>
@@ -138,7 +138,7 @@ BulletEngine::BulletEngine(const Scene& sc, const World& w, const BulletOptions&
   std::vector<int> mask(nb, 0);
   if (sc.has(kContact))
     for (std::size_t p = 0; p < sc.contacts.size(); ++p) {
-      const int h = w.find_body(sc.contacts[p].host), g = w.find_body(sc.contacts[p].guest);
+      const int h = sc.contacts[p].spec.host, g = sc.contacts[p].spec.guest;
       pair_of_[h][g] = pair_of_[g][h] = static_cast<int>(p);
       mask[h] |= 1 << g;
       mask[g] |= 1 << h;

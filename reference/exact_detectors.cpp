@@ -27,16 +27,18 @@ bool all_finite(const World& w, const Body& b) {
 
 void CgalDetector::initialize(const World& w, const ContactSpec& spec) {
   const Body& H = w.bodies.at(spec.host);
+  host_ = spec.host;
+  guest_ = spec.guest;
   host_begin_ = H.begin;
   host_surface_.set_topology(H.n_surface, H.faces);
   guest_begin_ = w.bodies.at(spec.guest).begin;
   last_face_.assign(static_cast<std::size_t>(w.bodies.at(spec.guest).size()), -1);
 }
 
-void CgalDetector::detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) {
+void CgalDetector::detect(const World& w, std::vector<Contact>& out) {
   out.clear();
-  const Body& H = w.bodies[spec.host];
-  const Body& G = w.bodies[spec.guest];
+  const Body& H = w.bodies[host_];
+  const Body& G = w.bodies[guest_];
   if (!all_finite(w, H) || !all_finite(w, G)) return;
   host_surface_.update(&w.x[H.begin]);  // CGAL 5.5's AABB tree has no refit: rebuilt (measured)
   for (int i = G.begin; i < G.end; ++i) {
@@ -69,6 +71,8 @@ bool CgalDetector::contact_direction(const World& w, const Contact& c, Vec3& n) 
 void FclDetector::initialize(const World& w, const ContactSpec& spec) {
   const Body& H = w.bodies.at(spec.host);
   const Body& G = w.bodies.at(spec.guest);
+  host_body_ = spec.host;
+  guest_body_ = spec.guest;
   host_begin_ = H.begin;
   host_.set_topology(H.n_surface, H.faces);
   guest_.set_topology(G.n_surface, G.faces);
@@ -78,10 +82,10 @@ void FclDetector::initialize(const World& w, const ContactSpec& spec) {
   touched_.reserve(G.n_surface);
 }
 
-void FclDetector::detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) {
+void FclDetector::detect(const World& w, std::vector<Contact>& out) {
   out.clear();
-  const Body& H = w.bodies[spec.host];
-  const Body& G = w.bodies[spec.guest];
+  const Body& H = w.bodies[host_body_];
+  const Body& G = w.bodies[guest_body_];
   if (!all_finite(w, H) || !all_finite(w, G)) return;
   host_.update(&w.x[H.begin]);
   guest_.update(&w.x[G.begin]);

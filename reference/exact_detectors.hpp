@@ -22,13 +22,14 @@ class CgalDetector final : public CollisionDetector {
  public:
   const char* name() const override { return "cgal"; }
   void initialize(const World& w, const ContactSpec& spec) override;
-  void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
+  void detect(const World& w, std::vector<Contact>& out) override;
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
   bool contact_direction(const World& w, const Contact& c, Vec3& n) const override;
   bool contact_point(const World& w, const Contact& c, ContactPoint& out) const override;
 
  private:
   CgalSurface host_surface_;
+  int host_ = -1, guest_ = -1;  // the bodies
   int host_begin_ = 0, guest_begin_ = 0;
   std::vector<int> last_face_;  // per guest node: its closest host face when last inside (a seed), or -1
 };
@@ -38,13 +39,14 @@ class FclDetector final : public CollisionDetector {
   explicit FclDetector(FclBv bv = FclBv::aabb) : host_(bv), guest_(bv) {}
   const char* name() const override { return "fcl"; }
   void initialize(const World& w, const ContactSpec& spec) override;
-  void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
+  void detect(const World& w, std::vector<Contact>& out) override;
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
   bool contact_direction(const World& w, const Contact& c, Vec3& n) const override;
   bool contact_point(const World& w, const Contact& c, ContactPoint& out) const override;
 
  private:
   FclSurface host_, guest_;
+  int host_body_ = -1, guest_body_ = -1;
   int host_begin_ = 0;
   std::vector<TrianglePair> pairs_;
   std::vector<double> best_d2_;  // per guest surface vertex: distance^2 to its nearest host triangle

@@ -1,4 +1,4 @@
-// The exact references of a contact pair (DESIGN.md, "Measured quantities"): CGAL ground truth,
+// The exact references of a contact pair (README.md, "Outputs of a run"): CGAL ground truth,
 // FCL triangle pairs, libccd signed distance of the convex hulls. A measurer reads the world and
 // never changes it; it keeps its meshes and trees between calls.
 #pragma once

@@ -11,10 +11,15 @@
 
 namespace harness {
 
-Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact) : spec_(std::move(spec)) {
+void check_pair(const World& w, const ContactSpec& spec) {
   const int nb = static_cast<int>(w.bodies.size());
-  if (spec_.host < 0 || spec_.host >= nb || spec_.guest < 0 || spec_.guest >= nb)
+  if (spec.host < 0 || spec.host >= nb || spec.guest < 0 || spec.guest >= nb)
     throw std::invalid_argument("contact pair: host or guest body index out of range");
+  if (spec.host == spec.guest) throw std::invalid_argument("contact pair: host and guest must be different bodies");
+}
+
+Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact) : spec_(std::move(spec)) {
+  check_pair(w, spec_);
   if (spec_.force_rule == ForceRule::penalty && (!(spec_.stiffness >= 0.0) || !std::isfinite(spec_.stiffness)))
     throw std::invalid_argument("contact pair: stiffness must be finite and >= 0");
   if (spec_.force_rule == ForceRule::constant && (!(spec_.force >= 0.0) || !std::isfinite(spec_.force)))
@@ -26,8 +31,8 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
   magnitude_.reserve(contacts_.capacity());
   pushes_.reserve(contacts_.capacity());
   share_.assign(w.x.size(), 0);
-  // Length scale of the automatic force for detectors without a grid: mean host spring length.
-  length_scale_ = mean_rest_length(w, spec_.host);
+  // Length scale of the automatic force for detectors without a grid: the host's node spacing.
+  length_scale_ = node_spacing(w, spec_.host);
   if (spec_.two_sided) {
     reverse_spec_ = spec_;
     std::swap(reverse_spec_.host, reverse_spec_.guest);
@@ -42,13 +47,13 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
 }
 
 int Collision::detect(const World& w) {
-  detector_->detect(w, spec_, contacts_);
+  detector_->detect(w, contacts_);
   return static_cast<int>(contacts_.size());
 }
 
 void Collision::detect_all(const World& w) {
-  detector_->detect(w, spec_, contacts_);
-  if (reverse_) reverse_->detect(w, reverse_spec_, reverse_contacts_);
+  detector_->detect(w, contacts_);
+  if (reverse_) reverse_->detect(w, reverse_contacts_);
 }
 
 void Collision::all_pushes(const World& w) {
@@ -85,7 +90,7 @@ PairStep Collision::project(World& w, double h) {
   return finish(s, t0, t1);
 }
 
-PairStep Collision::step(World& w, double dt) {
+PairStep Collision::step(World& w, double h) {
   PairStep s;
   if (projects()) return s;
   const auto t0 = Clock::now();
@@ -95,7 +100,7 @@ PairStep Collision::step(World& w, double dt) {
   switch (spec_.force_rule) {
     case ForceRule::automatic: {
       const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
-      s.force = auto_contact_forces(w, pushes_, dt, L / spec_.separation_time, magnitude_, share_);
+      s.force = auto_contact_forces(w, pushes_, h, L / spec_.separation_time, magnitude_, share_);
       break;
     }
     case ForceRule::penalty: s.force = penalty_contact_forces(pushes_, spec_.stiffness, magnitude_); break;

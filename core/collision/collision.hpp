@@ -14,6 +14,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace harness {
@@ -29,6 +30,11 @@ struct PairStep {
   int beyond_band = -1;
 };
 
+// The one check of a pair's bodies (whoever makes its detectors: Collision, below): host and
+// guest are bodies of `w`, and different ones. Throws std::invalid_argument. (The scene loader
+// checks the names a scene gives, with their key paths.)
+void check_pair(const World& w, const ContactSpec& spec);
+
 class Collision {
  public:
   // The automatic force separates a contact at v_sep = L / separation_time (ContactSpec, default
@@ -37,13 +43,15 @@ class Collision {
   // rule depends on dt only through the integration.
   static constexpr double kSeparationTime = 0.1;  // s
 
-  // Makes and initializes the detector on the current (rest) positions. Throws
-  // std::invalid_argument for a detector this program cannot make, bad body indices, a negative
-  // margin, a non-finite or negative force, a bad voxel size, or a region above kMaxVoxels.
+  // Checks the pair (check_pair), makes its detector and configures it once on the current (rest)
+  // positions. Throws std::invalid_argument for a detector this program cannot make, bad body
+  // indices, a negative margin, a non-finite or negative force, a bad voxel size, or a region
+  // above kMaxVoxels.
   Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact = nullptr);
 
-  // Detect, then eliminate. dt (s) is used by the automatic force only.
-  PairStep step(World& w, double dt);
+  // Detect, then eliminate, in a (sub)step of h seconds (StepContext::h; the automatic force
+  // separates a contact within it).
+  PairStep step(World& w, double h);
   // Projection (eliminator "projection"), after the position update: detect, then move the
   // penetrating nodes to the surface (responses/projection.hpp). step() does nothing for it.
   PairStep project(World& w, double h);
@@ -82,7 +90,8 @@ class Collision {
   std::vector<double> magnitude_;  // force per contact, N (same capacity)
   double length_scale_ = 0.0;      // m, for the automatic force without a grid
   std::vector<int> share_;         // per node: contacts leaning on it (scratch, all zero)
-  // two_sided: the roles swapped (its contacts are host nodes inside the guest).
+  // two_sided: the same pair seen the other way round (host and guest swapped), for the reverse
+  // detector's configuration and the eliminator; its contacts are host nodes inside the guest.
   ContactSpec reverse_spec_;
   std::unique_ptr<CollisionDetector> reverse_;
   std::vector<Contact> reverse_contacts_;
@@ -94,8 +103,9 @@ class Collision {
 // One contact pair of the scene. `collision` exists only when the scene lists "contact";
 // without it the pair is still measured by the references (penetration without contact).
 struct Pair {
-  ContactSpec spec;
-  std::string label;  // "host/guest"
+  Pair(const ContactSpec& s, std::string l) : spec(s), label(std::move(l)) {}
+  const ContactSpec& spec;  // the scene's (Scene::contacts[i].spec, owned by the simulation)
+  std::string label;  // contacts.N.label ("host/guest")
   std::unique_ptr<Collision> collision;
   // Set when a peer engine (engine.hpp) handles this pair's contact: its contact model's name
   // (collision is then null; last.contacts and last.detect_us come from the engine).

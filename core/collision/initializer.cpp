@@ -12,15 +12,8 @@ namespace {
 
 bool all_finite(const Vec3& a) { return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z()); }
 
-std::string pair_name(const World& w, const ContactSpec& s) {
-  return "contact pair (host '" + w.bodies[s.host].name + "', guest '" + w.bodies[s.guest].name +
-         "')";
-}
-
-// A body's bounding box (body_bounds, in parallel: points_bounds in voxel_data.hpp).
-void bounds_of(const World& w, int body, Vec3& lo, Vec3& hi) {
-  const Body& b = w.bodies[body];
-  points_bounds(w.x, b.begin, b.end, lo, hi);
+std::string pair_name(const World& w, int host, int guest) {
+  return "contact pair (host '" + w.bodies[host].name + "', guest '" + w.bodies[guest].name + "')";
 }
 
 }  // namespace
@@ -31,13 +24,7 @@ double resolve_voxel_size(const World& w, const ContactSpec& spec) {
   if (spec.voxel_size > 0.0) return round_down_pow2(spec.voxel_size);
 
   const Body& b = w.bodies[spec.host];
-  double spacing = mean_rest_length(w, spec.host);
-  if (b.spring_end <= b.spring_begin && b.size() > 0) {
-    // No springs (a rigid or hand-made host): the spacing of a uniform lattice of its nodes.
-    Vec3 lo, hi;
-    body_bounds(w, spec.host, lo, hi);
-    spacing = (hi - lo).maxCoeff() / std::cbrt(static_cast<double>(b.size()));
-  }
+  const double spacing = node_spacing(w, spec.host);
   if (!(spacing > 0.0) || !std::isfinite(spacing))
     throw std::invalid_argument("cannot choose an automatic voxel_size for host '" + b.name +
                                 "' (no springs and no extent); give voxel_size");
@@ -45,22 +32,21 @@ double resolve_voxel_size(const World& w, const ContactSpec& spec) {
 }
 
 void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData& grid) {
-  const int nb = static_cast<int>(w.bodies.size());
-  if (spec.host < 0 || spec.host >= nb || spec.guest < 0 || spec.guest >= nb)
-    throw std::invalid_argument("contact pair: host or guest body index out of range");
-  if (spec.host == spec.guest)
-    throw std::invalid_argument("contact pair: host and guest must be different bodies");
-  if (spec.margin < 0) throw std::invalid_argument(pair_name(w, spec) + ": margin must be >= 0");
-  spec_ = spec;
+  if (spec.margin < 0) throw std::invalid_argument(pair_name(w, spec.host, spec.guest) + ": margin must be >= 0");
+  host_ = spec.host;
+  guest_ = spec.guest;
+  region_ = spec.region;
+  margin_ = spec.margin;
+  host_nodes_ = spec.host_nodes;
   voxel_ = resolve_voxel_size(w, spec);
   rebuilds_ = 0;
 
   Vec3 lo, hi;
-  bounds_of(w, spec.host, lo, hi);
+  body_bounds(w, spec.host, lo, hi);
   const Vec3 c = 0.5 * (lo + hi);
   const Vec3 h = 0.5 * (hi - lo);
   if (!all_finite(c) || !all_finite(h))
-    throw std::invalid_argument(pair_name(w, spec) +
+    throw std::invalid_argument(pair_name(w, host_, guest_) +
                                 ": host has no nodes or non-finite positions");
   center_ = c;
   host_lo_ = lo;
@@ -70,13 +56,13 @@ void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData&
 
 Vec3 Initializer::guest_center(const World& w) const {
   Vec3 lo, hi;
-  bounds_of(w, spec_.guest, lo, hi);
+  body_bounds(w, guest_, lo, hi);
   return 0.5 * (lo + hi);
 }
 
 void Initializer::build(const World& w, const Vec3& host_half, const Vec3& host_center,
                         bool initial, VoxelData& grid) {
-  const double m = spec_.margin;
+  const double m = margin_;
   // Everything in double first: huge extents must fail the cap, not overflow an int.
   double n[3], dims_full[3];
   double full_count = 1.0;
@@ -88,7 +74,7 @@ void Initializer::build(const World& w, const Vec3& host_half, const Vec3& host_
 
   // Half: the side of the host's box facing the guest.
   int axis = -1, sign = 1;
-  if (spec_.region == Region::half) {
+  if (region_ == Region::half) {
     const Vec3 d = guest_center(w) - host_center;
     double best = 0.0;
     for (int a = 0; a < 3; ++a) {
@@ -104,11 +90,11 @@ void Initializer::build(const World& w, const Vec3& host_half, const Vec3& host_
   }
   double region_count = full_count;
   if (axis >= 0) region_count = full_count / dims_full[axis] * (n[axis] + 2.0 * m);
-  const double alloc_count = spec_.region == Region::overlap ? full_count : region_count;
+  const double alloc_count = region_ == Region::overlap ? full_count : region_count;
 
   if (!(alloc_count <= static_cast<double>(kMaxVoxels))) {
     std::ostringstream msg;
-    msg << pair_name(w, spec_) << ": the voxel region needs " << alloc_count << " voxels ("
+    msg << pair_name(w, host_, guest_) << ": the voxel region needs " << alloc_count << " voxels ("
         << dims_full[0] << " x " << dims_full[1] << " x " << dims_full[2]
         << " for the full box, voxel " << voxel_ << " m), above the cap of " << kMaxVoxels
         << "; use a larger voxel_size or a smaller margin";
@@ -121,24 +107,24 @@ void Initializer::build(const World& w, const Vec3& host_half, const Vec3& host_
   half_sign_ = sign;
   for (int a = 0; a < 3; ++a) {
     n_[a] = static_cast<int>(n[a]);
-    cap_lo_[a] = -(n_[a] + spec_.margin);
-    cap_dims_[a] = 2 * (n_[a] + spec_.margin);
+    cap_lo_[a] = -(n_[a] + margin_);
+    cap_dims_[a] = 2 * (n_[a] + margin_);
   }
   lo_ = cap_lo_;
   dims_ = cap_dims_;
   if (axis >= 0) {
-    dims_[axis] = n_[axis] + 2 * spec_.margin;
-    lo_[axis] = sign > 0 ? -spec_.margin : -n_[axis] - spec_.margin;
+    dims_[axis] = n_[axis] + 2 * margin_;
+    lo_[axis] = sign > 0 ? -margin_ : -n_[axis] - margin_;
   }
 
-  const Body& hb = w.bodies[spec_.host];
-  const int listed = spec_.host_nodes == HostNodes::surface ? hb.n_surface : hb.size();
+  const Body& hb = w.bodies[host_];
+  const int listed = host_nodes_ == HostNodes::surface ? hb.n_surface : hb.size();
   grid.allocate(static_cast<long long>(alloc_count), listed);
 }
 
 GridGeometry Initializer::update(const World& w, VoxelData& grid) {
   Vec3 lo, hi;
-  bounds_of(w, spec_.host, lo, hi);
+  body_bounds(w, host_, lo, hi);
   const Vec3 c = 0.5 * (lo + hi);
   const Vec3 h = 0.5 * (hi - lo);
   center_ = c;
@@ -155,16 +141,16 @@ GridGeometry Initializer::update(const World& w, VoxelData& grid) {
     ++rebuilds_;
   }
 
-  if (spec_.region != Region::overlap) {
+  if (region_ != Region::overlap) {
     g.lo = lo_;
     g.dims = dims_;
     return g;
   }
 
   Vec3 glo, ghi;
-  bounds_of(w, spec_.guest, glo, ghi);
+  body_bounds(w, guest_, glo, ghi);
   const double inv_v = 1.0 / voxel_;
-  const double m = spec_.margin;
+  const double m = margin_;
   for (int a = 0; a < 3; ++a) {
     double a0 = std::max(std::floor((lo[a] - c[a]) * inv_v), std::floor((glo[a] - c[a]) * inv_v)) - m;
     double a1 = std::min(std::floor((hi[a] - c[a]) * inv_v), std::floor((ghi[a] - c[a]) * inv_v)) + m;

@@ -29,9 +29,9 @@
 // trigger a rebuild (that step simply finds no contacts; the run reports the bad state).
 //
 // Voxel size: ContactSpec::voxel_size rounded down to a power of two. voxel_size == 0 means
-// automatic: the largest power of two <= the mean rest length of the host's springs
-// (World::springs in [spring_begin, spring_end)); a host without springs uses its lattice
-// spacing estimate, the largest box extent / cbrt(nodes). Capacity cap: a region of more than
+// automatic: the largest power of two <= the host's node spacing (node_spacing, world.hpp: the
+// mean rest length of its springs, or for a host without springs its lattice spacing estimate,
+// the largest box extent / cbrt(nodes)). Capacity cap: a region of more than
 // kMaxVoxels voxels throws std::invalid_argument at initialisation (the scene loader reports
 // it) and std::runtime_error when a rebuild during the run would need it.
 #pragma once
@@ -50,9 +50,10 @@ double resolve_voxel_size(const World& w, const ContactSpec& spec);
 
 class Initializer {
  public:
-  // Builds the grid for the pair at the current positions and allocates `grid`.
-  // Throws std::invalid_argument for a bad spec (body indices, margin) or a region above
-  // kMaxVoxels.
+  // Builds the grid for the pair at the current positions and allocates `grid`; keeps of the
+  // spec the bodies, the region, the margin and which host nodes are listed. Throws
+  // std::invalid_argument for a negative margin or a region above kMaxVoxels (the bodies are
+  // checked by check_pair, collision.hpp).
   void initialize(const World& w, const ContactSpec& spec, VoxelData& grid);
   // This step's grid geometry: re-centred on the host, rebuilt if the host outgrew the region,
   // overlap recomputed. May reallocate `grid` on a rebuild (and only then).
@@ -60,7 +61,7 @@ class Initializer {
 
   double voxel_size() const { return voxel_; }
   int rebuilds() const { return rebuilds_; }
-  Region region() const { return spec_.region; }
+  Region region() const { return region_; }
   // Half extents the region was built for (H), m.
   const Vec3& built_half_extents() const { return built_h_; }
   // For region half: the axis (0..2) and side (+1 / -1) chosen; axis -1 when the region is full.
@@ -77,7 +78,10 @@ class Initializer {
              VoxelData& grid);
   Vec3 guest_center(const World& w) const;
 
-  ContactSpec spec_;
+  int host_ = -1, guest_ = -1;
+  Region region_ = Region::half;
+  int margin_ = 1;  // voxels
+  HostNodes host_nodes_ = HostNodes::all;
   double voxel_ = 0.0;
   int rebuilds_ = 0;
   Vec3 built_h_ = Vec3::Zero();

@@ -52,32 +52,6 @@ void VoxelIndexer::operator()(const Vec3* p, std::size_t n, int* out) const {
   simd::kernels().voxel_cells(g, p->data(), n, out);
 }
 
-void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi) {
-  const double inf = std::numeric_limits<double>::infinity();
-  const int n = std::max(0, end - begin);
-  const int T = threads_for(static_cast<std::size_t>(n), 16384);
-  double part[64][6];  // per thread: lo xyz, hi xyz
-  const int parts = std::min(T, 64);
-  const simd::Kernels& kern = simd::kernels();
-#pragma omp parallel for num_threads(parts) if(parts > 1) schedule(static, 1)
-  for (int t = 0; t < parts; ++t) {
-    std::size_t b, e;
-    split_range(static_cast<std::size_t>(n), parts, t, b, e);
-    for (int a = 0; a < 3; ++a) part[t][a] = inf, part[t][3 + a] = -inf;
-    if (e > b) kern.bounds(x[static_cast<std::size_t>(begin) + b].data(), e - b, part[t]);
-  }
-  lo = Vec3::Constant(inf);
-  hi = Vec3::Constant(-inf);
-  for (int t = 0; t < parts; ++t)
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = part[t][a] < lo[a] ? part[t][a] : lo[a];
-      hi[a] = hi[a] < part[t][3 + a] ? part[t][3 + a] : hi[a];
-    }
-  // min and max are exact; only the sign of a zero could depend on the order of the points.
-  lo = lo + Vec3::Zero();
-  hi = hi + Vec3::Zero();
-}
-
 long long VoxelData::bytes() const {
   return static_cast<long long>((head_.capacity() + next_.capacity() + node_cell_.capacity() +
                                  chunk_lo_.capacity() + chunk_hi_.capacity()) * sizeof(int));

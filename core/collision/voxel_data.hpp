@@ -97,10 +97,6 @@ class VoxelIndexer {
   int ilo_[3], dx_, dxy_;
 };
 
-// Bounding box of x[begin, end) (as body_bounds: NaN coordinates are ignored), computed in
-// parallel; a zero bound is returned as +0, so the result never depends on the thread count.
-void points_bounds(const Points& x, int begin, int end, Vec3& lo, Vec3& hi);
-
 class VoxelData {
  public:
   // The nodes of one voxel, in increasing index order: a singly linked list threaded through

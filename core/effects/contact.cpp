@@ -1,6 +1,6 @@
 #include "core/effects/contact.hpp"
 
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,6 +1,6 @@
 #include "core/effects/damping.hpp"
 
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 namespace harness {
 

@@ -8,7 +8,7 @@
 #include "core/effects/pins.hpp"
 #include "core/effects/pressure.hpp"
 #include "core/effects/springs.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 namespace harness {
 

@@ -1,7 +1,7 @@
 #include "core/effects/gravity.hpp"
 
 #include "core/parallel.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 namespace harness {
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "core/effects/effects.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 #include <utility>
 

@@ -1,6 +1,6 @@
 #include "core/effects/springs.hpp"
 
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/springs.hpp"
 
 #include <algorithm>

@@ -1,5 +1,7 @@
 #include "core/run/compare.hpp"
 
+#include "core/run/summary_keys.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -64,15 +66,16 @@ Comparison::Comparison(const std::string& dir, const Simulation& sim) : dir_(dir
   } catch (const std::exception& e) {
     throw InputError(where, std::string("summary.json is not JSON (") + e.what() + ")");
   }
-  if (sum.contains("reference") && sum["reference"].is_object()) {
+  const nlohmann::json::json_pointer reference(summary_key::kReference);
+  if (sum.contains(reference) && sum[reference].is_object()) {
     is_reference_ = true;
-    converged_ = sum["reference"].value("converged", false);
+    converged_ = sum.value(nlohmann::json::json_pointer(summary_key::kReferenceConverged), false);
   }
   const World& w = sim.world();
   const SurfaceState fin = read_surfaces((d / "surfaces.csv").string());
   check_bodies(where, fin, w);
   final_ = in_world_order(fin, w);
-  const double dt = sum.contains("resolved_scene") ? sum["resolved_scene"]["time"].value("dt", 0.0) : 0.0;
+  const double dt = sum.value(nlohmann::json::json_pointer(summary_key::kSceneDt), 0.0);
   if (fs::exists(d / "trajectory.bin") && dt == sim.scene().dt)
     for (const SurfaceState& s : read_trajectory((d / "trajectory.bin").string())) {
       check_bodies(where + "/trajectory.bin", s, w);

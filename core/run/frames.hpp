@@ -4,7 +4,7 @@
 // its physical time (rewritten after each frame: an interrupted run's series is still valid).
 #pragma once
 
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/world.hpp"
 
 #include <cstdint>

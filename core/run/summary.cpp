@@ -1,6 +1,7 @@
 #include "core/run/summary.hpp"
 
 #include "core/run/compare.hpp"
+#include "core/run/summary_keys.hpp"
 
 #include "harness_git.hpp"
 
@@ -15,6 +16,7 @@ namespace harness {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+namespace key = summary_key;
 
 std::string compiler_version() {
 #if defined(__clang__)
@@ -42,7 +44,11 @@ double median(std::vector<double> v) {
   return m;
 }
 
-json num_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json num_or_null(double v) { return number_or_null(v); }
+
+// The value at a JSON pointer (summary_keys.hpp), made if missing.
+json& at(json& j, const char* pointer) { return j[json::json_pointer(pointer)]; }
+json& at(json& j, const std::string& pointer) { return j[json::json_pointer(pointer)]; }
 
 // A figure over the final window (run/window.hpp): null when it was never measured there.
 json stat_json(const WindowStat& w) {
@@ -76,57 +82,55 @@ json window_json(const StabilityJudgement& j) {
 json stability_json(const Simulation& sim) {
   const Scene& sc = sim.scene();
   const SimulationStats& st = sim.stats();
-  json j = {{"integrator", sc.integrator == Integrator::symplectic_euler ? "symplectic_euler" : "implicit_euler"},
+  json j = {{"integrator", scene_word(sc.integrator)},
             {"dt", sc.dt},
             {"dt_crit", num_or_null(st.stability.dt_crit)},
             {"dt_crit_min", num_or_null(st.stability.dt_crit_min)},
-            {"guard", sc.guard == Guard::refuse ? "refuse" : "substep"},
+            {"guard", scene_word(sc.guard)},
             {"guard_every_steps", StabilityGuard::kEvery},
-            {"substeps", st.stability.substeps},
-            {"max_substeps", st.stability.max_substeps},
-            {"guard_violations", st.stability.guard_violations}};
+            {"substeps", st.stability.substeps}};
   if (sc.integrator == Integrator::implicit_euler)
     j["implicit"] = {{"cg_max_iterations", st.implicit_max_iterations},
                      {"cg_unconverged_solves", st.implicit_unconverged}};
   return j;
 }
 
-json pair_json(const Simulation& sim, const Recorder& rec, std::size_t pi) {
+json pair_json(const Simulation& sim, const Recorder& rec, const RunOutcome& outcome, std::size_t pi) {
   const Pair& p = sim.pairs()[pi];
   const PairTotals& t = rec.totals()[pi];
   auto measured = [&](json v) { return t.measured ? v : json(nullptr); };
   json pj;
   pj["pair"] = p.label;
-  pj["detector"] = p.collision        ? json(to_string(p.spec.detector))
+  pj["detector"] = p.collision        ? json(scene_word(p.spec.detector))
                    : p.engine_contact ? json(p.engine_contact)
                                       : json(nullptr);
-  pj["voxel_size_used"] =
+  at(pj, key::kVoxelSizeUsed) =
       p.collision && p.collision->voxel_size() > 0.0 ? json(p.collision->voxel_size()) : json(nullptr);
-  pj["region_rebuilds"] = p.collision ? json(p.collision->rebuilds()) : json(nullptr);
-  pj["contacts_total"] = t.contacts_total;
+  at(pj, key::kRegionRebuilds) = p.collision ? json(p.collision->rebuilds()) : json(nullptr);
+  at(pj, key::kContactsTotal) = t.contacts_total;
   // Detectors with a guaranteed band (voxel_exact): contacts found beyond it, over the run and
   // the most in one step; null for the others.
   pj["beyond_band_total"] = t.has_band ? json(t.beyond_band_total) : json(nullptr);
   pj["beyond_band_peak"] = t.has_band ? json(t.beyond_band_peak) : json(nullptr);
   // Nodes that have passed through the other body (CGAL; null without it).
-  const TunnelCount tun = rec.tunnel_count(pi);
-  pj["tunnelled"] = tun.measured ? json(tun.guest) : json(nullptr);
+  const TunnelCount& tun = outcome.pairs[pi].tunnelled;
+  at(pj, key::kTunnelled) = tun.measured ? json(tun.guest) : json(nullptr);
   pj["tunnelled_host"] = tun.measured ? json(tun.host) : json(nullptr);
   pj["tunnelled_peak"] = measured(json{{"guest", t.tunnelled_guest_peak}, {"host", t.tunnelled_host_peak}});
-  pj["true_pen_final"] = measured(t.true_pen_final);
-  pj["max_depth_final"] = measured(t.max_depth_final);
-  pj["max_depth_peak"] = measured(t.max_depth_peak);
+  at(pj, key::kTruePenFinal) = measured(t.true_pen_final);
+  at(pj, key::kMaxDepthFinal) = measured(t.max_depth_final);
+  at(pj, key::kMaxDepthPeak) = measured(t.max_depth_peak);
   // Stated values where the ratio is 0/0: nothing truly penetrated, so nothing was missed
   // (recall 1); nothing was reported, so nothing was reported falsely (precision 1). Neither
   // says the bodies are where they should be: that is error_vs_reference. Guest and host nodes
   // apart: a one-sided detector reports no host node, so any penetrating host node is a miss.
   auto ratio = [&](long long a, long long b) { return t.measured ? json(b > 0 ? double(a) / double(b) : 1.0) : json(nullptr); };
-  pj["recall"] = ratio(t.tp, t.tp + t.fn);
-  pj["precision"] = ratio(t.tp, t.tp + t.fp);
+  at(pj, key::kRecall) = ratio(t.tp, t.tp + t.fn);
+  at(pj, key::kPrecision) = ratio(t.tp, t.tp + t.fp);
   pj["recall_host"] = ratio(t.tp_host, t.tp_host + t.fn_host);
   pj["precision_host"] = ratio(t.tp_host, t.tp_host + t.fp_host);
   pj["measured_steps"] = static_cast<long long>(rec.series()[pi].tunnelled.size());
-  const WindowSpan span = rec.judge(sim, false).span;
+  const WindowSpan& span = outcome.judged.span;
   const PairSeries& ser = rec.series()[pi];
   pj["window"] = {{"depth_max", stat_json(ser.depth_max.over(span))},
                   {"true_pen", stat_json(ser.true_pen.over(span))},
@@ -136,95 +140,111 @@ json pair_json(const Simulation& sim, const Recorder& rec, std::size_t pi) {
 
 }  // namespace
 
-json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& status,
+json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& outcome,
                   const std::map<std::string, std::string>& versions) {
   const Scene& sc = sim.scene();
   const World& w = sim.world();
+  const RunStatus& status = outcome.status;
   const RunTimings& t = rec.timings();
   json sum;
   sum["scene"] = sc.name;
   sum["scene_file"] = sc.file;
-  sum["status"] = status.status;
+  at(sum, key::kStatus) = status.status;
   sum["error"] = status.error.empty() ? json(nullptr) : json(status.error);
-  sum["steps_run"] = sim.step_index();
-  sum["finite"] = status.finite;
+  at(sum, key::kSteps) = sim.step_index();
+  at(sum, key::kFinite) = status.finite;
   sum["effects"] = sim.effects_simulated();
   sum["git_commit"] = HARNESS_GIT_COMMIT;
   json ver = {{"compiler", compiler_version()}, {"Eigen", eigen_version()}};
   for (const auto& [k, v] : versions) ver[k] = v;
   sum["versions"] = ver;
-  sum["resolved_scene"] = sc.resolved;
-  sum["state_hash"] = state_hash(w);
-  sum["timing_us"] = {{"step", num_or_null(median(t.step))},       {"physics", num_or_null(median(t.physics))},
-                      {"detect", num_or_null(median(t.detect))},   {"eliminate", num_or_null(median(t.eliminate))},
-                      {"cgal", num_or_null(median(t.cgal))},       {"fcl", num_or_null(median(t.fcl))}};
-  sum["stability"] = stability_json(sim);
-  const StabilityJudgement judged = rec.judge(sim, sc.settle.present && status.settled);
-  sum["window"] = window_json(judged);
-  sum["stability_verdict"] = status.status == "ok" || status.status == "interrupted" ? json(judged.verdict) : json("failed");
+  at(sum, key::kResolvedScene) = sc.resolved;
+  at(sum, key::kStateHash) = state_hash(w);
+  const char* const* part = key::kTimingParts;  // step, physics, detect, eliminate, cgal, fcl
+  json& timing = at(sum, key::kTiming);
+  timing = json::object();
+  timing[part[0]] = num_or_null(median(t.step));
+  timing[part[1]] = num_or_null(median(t.physics));
+  timing[part[2]] = num_or_null(median(t.detect));
+  timing[part[3]] = num_or_null(median(t.eliminate));
+  timing[part[4]] = num_or_null(median(t.cgal));
+  timing[part[5]] = num_or_null(median(t.fcl));
+  at(sum, key::kStability) = stability_json(sim);
+  at(sum, key::kMaxSubsteps) = outcome.stability.max_substeps;
+  at(sum, key::kGuardViolations) = outcome.stability.guard_violations;
+  sum["window"] = window_json(outcome.judged);
+  sum["stability_verdict"] = outcome.verdict;
   sum["nodes"] = w.num_nodes();
   sum["springs"] = w.springs.size();
-  sum["kinetic_energy_final"] = sim.kinetic_energy();
-  sum["kinetic_energy_peak"] = rec.kinetic_energy_peak();
+  at(sum, key::kKineticFinal) = sim.kinetic_energy();
+  at(sum, key::kKineticPeak) = rec.kinetic_energy_peak();
   const EnergyLedger& e = sim.energy();
-  sum["energy"] = {{"energy_kinetic", e.kinetic},         {"energy_elastic", e.elastic},
-                   {"work_external", e.work_external},    {"energy_dissipated", e.dissipated},
-                   {"work_contact", e.work_contact},      {"energy_balance_error", e.balance_error()},
-                   {"work_contact_peak", e.work_contact_peak}, {"energy_initial", e.initial}};
+  json& energy = at(sum, key::kEnergy);
+  energy = {{"energy_kinetic", e.kinetic},          {"energy_elastic", e.elastic},
+            {key::kWorkExternal, e.work_external},   {key::kDissipated, e.dissipated},
+            {key::kWorkContact, e.work_contact},     {key::kBalanceError, e.balance_error()},
+            {key::kWorkContactPeak, e.work_contact_peak}, {"energy_initial", e.initial}};
   if (sim.engine()) {
     // A peer engine's work is not booked (simulation.hpp): only the energies are known.
-    for (const char* k : {"work_external", "energy_dissipated", "work_contact", "energy_balance_error", "work_contact_peak"})
-      sum["energy"][k] = nullptr;
+    for (const char* k : {key::kWorkExternal, key::kDissipated, key::kWorkContact, key::kBalanceError, key::kWorkContactPeak})
+      energy[k] = nullptr;
     sum["engine"] = sim.engine()->describe();
   } else {
     sum["engine"] = {{"name", "harness"}};
   }
-  sum["settled"] = sc.settle.present ? json(status.settled) : json(nullptr);
-  sum["residual"] = num_or_null(sim.residual());
-  sum["settle_steps"] = status.settle_steps;
+  at(sum, key::kSettled) = sc.settle.present ? json(status.settled) : json(nullptr);
+  at(sum, key::kResidual) = num_or_null(outcome.residual);
+  at(sum, key::kSettleSteps) = status.settle_steps;
   json pairs = json::array();
-  for (std::size_t pi = 0; pi < sim.pairs().size(); ++pi) pairs.push_back(pair_json(sim, rec, pi));
-  sum["pairs"] = pairs;
+  for (std::size_t pi = 0; pi < sim.pairs().size(); ++pi) pairs.push_back(pair_json(sim, rec, outcome, pi));
+  at(sum, key::kPairs) = pairs;
   return sum;
 }
 
-void add_comparison(json& sum, const Simulation& sim, const Recorder& rec, const Comparison& cmp) {
+void add_comparison(json& sum, const Simulation& sim, const Recorder& rec, const Comparison& cmp, RunOutcome& outcome) {
   const auto conv = cmp.converged();
-  sum["compare"] = {{"dir", cmp.dir()},
-                    {"kind", cmp.is_reference() ? "reference" : "run"},
-                    {"converged", conv ? json(*conv) : json(nullptr)},
-                    {"touch_tolerance", kTouchTolerance},
-                    {"final_signed_distance_measured", rec.sd_step() == sim.step_index()},
-                    {"against", cmp.has_trajectory() ? "the reference's state at the same step (its trajectory)"
-                                                     : "the reference's final state"}};
+  at(sum, key::kCompare) = {{"dir", cmp.dir()},
+                            {"kind", cmp.is_reference() ? "reference" : "run"},
+                            {"touch_tolerance", kTouchTolerance},
+                            {"final_signed_distance_measured", rec.sd_step() == sim.step_index()},
+                            {"against", cmp.has_trajectory() ? "the reference's state at the same step (its trajectory)"
+                                                             : "the reference's final state"}};
+  at(sum, key::kCompareConverged) = conv ? json(*conv) : json(nullptr);
   const std::vector<ReferenceErrors> errs = rec.final_errors(sim);
-  const WindowSpan span = rec.judge(sim, false).span;
+  const WindowSpan& span = outcome.judged.span;
   for (std::size_t p = 0; p < errs.size(); ++p) {
     const ReferenceErrors& e = errs[p];
     const bool sd = rec.sd_step() == sim.step_index() && e.distances;
     const PairTotals& t = rec.totals()[p];
     const PairSeries& ser = rec.series()[p];
-    const TunnelCount tun = rec.tunnel_count(p);
-    sum["pairs"][p]["error_vs_reference"] = {
-        {"pos_err_max", e.pos_err_max},
-        {"pos_err_rms", e.pos_err_rms},
-        {"gap_max", sd ? json(e.gap_max) : json(nullptr)},
-        {"gap_mean", sd ? json(e.gap_mean) : json(nullptr)},
-        {"depth_max", sd ? json(e.depth_max) : json(nullptr)},
-        {"depth_peak", t.measured ? json(std::max(t.max_depth_peak, sd ? e.depth_max : 0.0)) : json(nullptr)},
-        {"tunnelled_guest", tun.measured ? json(tun.guest) : json(nullptr)},
-        {"tunnelled_host", tun.measured ? json(tun.host) : json(nullptr)},
-        {"tunnelled_peak", t.measured ? json(std::max(t.tunnelled_guest_peak + t.tunnelled_host_peak, tun.guest + tun.host))
-                                      : json(nullptr)},
-        {"touching_nodes", e.touching},
-        {"window", {{"pos_err_max", stat_json(ser.pos_err_max.over(span))},
-                    {"pos_err_rms", stat_json(ser.pos_err_rms.over(span))},
-                    {"gap_max", stat_json(ser.gap_max.over(span))},
-                    {"gap_mean", stat_json(ser.gap_mean.over(span))},
-                    {"depth_max", stat_json(ser.depth_max.over(span))},
-                    {"tunnelled", stat_json(ser.tunnelled.over(span))}}}};
+    PairOutcome& po = outcome.pairs[p];
+    const TunnelCount& tun = po.tunnelled;
+    po.compared = true;
+    po.errors = e;
+    po.pos_err_max_window = ser.pos_err_max.over(span);
+    json& ev = at(sum, key::pair_key(static_cast<int>(p), key::kErrorVsReference));
+    const char* const* fig = key::kErrorFigures;  // pos_err_max, pos_err_rms, gap_max, gap_mean, depth_max
+    ev = {{fig[0], e.pos_err_max},
+          {fig[1], e.pos_err_rms},
+          {fig[2], sd ? json(e.gap_max) : json(nullptr)},
+          {fig[3], sd ? json(e.gap_mean) : json(nullptr)},
+          {fig[4], sd ? json(e.depth_max) : json(nullptr)},
+          {"depth_peak", t.measured ? json(std::max(t.max_depth_peak, sd ? e.depth_max : 0.0)) : json(nullptr)},
+          {"tunnelled_guest", tun.measured ? json(tun.guest) : json(nullptr)},
+          {"tunnelled_host", tun.measured ? json(tun.host) : json(nullptr)},
+          {"tunnelled_peak", t.measured ? json(std::max(t.tunnelled_guest_peak + t.tunnelled_host_peak, tun.guest + tun.host))
+                                        : json(nullptr)},
+          {"touching_nodes", e.touching},
+          {"window", {{"pos_err_max", stat_json(po.pos_err_max_window)},
+                      {"pos_err_rms", stat_json(ser.pos_err_rms.over(span))},
+                      {"gap_max", stat_json(ser.gap_max.over(span))},
+                      {"gap_mean", stat_json(ser.gap_mean.over(span))},
+                      {"depth_max", stat_json(ser.depth_max.over(span))},
+                      {"tunnelled", stat_json(ser.tunnelled.over(span))}}}};
   }
 }
+
+json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 void write_summary(const std::string& dir, const json& summary) {
   const fs::path path = fs::path(dir) / "summary.json";

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/run/recorder.hpp"
+#include "core/run/report.hpp"
 #include "core/simulation.hpp"
 
 #include <nlohmann/json.hpp>
@@ -12,20 +13,17 @@
 
 namespace harness {
 
-struct RunStatus {
-  std::string status = "ok";  // "ok" | "error"
-  std::string error;          // empty when ok
-  bool finite = true;
-  bool settled = false;       // time.settle reached (meaningful with time.settle only)
-  int settle_steps = 0;       // steps taken after time.steps
-};
-
-nlohmann::json summary_json(const Simulation& sim, const Recorder& rec, const RunStatus& status,
+// summary.json of a run with its outcome (report.hpp); the keys read back are named in
+// summary_keys.hpp.
+nlohmann::json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& outcome,
                             const std::map<std::string, std::string>& versions);
-class Comparison;
 // summary.json's error against the compared reference: "compare" and per pair
-// "error_vs_reference" (compare.hpp).
-void add_comparison(nlohmann::json& summary, const Simulation& sim, const Recorder& rec, const Comparison& cmp);
+// "error_vs_reference" (compare.hpp); the final errors go into `outcome` too. Throws
+// ComparisonError (after writing "compare") when an error cannot be computed.
+void add_comparison(nlohmann::json& summary, const Simulation& sim, const Recorder& rec, const Comparison& cmp,
+                    RunOutcome& outcome);
+// A figure as summary.json writes it: the number, or null when it is not finite.
+nlohmann::json number_or_null(double v);
 // Writes DIR/summary.json through a temporary file and a rename.
 void write_summary(const std::string& dir, const nlohmann::json& summary);
 // DIR/penetration_episodes.csv: one row per episode of true penetration (recorder.hpp).

@@ -34,7 +34,7 @@
 // kInjectionRatio); a comparison of two runs the rule calls unstable is inconclusive.
 #pragma once
 
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 #include <limits>
 #include <string>

@@ -32,6 +32,15 @@ grep -q 'type="PolyData"' "$f" && grep -q 'Name="signed_distance"' "$f" && ok ||
 "$H" run cylinder_press --out "$T/legacy" --steps 20 --set output.frames_every=10 --set output.format=vtk --quiet \
   && f=$(ls "$T"/legacy/frames/*_000000.vtk | head -1) && head -5 "$f" | grep -q "DATASET POLYDATA" \
   && grep -q "^POLYGONS" "$f" && ! ls "$T"/legacy/frames/*.pvd >/dev/null 2>&1 && ok || bad "legacy VTK polydata"
+# --dt S runs the scene at time step S over the same physical time: the same state as --dt-divide
+# with the same factor (every step count scaled from the key table), and a step that does not
+# divide the scene's is refused.
+"$H" run cylinder_press --out "$T/div" --steps 10 --dt-divide 2 --set 'references.solvers=[]' --quiet \
+  && "$H" run cylinder_press --out "$T/dt" --steps 10 --dt 2.5e-5 --set 'references.solvers=[]' --quiet \
+  && [[ "$(grep -o '"state_hash": "[0-9a-f]*"' "$T/div/summary.json")" == "$(grep -o '"state_hash": "[0-9a-f]*"' "$T/dt/summary.json")" ]] \
+  && grep -q '"steps_run": 20' "$T/dt/summary.json" && ok || bad "--dt equals --dt-divide"
+"$H" run cylinder_press --out "$T/dt3" --steps 10 --dt 3e-5 --quiet 2>"$T/err"; rc=$?
+[[ $rc -eq 2 ]] && grep -q -- "--dt: the scene's time.dt" "$T/err" && ok || bad "--dt not a divisor: exit $rc"
 # harness schema prints the scene format's JSON Schema.
 "$H" schema | grep -q '"$schema": "https://json-schema.org/draft/2020-12/schema"' && ok || bad "harness schema"
 

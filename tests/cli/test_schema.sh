@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The scene format's JSON Schema (experiments/scene.schema.json) agrees with the loader
-# (core/scene.cpp):
+# (core/scene/: the key table, core/scene/keys.cpp, that both come from):
 #  (a) `harness schema` prints it (compared as parsed JSON);
 #  (b) every bundled scene, every valid scene of the fuzz corpus and every complete scene written
 #      inline in the tests is valid by the schema and accepted by the loader (`harness list`
@@ -103,7 +103,7 @@ def mesh_links(d):
 
 
 def apply_set(doc, key, value):
-    """As apply_override (core/scene.cpp): a dotted path with list indices, missing objects made."""
+    """As apply_override (core/scene/document.cpp): a dotted path with list indices, missing objects made."""
     try:
         v = json.loads(value)
     except ValueError:

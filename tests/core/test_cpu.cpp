@@ -3,9 +3,10 @@
 // definitions': voxel_of, the serial scatter) in every kernel. set_parallel_grain(1) makes the
 // small worlds here take the parallel code paths, where the spring and dashpot gathers run.
 #include "core/collision/voxel_data.hpp"
+#include "core/world.hpp"
 #include "core/cpu.hpp"
 #include "core/parallel.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simd/kernels.hpp"
 #include "core/simulation.hpp"
 #include "core/spring_forces.hpp"

@@ -3,7 +3,7 @@
 // V (mu eps:eps + lambda/2 (tr eps)^2), lambda = mu = E / 2.5, exactly for box lattices (boundary
 // cells included, any cell aspect), and for volume fills within their surface layer's error.
 #include "core/elastic_map.hpp"
-#include "core/shapes.hpp"
+#include "core/shapes/shapes.hpp"
 
 #include <catch2/catch.hpp>
 

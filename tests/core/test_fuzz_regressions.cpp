@@ -2,7 +2,7 @@
 // (tests/fuzz/, scripts/fuzz.sh). The inputs that found them are also in the fuzz corpus,
 // tests/fuzz/corpus/, replayed by the ctest tests fuzz:replay_*.
 #include "core/mesh.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -2,9 +2,10 @@
 // fast forms equal their plain serial definitions bit for bit. set_parallel_grain(1) makes the
 // small worlds here take the parallel code paths.
 #include "core/collision/voxel_data.hpp"
+#include "core/world.hpp"
 #include "core/spring_forces.hpp"
 #include "core/parallel.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 
 #include "tests/core/scatter_reference.hpp"

@@ -1,6 +1,6 @@
 // Scene loading: strict validation, one clear message per bad input naming file and key path.
 #include "core/run.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 
 #include <catch2/catch.hpp>

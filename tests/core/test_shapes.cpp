@@ -7,7 +7,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "core/shapes.hpp"
+#include "core/shapes/shapes.hpp"
 
 using namespace harness;
 

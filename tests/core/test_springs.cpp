@@ -70,7 +70,7 @@ TEST_CASE("force per length is the tension over the length", "[springs]") {
       }
 }
 
-TEST_CASE("spring laws match DESIGN.md formulas", "[springs]") {
+TEST_CASE("spring laws match the formulas of springs.hpp", "[springs]") {
   const double L0 = 0.02, l = 0.025, k = 50.0, eps = 0.25;
   CHECK(spring_tension({SpringLawKind::linear, k, 0.0}, L0, l) == Approx(k * L0 * eps));
   CHECK(spring_tension({SpringLawKind::cubic, k, 2.0}, L0, l) == Approx(k * L0 * (eps + 2.0 * eps * eps * eps)));

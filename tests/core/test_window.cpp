@@ -2,7 +2,7 @@
 // figures on a synthetic damped oscillation against their closed form, and the stability
 // verdict of synthetic energy records (contact power as a rate, a kick, growth).
 #include "core/run/window.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "core/mesh.hpp"
-#include "core/shapes.hpp"
+#include "core/shapes/shapes.hpp"
 #include "tests/fuzz/fuzz_common.hpp"
 
 #include <cmath>

@@ -6,7 +6,7 @@
 // Mesh bodies resolve relative to tests/fuzz/corpus/ (so "off/cube.off" names a seed mesh);
 // paths outside it or files above 16 KB are skipped, never read.
 #include "core/collision/initializer.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 #include "tests/fuzz/fuzz_common.hpp"
 

@@ -5,7 +5,7 @@
 
 #include "core/run.hpp"
 #include "core/run/recorder.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 #include "reference/reference.hpp"
 

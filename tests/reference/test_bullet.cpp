@@ -5,7 +5,7 @@
 //    damping, no pins) and separates them;
 //  - what Bullet cannot represent is refused naming the scene key.
 #include "core/run.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 #include "reference/reference.hpp"
 

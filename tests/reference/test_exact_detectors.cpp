@@ -38,7 +38,7 @@ TEST_CASE("cgal detector: contacts are the truly penetrating guest nodes", "[ref
   CgalDetector det;
   det.initialize(s.w, s.pair);
   std::vector<Contact> contacts;
-  det.detect(s.w, s.pair, contacts);
+  det.detect(s.w, contacts);
   ReferenceSpec spec;
   spec.cgal = true;
   ReferenceMeasurer m(s.w, s.pair, spec);
@@ -76,7 +76,7 @@ TEST_CASE("cgal detector: contacts are the truly penetrating guest nodes", "[ref
 
   // Moved apart: no contacts (the tree follows the host).
   translate_body(s.w, s.pair.host, Vec3(-5, 0, 0));
-  det.detect(s.w, s.pair, contacts);
+  det.detect(s.w, contacts);
   CHECK(contacts.empty());
 }
 
@@ -85,7 +85,7 @@ TEST_CASE("fcl detector: guest vertices of intersecting triangles", "[reference]
   FclDetector det;
   det.initialize(s.w, s.pair);
   std::vector<Contact> contacts;
-  det.detect(s.w, s.pair, contacts);
+  det.detect(s.w, contacts);
   REQUIRE(!contacts.empty());
   const Body& G = s.w.bodies[s.pair.guest];
   const Body& H = s.w.bodies[s.pair.host];
@@ -129,11 +129,11 @@ TEST_CASE("fcl detector: guest vertices of intersecting triangles", "[reference]
 
   // Twice in a row: the same answer (the per-node scratch is reset).
   std::vector<Contact> again;
-  det.detect(s.w, s.pair, again);
+  det.detect(s.w, again);
   CHECK(again.size() == contacts.size());
 
   translate_body(s.w, s.pair.guest, Vec3(5, 0, 0));
-  det.detect(s.w, s.pair, contacts);
+  det.detect(s.w, contacts);
   CHECK(contacts.empty());
 }
 
@@ -148,10 +148,10 @@ TEST_CASE("a diverged state: no contacts, no measurement, no abort", "[reference
   ReferenceMeasurer m(s.w, s.pair, spec);
   s.w.x[s.w.bodies[s.pair.guest].begin + 3].x() = std::numeric_limits<double>::quiet_NaN();
   std::vector<Contact> contacts = {{0, 0}};
-  cg.detect(s.w, s.pair, contacts);
+  cg.detect(s.w, contacts);
   CHECK(contacts.empty());
   contacts = {{0, 0}};
-  fc.detect(s.w, s.pair, contacts);
+  fc.detect(s.w, contacts);
   CHECK(contacts.empty());
   Measurement out;
   out.has_cgal = true;

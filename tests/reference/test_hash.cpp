@@ -57,7 +57,7 @@ TEST_CASE("spatial hashing: inside sets equal CGAL's on 1200 random poses", "[ha
     HashDetector hash;
     hash.initialize(w, pair);
     std::vector<Contact> contacts;
-    hash.detect(w, pair, contacts);
+    hash.detect(w, contacts);
     CgalSurface cg;
     cg.set_topology(h.n_surface, h.faces);
     cg.update(&w.x[h.begin]);

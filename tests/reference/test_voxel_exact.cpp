@@ -109,7 +109,7 @@ TEST_CASE("voxel_exact agrees with CGAL within its band on 1200 random poses", "
     VoxelExactDetector det;
     det.initialize(w, pair);
     std::vector<Contact> contacts;
-    det.detect(w, pair, contacts);
+    det.detect(w, contacts);
     CgalSurface cg;
     const Body& h = w.bodies[pair.host];
     cg.set_topology(h.n_surface, h.faces);
@@ -177,7 +177,7 @@ TEST_CASE("voxel_exact: a node just beyond the band is counted, one just within 
   const int node = w.bodies[pair.guest].begin;
   auto at = [&](double depth) {
     w.x[node] = Vec3(0.013, -0.021, 0.05 - depth);
-    det.detect(w, pair, contacts);
+    det.detect(w, contacts);
     return det.band_at(w.x[node]) - depth;  // > 0: within the band
   };
   double a = 1e-4, b = 0.045;  // within at a, beyond at b (checked)

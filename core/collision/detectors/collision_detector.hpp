@@ -34,10 +34,12 @@ class CollisionDetector {
  public:
   virtual ~CollisionDetector() = default;
   virtual const char* name() const = 0;
-  // Called once per pair when the simulation is built (rest state).
+  // Configures the detector for one pair, once, when the simulation is built (rest state): it
+  // keeps what it needs of the spec (bodies, grid, cell) and builds its structures; the pair has
+  // been checked (check_pair, collision.hpp). Then detect() runs each step without the spec.
   virtual void initialize(const World& w, const ContactSpec& spec) = 0;
   // Detect on the current positions; `out` is cleared first and reused without reallocation.
-  virtual void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) = 0;
+  virtual void detect(const World& w, std::vector<Contact>& out) = 0;
   // Up to k host nodes (global indices) nearest to the guest node of contact c, searched in the
   // detector's neighbourhood of the contact, nearest first. Returns how many were written.
   // nearest_hosts() and contact_direction() are called from several threads at once (the

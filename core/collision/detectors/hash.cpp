@@ -29,10 +29,7 @@ std::size_t prime_at_least(std::size_t n) {
 }  // namespace
 
 void HashDetector::initialize(const World& w, const ContactSpec& spec) {
-  const int nb = static_cast<int>(w.bodies.size());
-  if (spec.host < 0 || spec.host >= nb || spec.guest < 0 || spec.guest >= nb)
-    throw std::invalid_argument("hash detector: host or guest body index out of range");
-  spec_ = spec;
+  guest_ = spec.guest;
   const Body& h = w.bodies[spec.host];
   if (h.faces.empty()) throw std::invalid_argument("hash detector: the host '" + h.name + "' has no surface");
   host_begin_ = h.begin;
@@ -170,10 +167,10 @@ int HashDetector::nearest_triangle(const World& w, const Vec3& p) {
   return best_f;
 }
 
-void HashDetector::detect(const World& w, const ContactSpec&, std::vector<Contact>& out) {
+void HashDetector::detect(const World& w, std::vector<Contact>& out) {
   out.clear();
   hash_host(w);
-  const Body& g = w.bodies[spec_.guest];
+  const Body& g = w.bodies[guest_];
   for (int i = g.begin; i < g.end; ++i)
     if (inside(w, w.x[i])) out.push_back(Contact{i, nearest_triangle(w, w.x[i])});
 }

@@ -28,7 +28,7 @@ class HashDetector final : public CollisionDetector {
  public:
   const char* name() const override { return "hash"; }
   void initialize(const World& w, const ContactSpec& spec) override;
-  void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
+  void detect(const World& w, std::vector<Contact>& out) override;
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
   bool contact_direction(const World& w, const Contact& c, Vec3& n) const override;
   bool contact_point(const World& w, const Contact& c, ContactPoint& out) const override;
@@ -49,7 +49,7 @@ class HashDetector final : public CollisionDetector {
   void hash_host(const World& w);
   int crossings(const World& w, const Vec3& p, const Tri& t) const;
 
-  ContactSpec spec_;
+  int guest_ = -1;  // the guest body
   int host_begin_ = 0;
   std::vector<Tri> faces_;
   double cell_ = 0.0;

@@ -7,8 +7,8 @@
 namespace harness {
 
 void VoxelDetector::initialize(const World& w, const ContactSpec& spec) {
-  init_.initialize(w, spec, grid_);  // validates the spec first
-  spec_ = spec;
+  init_.initialize(w, spec, grid_);
+  guest_ = spec.guest;
   const Body& hb = w.bodies[spec.host];
   fill_begin_ = hb.begin;
   fill_end_ = spec.host_nodes == HostNodes::surface ? hb.begin + hb.n_surface : hb.end;
@@ -29,10 +29,10 @@ void VoxelDetector::lookup(const VoxelIndexer& idx, const Points& x, int begin, 
   }
 }
 
-void VoxelDetector::detect(const World& w, const ContactSpec&, std::vector<Contact>& out) {
+void VoxelDetector::detect(const World& w, std::vector<Contact>& out) {
   out.clear();
   const GridGeometry g = init_.update(w, grid_);
-  const Body& gb = w.bodies[spec_.guest];
+  const Body& gb = w.bodies[guest_];
   const VoxelIndexer idx(g);
   grid_.fill(g, w.x, fill_begin_, fill_end_);  // in parallel parts when the grid is large
   if (grid_.listed_nodes() == 0) return;

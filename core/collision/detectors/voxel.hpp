@@ -6,7 +6,6 @@
 //      Contact{guest = its global index, key = the linear voxel index}, in guest node order.
 // Contact keys refer to this step's grid (region overlap changes its layout every step), so
 // nearest_hosts() must be called after the detect() that produced the contact.
-// detect() uses the spec given to initialize() (the argument is the same pair's spec).
 // No heap allocation per step after initialize(), except when the host outgrows the region
 // (a rebuild) and once when the thread count is first raised; `out` must have capacity for
 // every guest node to avoid growing it. With several threads (core/parallel.hpp) the grid is
@@ -25,7 +24,7 @@ class VoxelDetector final : public CollisionDetector {
  public:
   const char* name() const override { return "voxel"; }
   void initialize(const World& w, const ContactSpec& spec) override;
-  void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
+  void detect(const World& w, std::vector<Contact>& out) override;
   // k == 1: the nearest host node in the contact's voxel. k > 1: the k nearest host nodes in the
   // voxel and its 26 neighbours (those inside the grid). Nearest first; equal distances are
   // ordered by node index. Returns how many were written (< k when fewer exist).
@@ -47,9 +46,9 @@ class VoxelDetector final : public CollisionDetector {
   template <class Emit, class Occupied>
   void lookup(const VoxelIndexer& idx, const Points& x, int begin, int end, Emit&& emit, Occupied&& occupied) const;
 
-  ContactSpec spec_;
   Initializer init_;
   VoxelData grid_;
+  int guest_ = -1;                     // the guest body
   int fill_begin_ = 0, fill_end_ = 0;  // global host node range listed in the voxels
   std::vector<Contact> scratch_;       // parallel lookup: per-chunk contacts (guest size)
 };

@@ -115,7 +115,7 @@ class VoxelExactDetector final : public CollisionDetector {
   // Throws std::invalid_argument as the Initializer does, and for a host without a closed,
   // consistently oriented 2-manifold surface (every edge in exactly two faces, once each way).
   void initialize(const World& w, const ContactSpec& spec) override;
-  void detect(const World& w, const ContactSpec& spec, std::vector<Contact>& out) override;
+  void detect(const World& w, std::vector<Contact>& out) override;
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override;
   bool contact_direction(const World& w, const Contact& c, Vec3& n) const override;
   bool contact_point(const World& w, const Contact& c, ContactPoint& out) const override;
@@ -170,7 +170,6 @@ class VoxelExactDetector final : public CollisionDetector {
   double longest_edge_now(const World& w) const;
   void ensure_workspaces(int threads);
 
-  ContactSpec spec_;
   Initializer init_;
   VoxelData grid_;
   int host_begin_ = 0, n_surface_ = 0, guest_begin_ = 0, guest_size_ = 0;

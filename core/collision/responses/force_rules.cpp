@@ -54,14 +54,14 @@ Vec3 acceleration(const World& w, int i) {
 double inverse_mass(const World& w, int i) { return is_kinematic(w, i) ? 0.0 : w.inv_m[i]; }
 }  // namespace
 
-double auto_contact_forces(const World& w, const std::vector<Push>& pushes, double dt,
+double auto_contact_forces(const World& w, const std::vector<Push>& pushes, double h,
                            double separation_speed, std::vector<double>& out, std::vector<int>& share) {
   out.assign(pushes.size(), 0.0);
   if (share.size() < w.x.size()) share.assign(w.x.size(), 0);
   for (const Push& p : pushes)
     for (int k = 0; k < p.count; ++k) ++share[p.hosts[k]];
   double largest = 0.0;
-  if (dt > 0.0) {
+  if (h > 0.0) {
     // Each magnitude depends on its own push and on `share` alone: parallel; the largest is a
     // max, exact in any order.
     const std::size_t n = pushes.size();
@@ -79,8 +79,8 @@ double auto_contact_forces(const World& w, const std::vector<Push>& pushes, doub
         c += p.weight[k] * p.weight[k] * share[h] * inverse_mass(w, h);
       }
       if (!(c > 0.0)) continue;  // every node kinematic: nothing can move
-      const double sep = dv.dot(p.n) + dt * da.dot(p.n);
-      const double f = std::max(0.0, separation_speed - sep) / (dt * c);
+      const double sep = dv.dot(p.n) + h * da.dot(p.n);
+      const double f = std::max(0.0, separation_speed - sep) / (h * c);
       if (std::isfinite(f)) {
         out[i] = f;
         largest = std::max(largest, f);

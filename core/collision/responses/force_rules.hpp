@@ -28,9 +28,9 @@ inline void apply_pushes(World& w, const std::vector<Push>& pushes, const std::v
 // it across steps). The paper tunes one constant F by hand, with the rule that it must beat the
 // deformation forces. `auto` applies that rule per contact and per step, along the push
 // direction n actually applied: the force that makes the guest node separate from its hosts
-// at `separation_speed` (v_sep, m/s) by the end of the step:
-//   F = max(0, v_sep - w) / (dt * c)
-//   w = (v_g - sum_k w_k v_k) . n + dt (a_g - sum_k w_k a_k) . n   separating speed after the
+// at `separation_speed` (v_sep, m/s) by the end of the (sub)step of h seconds:
+//   F = max(0, v_sep - w) / (h * c)
+//   w = (v_g - sum_k w_k v_k) . n + h (a_g - sum_k w_k a_k) . n   separating speed after the
 //       step without contact force (a = f/m from what w.f holds: springs, pressure, gravity,
 //       ...; contact runs after them)
 //   c = 1/m_g + sum_k w_k^2 n_k / m_k   change of that speed per unit impulse, with n_k the
@@ -39,10 +39,10 @@ inline void apply_pushes(World& w, const std::vector<Push>& pushes, const std::v
 // A kinematic node counts as infinitely heavy (1/m = 0, no acceleration, velocity kin_v).
 // So F beats the deformation forces that press the pair together and stops the approach, and a
 // pair resting in contact is pushed apart slowly. Collision uses v_sep = L / kSeparationTime,
-// L the voxel size (or the host's mean spring length for detectors without a grid).
+// L the voxel size (or the host's node spacing for detectors without a grid).
 // Non-finite terms are ignored. `share` is scratch (one int per node, left all zero). Returns the
 // largest F (0 without contacts).
-double auto_contact_forces(const World& w, const std::vector<Push>& pushes, double dt,
+double auto_contact_forces(const World& w, const std::vector<Push>& pushes, double h,
                            double separation_speed, std::vector<double>& out, std::vector<int>& share);
 
 }  // namespace harness

@@ -25,14 +25,14 @@ namespace {
 class BruteForceDetector final : public CollisionDetector {
  public:
   const char* name() const override { return "brute"; }
-  void initialize(const World&, const ContactSpec& spec) override { spec_ = spec; }
-  void detect(const World& w, const ContactSpec&, std::vector<Contact>& out) override {
+  void initialize(const World&, const ContactSpec& spec) override { host_ = spec.host, guest_ = spec.guest; }
+  void detect(const World& w, std::vector<Contact>& out) override {
     out.clear();
-    for (int i = w.bodies[spec_.guest].begin; i < w.bodies[spec_.guest].end; ++i) out.push_back({i, -1});
+    for (int i = w.bodies[guest_].begin; i < w.bodies[guest_].end; ++i) out.push_back({i, -1});
   }
   int nearest_hosts(const World& w, const Contact& c, int k, int* out) const override {
     std::vector<std::pair<double, int>> d;
-    for (int i = w.bodies[spec_.host].begin; i < w.bodies[spec_.host].end; ++i)
+    for (int i = w.bodies[host_].begin; i < w.bodies[host_].end; ++i)
       d.emplace_back((w.x[i] - w.x[c.guest]).squaredNorm(), i);
     std::sort(d.begin(), d.end());
     const int n = std::min<int>(k, static_cast<int>(d.size()));
@@ -41,7 +41,7 @@ class BruteForceDetector final : public CollisionDetector {
   }
 
  private:
-  ContactSpec spec_;
+  int host_ = -1, guest_ = -1;
 };
 
 ContactSpec pair_spec(EliminatorKind e, double voxel = 1.0) {
@@ -206,13 +206,13 @@ TEST_CASE("plane rule pushes a guest inside a flat layer outward", "[collision][
       if (voxels) {
         VoxelDetector det;
         det.initialize(w, s);
-        det.detect(w, s, contacts);
+        det.detect(w, contacts);
         if (contacts.empty()) continue;
         elim.eliminate(w, s, det, contacts, 1.0);
       } else {
         BruteForceDetector det;
         det.initialize(w, s);
-        det.detect(w, s, contacts);
+        det.detect(w, contacts);
         elim.eliminate(w, s, det, contacts, 1.0);
       }
       const Vec3 f = w.f[w.bodies[1].begin];
@@ -246,7 +246,7 @@ TEST_CASE("plane rule pushes a guest inside a sphere outward", "[collision][elim
     BruteForceDetector det;
     det.initialize(w, s);
     std::vector<Contact> contacts;
-    det.detect(w, s, contacts);
+    det.detect(w, contacts);
     PlaneEliminator elim;
     elim.eliminate(w, s, det, contacts, 1.0);
     const Vec3 f = w.f[w.bodies[1].begin];
@@ -283,7 +283,7 @@ TEST_CASE("orient decides which way line and plane push a node that crossed the 
       BruteForceDetector det;
       det.initialize(w, s);
       std::vector<Contact> contacts;
-      det.detect(w, s, contacts);
+      det.detect(w, contacts);
       if (key.second == EliminatorKind::line) LineEliminator().eliminate(w, s, det, contacts, 1.0);
       else PlaneEliminator().eliminate(w, s, det, contacts, 1.0);
       const Vec3 f = w.f[w.bodies[1].begin];

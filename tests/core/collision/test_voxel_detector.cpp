@@ -286,7 +286,7 @@ TEST_CASE("voxel detector equals the brute-force oracle on random configurations
       const OracleGrid g = oracle_grid(w, s, st);
       const std::vector<Contact> want = oracle_contacts(w, s, g, rc.v);
       const Contact* before = got.data();
-      det.detect(w, s, got);
+      det.detect(w, got);
       CHECK(got.data() == before);  // the caller's reserved buffer is reused
       ++checked_steps;
       REQUIRE(same(got, want));
@@ -294,8 +294,8 @@ TEST_CASE("voxel detector equals the brute-force oracle on random configurations
       contacts += static_cast<int>(got.size());
 
       std::vector<Contact> cf, co;
-      dfull.detect(w, sf, cf);
-      dover.detect(w, so, co);
+      dfull.detect(w, cf);
+      dover.detect(w, co);
       CHECK(guests_of(cf) == guests_of(co));
 
       for (int i = w.bodies[1].begin; i < w.bodies[1].end; ++i)
@@ -351,10 +351,10 @@ TEST_CASE("contacts do not change when host and guest translate together",
       VoxelDetector det;
       det.initialize(w, s);
       std::vector<Contact> a, b;
-      det.detect(w, s, a);
+      det.detect(w, a);
       const Vec3 shift = Vec3(tq(rng), tq(rng), tq(rng)) * unit;
       for (auto& p : w.x) p += shift;
-      det.detect(w, s, b);
+      det.detect(w, b);
       CHECK(same(a, b));
       CHECK(det.rebuilds() == 0);
     }
@@ -398,22 +398,22 @@ TEST_CASE("the region is rebuilt when the host outgrows it", "[collision][voxel]
     for (int i = 0; i < w.bodies[0].end; ++i) w.x[i] = f * rest[i];
   };
   inflate(1.2);  // h = 1.2 <= H + v = 1.25: still inside the region
-  det.detect(w, s, c);
+  det.detect(w, c);
   CHECK(det.rebuilds() == 0);
   // All host nodes in the upper half (z >= 0) are still listed.
   CHECK(det.grid().listed_nodes() == 5 * 5 * 3);
   inflate(1.3);  // h = 1.3 > 1.25
-  det.detect(w, s, c);
+  det.detect(w, c);
   CHECK(det.rebuilds() == 1);
   CHECK(det.initializer().built_half_extents().isApprox(Vec3::Constant(1.3)));
   CHECK(det.grid().listed_nodes() == 5 * 5 * 3);
   inflate(0.5);  // shrinking never rebuilds
-  det.detect(w, s, c);
+  det.detect(w, c);
   CHECK(det.rebuilds() == 1);
   // The grown implant reaches the tissue node.
   w.x[w.bodies[1].begin] = Vec3(0.01, 0.01, 2.9);
   inflate(2.9);
-  det.detect(w, s, c);
+  det.detect(w, c);
   CHECK(det.rebuilds() == 2);
   REQUIRE(c.size() == 1);
   CHECK(c[0].guest == w.bodies[1].begin);

@@ -7,7 +7,7 @@
 #include "core/collision/detectors/voxel_exact.hpp"
 #include "core/collision/responses/force_rules.hpp"
 #include "core/parallel.hpp"
-#include "core/scene.hpp"
+#include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 #include "tests/core/collision/collision_test_worlds.hpp"
 

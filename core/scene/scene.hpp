@@ -1,11 +1,16 @@
-// Scene format (DESIGN.md, "Scene format"): one JSON object, SI units, loaded once and
-// validated strictly. Every bad input throws InputError naming the file and the key path
-// (or line and column for malformed JSON). Defaults are written into `resolved`, which the
-// run records in summary.json.
+// Scene format (docs/scenes.md): one JSON object, SI units, validated strictly and once. Every
+// bad input throws InputError naming the file and the key path (or line and column for malformed
+// JSON). Defaults are written into `resolved`, which the run records in summary.json.
+//
+// The files: keys.{hpp,cpp} (the table of keys: types, ranges, defaults, units, names, step
+// counts), check.{hpp,cpp} (the JSON checking toolkit), readers.cpp (the section readers: JSON
+// into a Scene), document.cpp (the document before validation: parsing, file I/O, --set, step
+// rescaling), schema.{hpp,cpp} (the JSON Schema, generated from the table).
 #pragma once
 
 #include "core/collision/contact_spec.hpp"
 #include "core/measure.hpp"
+#include "core/scene/keys.hpp"
 #include "core/types.hpp"
 #include "core/world.hpp"
 
@@ -17,10 +22,6 @@
 #include <vector>
 
 namespace harness {
-
-enum class Integrator { symplectic_euler, implicit_euler };
-enum class Guard { refuse, substep };
-enum class FrameFormat { vtp, vtu, vtk };
 
 // Effects a scene may list; exactly the listed ones are simulated (effects/effects.hpp has the
 // table of their names and makers).
@@ -105,9 +106,10 @@ struct BodySpec {
 };
 
 struct ContactPairSpec {
-  std::string host, guest;
-  ContactSpec spec;  // host/guest indices filled when the world is built
-  std::string path;  // "contacts.N"
+  std::string host, guest;  // body names, as the scene gives them
+  std::string label;        // the pair's name in the outputs (default "host/guest")
+  ContactSpec spec;         // the pair's parameters; host and guest are the bodies' indices
+  std::string path;         // "contacts.N"
 };
 
 struct Scene {
@@ -138,7 +140,21 @@ struct Scene {
   bool has(EffectFlag e) const { return (effects & e) != 0; }
 };
 
-// Parses JSON text (errors as "file:line:col: ..."), applies the overrides, validates.
+// A scene document before validation: the parsed JSON, the file it came from (for messages) and
+// the folder mesh paths are relative to. The command line edits it (--set, --steps, --dt-divide,
+// --dt), and so do the reference levels; it is validated once, into a Scene.
+struct SceneSource {
+  nlohmann::json doc;
+  std::string file, dir;
+};
+// Parses JSON text (errors as "file:line:col: ...", duplicate keys refused).
+SceneSource parse_scene_source(const std::string& text, const std::string& file);
+// Reads the file then parse_scene_source. Throws InputError if unreadable.
+SceneSource read_scene_source(const std::string& path);
+// Validates the document into a Scene (scene_from_json).
+Scene scene_from_source(const SceneSource& src);
+
+// Parses JSON text, applies the overrides (apply_override, in order), validates.
 Scene parse_scene(const std::string& text, const std::string& file,
                   const std::vector<std::pair<std::string, std::string>>& overrides = {});
 // Reads the file then parse_scene. Throws InputError if unreadable.
@@ -148,12 +164,24 @@ Scene load_scene(const std::string& path,
 Scene scene_from_json(const nlohmann::json& doc, const std::string& file, const std::string& dir);
 
 // Sets the value at a dotted key path with list indices ("contacts.0.force"), creating
-// missing object members; `value_json` is a JSON literal. Throws InputError("--set KEY", ...).
+// missing object members; `value_json` is a JSON literal (a bare word is a string). Throws
+// InputError("--set KEY", ...).
 void apply_override(nlohmann::json& doc, const std::string& key, const std::string& value_json);
+// --steps N: exactly N steps, as overrides (time.steps = N, time.settle = null).
+std::vector<std::pair<std::string, std::string>> steps_overrides(long long steps);
 
-// The same scene at dt / factor over the same physical time: every step count (time.steps,
+// The same scene at dt / factor over the same physical time, as an edit of the document: every
+// key that counts steps (the key table's, keys.hpp: time.steps, time.window,
 // time.settle.max_steps, pressure and load ramps, driver windows, references.every,
-// output.frames_every) times factor. Step k at dt covers steps (k-1) factor + 1 .. k factor.
+// output.frames_every) times factor, a key left out at its default too; step k at dt covers
+// steps (k-1) factor + 1 .. k factor. Values the loader would refuse are left for it to report.
+void rescale_steps(nlohmann::json& doc, int factor);
+// The same scene at time step `dt` (s) over the same physical time: every step count times
+// ratio = the scene's time.dt / dt, exactly when the ratio is whole (rescale_steps), rounded to
+// the nearest count (at least 1) otherwise; then time.dt = dt. Throws InputError("--dt", ...) for
+// a dt that is not positive or is more than 1e6 times off.
+void rescale_to_dt(nlohmann::json& doc, double dt);
+// rescale_steps on a validated scene's resolved document, validated again (tests).
 Scene rescale_dt(const Scene& scene, int factor);
 
 // The same scene at another dt over the same physical time: every step count times dt_old / dt,

@@ -1,6 +1,10 @@
 // Generation of mass-spring models from shape descriptions. Every generator returns a
 // ShapeModel whose first n_surface nodes are the vertices of a closed, outward-oriented,
-// 2-manifold triangle surface; volumetric models add interior nodes after them.
+// 2-manifold triangle surface; volumetric models add interior nodes after them. Everything here
+// runs once at load time: written for clarity and robustness, but O(n log n), so that surfaces of
+// millions of vertices remain buildable. The files: primitives.cpp (icosphere, cylinder, mesh),
+// box_lattice.cpp, model.cpp (assembly: finish_model), volume_fill.cpp (interior lattice),
+// calibration.cpp (springs' stiffness per unit E), kd_tree.hpp, internal.hpp (what they share).
 #pragma once
 
 #include "core/elastic_map.hpp"
@@ -31,6 +35,12 @@ struct ShapeModel {
 // Box lattice of (nx+1)(ny+1)(nz+1) nodes: structural, face-shear and body-diagonal springs.
 // Always volumetric. Lumped volume: each cell gives 1/8 of its volume to each corner.
 ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells);
+
+// Limits of the generators, and of the scene format (core/scene/keys.cpp): icosphere
+// subdivisions (163842 surface vertices), box nodes (nx+1)(ny+1)(nz+1), cylinder nodes.
+constexpr int kMaxSubdivisions = 7;
+constexpr long long kMaxBoxNodes = 20'000'000;
+constexpr long long kMaxCylinderNodes = 20'000'000;
 
 // Icosphere: an icosahedron subdivided `subdivisions` times (each splits every triangle in
 // four), projected onto the sphere; 10*4^s + 2 surface vertices.

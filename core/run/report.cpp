@@ -1,0 +1,92 @@
+#include "core/run/report.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace harness {
+
+RunOutcome run_outcome(const Simulation& sim, const Recorder& rec, const RunStatus& status) {
+  RunOutcome o;
+  o.status = status;
+  o.steps_run = sim.step_index();
+  o.residual = sim.residual();
+  o.stability = sim.stats().stability;
+  o.judged = rec.judge(sim, sim.scene().settle.present && status.settled);
+  o.verdict = status.status == "ok" || status.status == "interrupted" ? o.judged.verdict : "failed";
+  for (std::size_t p = 0; p < sim.pairs().size(); ++p) {
+    PairOutcome po;
+    po.tunnelled = rec.tunnel_count(p);
+    po.measured = rec.totals()[p].measured;
+    po.true_pen_final = rec.totals()[p].true_pen_final;
+    o.pairs.push_back(po);
+  }
+  return o;
+}
+
+std::vector<std::string> end_warnings(const RunOutcome& o) {
+  std::vector<std::string> out;
+  for (std::size_t p = 0; p < o.pairs.size(); ++p) {
+    const int g = o.pairs[p].tunnelled.guest, h = o.pairs[p].tunnelled.host;
+    if (g > 0)
+      out.push_back("contacts." + std::to_string(p) + ": " + std::to_string(g) +
+                    " guest nodes tunnelled through the host (entered through one side, left through the other)");
+    if (h > 0)
+      out.push_back("contacts." + std::to_string(p) + ": " + std::to_string(h) +
+                    " host nodes tunnelled through the guest (entered through one side, left through the other)");
+  }
+  const StabilityJudgement& j = o.judged;
+  char b[320];
+  if (o.verdict == "injects" && j.kicked) {
+    std::snprintf(b, sizeof b,
+                  "contacts: contact injected energy that the bodies still move with over the final window (steps "
+                  "%d-%d): its net work %.3g J and their mean kinetic energy %.3g J against %.3g J put in or held (limit %g of it)",
+                  j.span.from, j.span.to, j.net_contact_work, j.kinetic.mean, j.energy_scale, kKickShare);
+    out.push_back(b);
+  } else if (o.verdict == "injects") {
+    std::snprintf(b, sizeof b,
+                  "contacts: contact keeps injecting energy over the final window (steps %d-%d): its mean power is %.3g "
+                  "of the power the scene put in (limit %g)",
+                  j.span.from, j.span.to, j.ratio, kInjectionRatio);
+    out.push_back(b);
+  } else if (o.verdict == "grows") {
+    std::snprintf(b, sizeof b,
+                  "time: the state grows over the final window (steps %d-%d): its largest kinetic energy rose %.3g times "
+                  "from the first half to the second",
+                  j.span.from, j.span.to, j.growth);
+    out.push_back(b);
+  }
+  return out;
+}
+
+void print_end_line(const Simulation& sim, const RunOutcome& o, const std::string& dir, double wall_s) {
+  std::string pen, err;
+  for (const PairOutcome& p : o.pairs) {
+    if (p.measured) pen += ", " + std::to_string(p.true_pen_final) + " penetrating nodes";
+    const long long tun = static_cast<long long>(p.tunnelled.guest) + p.tunnelled.host;
+    if (tun > 0) pen += ", " + std::to_string(tun) + " tunnelled";
+    if (p.compared) {
+      char b[160];
+      std::snprintf(b, sizeof b, ", pos_err_max %.3g mm", 1e3 * p.errors.pos_err_max);
+      err += b;
+      const WindowStat& w = p.pos_err_max_window;
+      if (w.n > 0 && std::isfinite(w.mean)) {
+        std::snprintf(b, sizeof b, " (window mean %.3g, max %.3g, amplitude %.3g mm)", 1e3 * w.mean, 1e3 * w.max,
+                      1e3 * w.amplitude());
+        err += b;
+      }
+    }
+  }
+  std::string settle;
+  if (sim.scene().settle.present) settle = o.status.settled ? ", settled" : ", not settled";
+  std::string verdict = ", " + o.verdict;
+  if (std::isfinite(o.judged.ratio)) {
+    char b[80];
+    std::snprintf(b, sizeof b, " (contact power %.3g of the input)", o.judged.ratio);
+    verdict += b;
+  }
+  std::fprintf(stderr, "harness: %s: %s, %d steps%s%s%s%s, %.1f s, %s\n", sim.scene().name.c_str(),
+               o.status.status.c_str(), sim.step_index(), settle.c_str(), verdict.c_str(), pen.c_str(), err.c_str(),
+               wall_s, dir.c_str());
+}
+
+}  // namespace harness

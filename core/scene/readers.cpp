@@ -1,0 +1,394 @@
+// The section readers: a validated JSON document into a Scene, one function per section (time,
+// effects, bodies and what they hold, contacts, references, output). Each key's type, range,
+// default and names come from the key table (keys.hpp) through the accessors of check.hpp; here
+// are the scene's fields they fill and the checks across keys (docs/scenes.md, "What the schema
+// cannot express").
+#include "core/scene/scene.hpp"
+
+#include "core/effects/effects.hpp"
+#include "core/scene/check.hpp"
+#include "core/shapes/shapes.hpp"
+
+#include <filesystem>
+#include <set>
+
+namespace harness {
+
+using nlohmann::json;
+using namespace scene_check;
+
+std::vector<std::pair<EffectFlag, const char*>> effect_names() {
+  std::vector<std::pair<EffectFlag, const char*>> names;
+  for (const EffectEntry& e : effect_table()) names.emplace_back(static_cast<EffectFlag>(e.flag), e.name);
+  return names;
+}
+
+namespace {
+
+Selection read_selection(const Ctx& c, const json& j, const std::string& path, json& out) {
+  Obj o(c, j, path, out, "selection");
+  Selection s;
+  s.path = path;
+  int n = 0;
+  std::string names;
+  for (const SceneKey& k : scene_keys())
+    if (std::string(k.kind) == "selection") {
+      n += o.has(k.name) ? 1 : 0;
+      names += (names.empty() ? "\"" : ", \"") + std::string(k.name) + "\"";
+    }
+  if (n != 1) c.fail(path, "a selection needs exactly one of " + names);
+  if (o.has("side")) {
+    const std::string side = o.word("side");
+    s.kind = Selection::side;
+    s.sign = side[0] == '-' ? -1 : 1;
+    s.axis = side[1] - 'x';
+  } else if (o.has("box")) {
+    s.kind = Selection::box;
+    Obj b(c, *o.get("box"), o.at("box"), o.out()["box"], "selection.box");
+    s.min = b.vec3("min");
+    s.max = b.vec3("max");
+    b.finish();
+    if ((s.min.array() > s.max.array()).any()) c.fail(o.at("box"), "min exceeds max");
+  } else {
+    s.kind = Selection::all;
+    if (!o.boolean("all")) c.fail(o.at("all"), "\"all\" must be true");
+  }
+  o.finish();
+  return s;
+}
+
+ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json& out, const std::string& dir) {
+  ShapeSpec s;
+  std::string type;
+  {
+    Obj t(c, j, path, out, "shape");
+    type = t.word("type");
+  }
+  // The keys of the variant `type` names (shape.box, shape.sphere, ...).
+  const std::string kind = "shape." + type;
+  Obj o(c, j, path, out, scene_kind(kind).name);
+  o.get("type");
+  s.type = type;
+  auto fill = [&]() { s.volume_fill = o.word("fill") == "volume"; };
+  if (s.type == "box") {
+    s.min = o.vec3("min");
+    s.max = o.vec3("max");
+    if (!(s.min.array() < s.max.array()).all()) c.fail(o.at("max"), "max must exceed min on every axis");
+    const json* cells = o.get("cells");
+    if (!cells) c.fail(o.at("cells"), "missing required key");
+    if (!cells->is_array() || cells->size() != 3) c.fail(o.at("cells"), "expected a list of 3 integers");
+    const SceneKey& ck = o.row("cells");
+    const long long lo = static_cast<long long>(ck.lo), hi = static_cast<long long>(ck.hi);
+    long long total = 1;
+    for (int a = 0; a < 3; ++a) {
+      const long long n = as_integer(c, join(o.at("cells"), a), (*cells)[a]);
+      if (n < lo || n > hi)
+        c.fail(join(o.at("cells"), a), "value out of range (" + std::to_string(lo) + " to " + std::to_string(hi) + ")");
+      s.cells[a] = static_cast<int>(n);
+      total *= (n + 1);
+    }
+    if (total > kMaxBoxNodes) c.fail(o.at("cells"), "too many nodes (" + std::to_string(total) + " > 2e7)");
+    o.out()["cells"] = {s.cells[0], s.cells[1], s.cells[2]};
+    // A box lattice is always volumetric: of the fills a surface takes (the shared fill key), only
+    // volume.
+    if (o.has("fill") && o.word_in("fill", scene_key("shape.sphere", "fill").names) != "volume")
+      c.fail(o.at("fill"), "a box lattice is always volumetric");
+    s.volume_fill = true;
+    o.out()["fill"] = o.row("fill").def;
+  } else if (s.type == "sphere" || s.type == "ellipsoid") {
+    s.center = o.vec3("center");
+    if (s.type == "sphere") {
+      s.radius = o.number("radius");
+      s.radii = Vec3::Constant(s.radius);
+    } else {
+      s.radii = o.vec3("radii");
+    }
+    s.subdivisions = static_cast<int>(o.integer("subdivisions"));
+    fill();
+  } else if (s.type == "cylinder") {
+    s.center = o.vec3("center");
+    s.axis = o.vec3("axis");
+    if (s.axis.norm() < 1e-12) c.fail(o.at("axis"), "axis must be non-zero");
+    s.radius = o.number("radius");
+    s.length = o.number("length");
+    s.segments = static_cast<int>(o.integer("segments"));
+    s.rings = static_cast<int>(o.integer("rings"));
+    if (static_cast<long long>(s.segments) * (s.rings + 1) > kMaxCylinderNodes)
+      c.fail(o.at("rings"), "too many nodes (segments * (rings + 1) > 2e7)");
+    fill();
+  } else {
+    const std::string p = o.string("path");
+    std::filesystem::path fp(p);
+    s.path = fp.is_absolute() ? p : (std::filesystem::path(dir) / fp).lexically_normal().string();
+    s.scale = o.number("scale");
+    s.translate = o.vec3("translate");
+    fill();
+  }
+  o.finish();
+  return s;
+}
+
+Material read_material(const Ctx& c, const json* j, const std::string& path, json& out, bool shell) {
+  static const json empty = json::object();
+  Obj o(c, j ? *j : empty, path, out, "material");
+  Material m;
+  m.density = o.number("density");
+  if (o.has("stiffness") && o.has("youngs_modulus"))
+    c.fail(path, "both \"stiffness\" (N/m per spring) and \"youngs_modulus\" (Pa) are given: choose one");
+  if (o.has("youngs_modulus")) {
+    m.youngs_modulus = o.number("youngs_modulus");
+    if (shell) m.thickness = o.number("thickness");
+  } else {
+    m.stiffness = o.number("stiffness");
+  }
+  if (o.has("thickness") && !(shell && m.youngs_modulus > 0.0))
+    c.fail(o.at("thickness"), shell ? "a thickness goes with \"youngs_modulus\"" : "only a shell (fill \"shell\") has a thickness");
+  m.law = o.word<SpringLawKind>("law");
+  m.nonlinearity = o.number("nonlinearity");
+  m.damping = o.number("damping");
+  m.mass_damping = o.number("mass_damping");
+  o.finish();
+  return m;
+}
+
+// A list of objects of one kind under `key` of `o` (pins, drivers, loads, bodies, contacts): each
+// element read by `read`, its resolved value appended to the resolved list.
+template <class Read>
+void read_list(Obj& o, const std::string& key, Read&& read) {
+  o.out()[key] = json::array();
+  const json* list = o.get(key);
+  if (!list) return;
+  as_list(o.ctx(), o.at(key), *list);
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    json r;
+    read((*list)[i], join(o.at(key), i), r);
+    o.out()[key].push_back(r);
+  }
+}
+
+// A driver's or a load's selection: under `select`, resolved in place.
+Selection read_select(Obj& o) {
+  json sel;
+  Selection s = read_selection(o.ctx(), o.require("select"), o.at("select"), sel);
+  o.out()["select"] = sel;
+  return s;
+}
+
+BodySpec read_body(const Ctx& c, const json& j, const std::string& path, json& out, const std::string& dir) {
+  Obj o(c, j, path, out, "body");
+  BodySpec b;
+  b.path = path;
+  b.name = o.string("name");
+  b.shape = read_shape(c, o.require("shape"), o.at("shape"), o.out()["shape"], dir);
+  b.material = read_material(c, o.get("material"), o.at("material"), o.out()["material"], !b.shape.volume_fill);
+  b.velocity = o.vec3("velocity");
+  read_list(o, "pins", [&](const json& e, const std::string& at, json& r) { b.pins.push_back(read_selection(c, e, at, r)); });
+  read_list(o, "drivers", [&](const json& e, const std::string& at, json& r) {
+    Obj d(c, e, at, r, "driver");
+    DriverSpec ds;
+    ds.select = read_select(d);
+    ds.velocity = d.vec3("velocity");
+    ds.from_step = static_cast<int>(d.integer("from_step"));
+    ds.to_step = static_cast<int>(d.integer("to_step"));
+    if (ds.to_step >= 0 && ds.to_step < ds.from_step) c.fail(d.at("to_step"), "to_step is before from_step");
+    d.finish();
+    b.drivers.push_back(ds);
+  });
+  read_list(o, "loads", [&](const json& e, const std::string& at, json& r) {
+    Obj l(c, e, at, r, "load");
+    LoadSpec ls;
+    ls.select = read_select(l);
+    ls.force = l.vec3("force");
+    ls.ramp_steps = static_cast<int>(l.integer("ramp_steps"));
+    l.finish();
+    b.loads.push_back(ls);
+  });
+  if (const json* p = o.get("pressure")) {
+    Obj po(c, *p, o.at("pressure"), o.out()["pressure"], "pressure");
+    b.pressure.present = true;
+    b.pressure.from = po.number("from");
+    b.pressure.to = po.number("to");
+    b.pressure.ramp_steps = static_cast<int>(po.integer("ramp_steps"));
+    po.finish();
+  }
+  o.finish();
+  return b;
+}
+
+void read_time(const Ctx& c, Obj& top, Scene& s) {
+  Obj t(c, top.require("time"), "time", s.resolved["time"], "time");
+  s.dt = t.number("dt");
+  s.steps = static_cast<int>(t.integer("steps"));
+  s.integrator = t.word<Integrator>("integrator");
+  s.guard = t.word<Guard>("guard");
+  s.window = static_cast<int>(t.integer("window"));
+  if (const json* st = t.get("settle"); st && !st->is_null()) {  // null: no settling (--steps)
+    Obj o(c, *st, t.at("settle"), t.out()["settle"], "settle");
+    s.settle.present = true;
+    s.settle.tolerance = o.number("tolerance");
+    s.settle.max_steps = static_cast<int>(o.integer("max_steps"));
+    o.finish();
+  }
+  t.finish();
+}
+
+// A list of distinct words of a key's names: the effects, the reference solvers.
+std::vector<std::string> read_words(const Ctx& c, const std::string& path, const json& list, const SceneKey& k,
+                                    const std::string& noun, const std::string& expected) {
+  as_list(c, path, list);
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string w = as_string(c, join(path, i), list[i]);
+    bool known = false;
+    for (const std::string& n : k.names) known = known || n == w;
+    if (!known) c.fail(join(path, i), "unknown " + noun + " \"" + w + "\" (expected " + expected + ")");
+    for (const std::string& seen : out)
+      if (seen == w) c.fail(join(path, i), noun + " \"" + w + "\" listed twice");
+    out.push_back(w);
+  }
+  return out;
+}
+
+void read_effects(const Ctx& c, Obj& top, Scene& s) {
+  json& R = s.resolved;
+  R["effects"] = json::array();
+  const SceneKey& k = top.row("effects");
+  if (const json* eff = top.get("effects")) {
+    std::string expected = "one of ";
+    for (std::size_t i = 0; i < k.names.size(); ++i) expected += (i ? ", " : "") + k.names[i];
+    for (const std::string& e : read_words(c, "effects", *eff, k, "effect", expected))
+      for (const auto& [bit, name] : effect_names())
+        if (e == name) s.effects |= bit;
+  }
+  for (const auto& [b, n] : effect_names())
+    if (s.effects & b) R["effects"].push_back(n);
+}
+
+void read_bodies(const Ctx& c, Obj& top, Scene& s, const std::string& dir) {
+  const json& bodies = as_list(c, "bodies", top.require("bodies"));
+  if (bodies.size() < static_cast<std::size_t>(top.row("bodies").lo)) c.fail("bodies", "at least one body is needed");
+  std::set<std::string> names;
+  read_list(top, "bodies", [&](const json& e, const std::string& at, json& r) {
+    BodySpec b = read_body(c, e, at, r, dir);
+    if (!names.insert(b.name).second) c.fail(join(at, "name"), "duplicate body name \"" + b.name + "\"");
+    s.bodies.push_back(std::move(b));
+  });
+}
+
+ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& path, json& r, const Scene& s) {
+  Obj o(c, j, path, r, "contact");
+  ContactPairSpec p;
+  p.path = path;
+  p.host = o.string("host");
+  p.guest = o.string("guest");
+  p.label = o.string("label", p.host + "/" + p.guest);
+  // The one check of the names a scene gives; the spec gets the bodies' indices (the world lays
+  // the bodies out in scene order).
+  auto index = [&](const std::string& name) {
+    for (std::size_t i = 0; i < s.bodies.size(); ++i)
+      if (s.bodies[i].name == name) return static_cast<int>(i);
+    return -1;
+  };
+  ContactSpec& cs = p.spec;
+  cs.host = index(p.host);
+  cs.guest = index(p.guest);
+  if (cs.host < 0) c.fail(o.at("host"), "unknown body \"" + p.host + "\"");
+  if (cs.guest < 0) c.fail(o.at("guest"), "unknown body \"" + p.guest + "\"");
+  if (p.host == p.guest) c.fail(o.at("guest"), "host and guest must be different bodies");
+  cs.detector = o.word<DetectorKind>("detector");
+  cs.voxel_size = o.length_or_auto("voxel_size");
+  cs.cell_size = o.length_or_auto("cell_size");
+  cs.region = o.word<Region>("region");
+  cs.margin = static_cast<int>(o.integer("margin"));
+  cs.host_nodes = o.word<HostNodes>("host_nodes");
+  cs.eliminator = o.word<EliminatorKind>("eliminator");
+  cs.orient = o.word<Orient>("orient");
+  cs.two_sided = o.boolean("two_sided");
+  cs.invert_push = o.boolean("invert_push");
+  cs.separation_time = o.number("separation_time");
+  // force: a number of newtons (constant), "auto", or {"stiffness": k} (penalty).
+  const json* f = o.get("force");
+  if (!f || (f->is_string() && f->get<std::string>() == "auto")) {
+    cs.force_rule = ForceRule::automatic;
+    o.out()["force"] = "auto";
+  } else if (f->is_object()) {
+    Obj fo(c, *f, o.at("force"), o.out()["force"], o.row("force").of);
+    cs.force_rule = ForceRule::penalty;
+    cs.stiffness = fo.number("stiffness");
+    fo.finish();
+  } else if (f->is_string()) {
+    c.fail(o.at("force"), "expected a number of newtons, \"auto\" or {\"stiffness\": N/m}");
+  } else {
+    cs.force_rule = ForceRule::constant;
+    const SceneKey& fk = o.row("force");
+    const double x = as_number(c, o.at("force"), *f);
+    if (x < fk.lo || x > fk.hi)
+      c.fail(o.at("force"), "value " + fmt(x) + " out of range (>= " + fmt(fk.lo) + ", <= " + fmt(fk.hi) + ")");
+    cs.force = x;
+    o.out()["force"] = x;
+  }
+  o.finish();
+  return p;
+}
+
+void read_contacts(const Ctx& c, Obj& top, Scene& s) {
+  read_list(top, "contacts", [&](const json& e, const std::string& at, json& r) {
+    s.contacts.push_back(read_contact(c, e, at, r, s));
+  });
+}
+
+void read_references(const Ctx& c, Obj& top, Scene& s) {
+  static const json empty = json::object();
+  const json* rj = top.get("references");
+  Obj o(c, rj ? *rj : empty, "references", s.resolved["references"], "references");
+  o.out()["solvers"] = json::array();
+  if (const json* sv = o.get("solvers")) {
+    const SceneKey& k = o.row("solvers");
+    std::string expected;
+    for (std::size_t i = 0; i < k.names.size(); ++i)
+      expected += std::string(i == 0 ? "" : i + 1 == k.names.size() ? " or " : ", ") + "\"" + k.names[i] + "\"";
+    for (const std::string& n : read_words(c, o.at("solvers"), *sv, k, "solver", expected)) {
+      (n == "cgal" ? s.references.cgal : n == "fcl" ? s.references.fcl : s.references.ccd) = true;
+      o.out()["solvers"].push_back(n);
+    }
+  }
+  s.references.every = static_cast<int>(o.integer("every"));
+  s.references.volume = o.boolean("volume");
+  o.finish();
+}
+
+void read_output(const Ctx& c, Obj& top, Scene& s) {
+  static const json empty = json::object();
+  const json* oj = top.get("output");
+  Obj o(c, oj ? *oj : empty, "output", s.resolved["output"], "output");
+  s.frames_every = static_cast<int>(o.integer("frames_every"));
+  s.trajectory = o.boolean("trajectory");
+  s.frame_format = o.word<FrameFormat>("format");
+  o.finish();
+}
+
+}  // namespace
+
+Scene scene_from_json(const json& doc, const std::string& file, const std::string& dir) {
+  Ctx c{file};
+  Scene s;
+  s.file = file;
+  s.dir = dir;
+  Obj top(c, doc, "", s.resolved, "scene");
+  s.name = top.string("name", std::filesystem::path(file).stem().string());
+  if (const json* seed = top.get("seed")) {
+    s.seed = as_integer(c, "seed", *seed);
+    s.resolved["seed"] = *s.seed;
+  }
+  read_time(c, top, s);
+  read_effects(c, top, s);
+  s.gravity = top.vec3("gravity");
+  read_bodies(c, top, s, dir);
+  read_contacts(c, top, s);
+  read_references(c, top, s);
+  read_output(c, top, s);
+  top.finish();
+  return s;
+}
+
+}  // namespace harness
