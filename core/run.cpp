@@ -1,5 +1,7 @@
 #include "core/run.hpp"
 
+#include "core/clock.hpp"
+
 #include "core/run/columns.hpp"
 #include "core/run/compare.hpp"
 #include "core/run/frame_writer.hpp"
@@ -123,6 +125,7 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
   try {
     const StopSignals stop_signals;
     const StepsOutcome o = run_steps(sim, [&](bool last) {
+      const auto t_record = Clock::now();  // measurement and outputs, outside the step
       rec.record(sim, last);
       if (trajectory && rec.sd_step() == sim.step_index())
         trajectory->record(surface_state(sim.world(), sim.step_index(), sim.time(), rec.signed_distance()));
@@ -132,6 +135,7 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
       const int s = sim.step_index();
       if (scene.frames_every > 0 && s % scene.frames_every == 0 && !last) frames.write(sim, rec, s);
       progress.update(sim);
+      rec.note_outside_us(us_since(t_record));
     });
     status.settled = o.settled;
     status.settle_steps = o.settle_steps;

@@ -217,7 +217,8 @@ const std::vector<std::string>& bench_methods() {
   static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "voxel_exact_detect",
                                                  "voxel_exact_detect_eliminate", "hash_detect",
                                                  "hash_detect_cell_x0.5", "hash_detect_cell_x2", "hash_detect_cell_x4",
-                                                 "stream_positions", "step", "stream_step", "fcl", "cgal", "bullet_collide"};
+                                                 "stream_positions", "step", "step_audited", "stream_step", "fcl", "cgal",
+                                                 "bullet_collide"};
   return names;
 }
 
@@ -265,6 +266,17 @@ class BenchSize {
               StabilityGuard::kEvery);
       std::copy(x0.begin(), x0.end(), w.x.begin());
       std::copy(v0.begin(), v0.end(), w.v.begin());
+    }
+    if (wanted("step_audited")) {
+      // The same step with the energy audit a run keeps (elastic energy in the force pass, work
+      // and kinetic energy in the update pass): against `step`, the audit's share of a step.
+      SimulationOptions so;
+      so.audit = true;
+      Simulation audited(sim_->scene(), so);
+      measure("step_audited", T, [&] {
+        for (int k = 0; k < StabilityGuard::kEvery; ++k) audited.step();
+      }, 0, "per step with the energy audit; repetitions of " + std::to_string(StabilityGuard::kEvery) + " steps", 1e30,
+              StabilityGuard::kEvery);
     }
   }
 
@@ -360,7 +372,7 @@ class BenchSize {
     const double ns_spring = 1e3 * r.us / static_cast<double>(std::max<std::size_t>(1, w.springs.size()));
     if (r.method == "stream_step") stream_us_[r.threads] = r.us;
     char ratio[32] = "";
-    if (r.method == "step" && stream_us_.count(r.threads) && stream_us_[r.threads] > 0.0)
+    if ((r.method == "step" || r.method == "step_audited") && stream_us_.count(r.threads) && stream_us_[r.threads] > 0.0)
       std::snprintf(ratio, sizeof ratio, "%.3f", r.us / stream_us_[r.threads]);
     std::fprintf(out_, "%s,%lld,%d,%.3f,%lld,%d,%d,%d,%zu,%d,%lld,%s,%.4f,%s\n", r.method.c_str(), r.nodes, r.threads,
                  r.us, r.bytes, r.reps, w.bodies[0].size(), w.bodies[1].size(), w.springs.size(), contacts_, voxels_,

@@ -1,16 +1,22 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing, builds, runs the bundled scenes into results/, then
-# makes the figures, tables and the claims check from them (results/README.md lists every file).
-# Usage: scripts/reproduce.sh [--quick] [--paper]
+# The main job: installs what is missing, builds, runs the paper's voxel model on the bundled
+# scenes into results/runs/, then makes the figures, tables and the claims check from them and from
+# the committed study CSV files (results/README.md lists every file).
+# Usage: scripts/reproduce.sh [--quick] [--paper] [--studies]
 #        scripts/reproduce.sh --paper-only
-#   --quick       300 steps per run instead of the scenes' own (a smoke run)
+#   --quick       300 steps per run instead of the scenes' own (a smoke run, seconds)
 #   --paper       also installs LaTeX (Debian packages) and builds paper/main.pdf
+#   --studies     also reruns the studies (scripts/study.py ablation accuracy convergence refinement
+#                 realtime swap region orient: hours on two cores; each run is cached in
+#                 results/sweeps/, so an interrupted study resumes). Without it the study CSV files
+#                 committed in results/ are used as they are.
 #   --paper-only  builds paper/main.pdf from the committed results alone: no build, no harness, no
 #                 runs (minutes, not hours). Installs LaTeX and matplotlib if missing
 #                 (install-deps.sh --latex), redraws every figure from the committed runs and CSVs
 #                 (figures.py; plot_bench.py; study.py accuracy ablation convergence --plots-only),
 #                 rewrites results/tables/counts.tex (counts.py), then runs latexmk in paper/.
 #                 The tables are the committed ones.
+# The runs go two at a time (this machine has two cores); each is one thread.
 # Environment: PYTHON (default /usr/bin/python3: Debian's matplotlib and numpy);
 #   HARNESS=path uses that harness binary and skips the install and build steps.
 set -euo pipefail
@@ -18,15 +24,17 @@ cd "$(dirname "$0")/.."
 quick=0
 paper=0
 paper_only=0
+studies=0
 for a in "$@"; do
   case "$a" in
     --quick) quick=1 ;;
     --paper) paper=1 ;;
     --paper-only) paper_only=1 ;;
+    --studies) studies=1 ;;
     *) echo "reproduce.sh: unknown option '$a'" >&2; exit 2 ;;
   esac
 done
-if [[ $paper_only -eq 1 && ( $quick -eq 1 || $paper -eq 1 ) ]]; then
+if [[ $paper_only -eq 1 && ( $quick -eq 1 || $paper -eq 1 || $studies -eq 1 ) ]]; then
   echo "reproduce.sh: --paper-only runs nothing; it takes no other option" >&2
   exit 2
 fi
@@ -77,28 +85,54 @@ extra=(--set time.settle.max_steps=4000)
 
 # run FOLDER SCENE ELIMINATOR FORCE [--set ...]: the paper's voxel model (one-sided, the scene's
 # voxel size) on a bundled scene, measured by CGAL every 10 steps and compared with the scene's
-# committed reference solution (results/references/), into results/runs/FOLDER.
+# committed reference solution (results/references/), into results/runs/FOLDER; its stderr into
+# results/runs/FOLDER.log while it runs (removed when it succeeds).
 run() {
   local folder="$1" scene="$2" elim="$3" force="$4"
   shift 4
-  echo "reproduce: $folder"
   rm -rf "${out:?}/$folder"
-  "$H" run "$scene" --out "$out/$folder" --quiet --compare "results/references/$scene" \
+  if HARNESS_THREADS=1 "$H" run "$scene" --out "$out/$folder" --quiet --compare "results/references/$scene" \
     --set 'contacts.0.detector="voxel"' --set "contacts.0.eliminator=\"$elim\"" --set "contacts.0.force=$force" \
     --set contacts.0.two_sided=false --set 'references.solvers=["cgal"]' --set references.every=10 --set output.format=vtk \
-    "$@" "${extra[@]}"
+    "$@" "${extra[@]}" 2>"$out/$folder.log"; then
+    echo "reproduce: $folder"
+    rm -f "$out/$folder.log"
+  else
+    echo "reproduce: $folder failed (exit $?): $out/$folder.log" >&2
+    return 1
+  fi
 }
-# Every scenario with both eliminators and the automatic force; the implant also with a
-# constant 0.02 N, the cylinder with 0.03 N at 8 mm voxels (the paper's constant-force model).
-# The bundled scenes' own default (exact detection, penalty) is what the references and the
-# studies below measure against.
+# Every scenario with both eliminators and the automatic force; the cylinder and the implant also
+# with a constant 0.003 N per contact (the paper's constant force, within the equal-footing range
+# of the studies). The bundled scenes' own default (exact detection, penalty) is what the
+# references and the studies measure against. Two runs at a time.
+jobs=()
 for elim in line plane; do
-  run "sphere_collision_$elim" sphere_collision "$elim" '"auto"'
-  run "cylinder_press_$elim" cylinder_press "$elim" '"auto"'
-  run "cylinder_press_f003_$elim" cylinder_press "$elim" 0.03 --set contacts.0.voxel_size=0.008
-  run "implant_expansion_$elim" implant_expansion "$elim" '"auto"'
-  run "implant_expansion_f002_$elim" implant_expansion "$elim" 0.02
+  jobs+=("sphere_collision_$elim sphere_collision $elim \"auto\"")
+  jobs+=("cylinder_press_$elim cylinder_press $elim \"auto\"")
+  jobs+=("cylinder_press_f0003_$elim cylinder_press $elim 0.003")
+  jobs+=("implant_expansion_$elim implant_expansion $elim \"auto\"")
+  jobs+=("implant_expansion_f0003_$elim implant_expansion $elim 0.003")
 done
+failed=0
+running=0
+for j in "${jobs[@]}"; do
+  eval "set -- $j"
+  run "$@" &
+  running=$((running + 1))
+  if [[ $running -ge 2 ]]; then
+    wait -n || failed=1
+    running=$((running - 1))
+  fi
+done
+while [[ $running -gt 0 ]]; do
+  wait -n || failed=1
+  running=$((running - 1))
+done
+if [[ $failed -ne 0 ]]; then
+  echo "reproduce: a run failed (its log is in $out/)" >&2
+  exit 1
+fi
 
 # Keep only the frames the figures and tables use (results stay small).
 "$PYTHON" scripts/prune_frames.py results
@@ -106,11 +140,15 @@ done
 "$PYTHON" scripts/tables.py results
 "$PYTHON" scripts/claims.py results
 # The studies, all judged against the committed reference solutions (results/references/;
-# `scripts/study.py references` recomputes them: hours). The per-point run folders stay in
-# results/sweeps/ (not committed); the merged CSV, figures and tables are in results/.
-study=(--harness "$H" --results results)
-[[ $quick -eq 1 ]] && study+=(--quick)
-"$PYTHON" scripts/study.py ablation accuracy convergence refinement realtime "${study[@]}"
+# `scripts/study.py references` recomputes them: hours), only with --studies (hours; the per-point
+# run folders stay in results/sweeps/, not committed, and are reused); the claims are judged again
+# on what they wrote.
+if [[ $studies -eq 1 ]]; then
+  study=(--harness "$H" --results results)
+  [[ $quick -eq 1 ]] && study+=(--quick)
+  "$PYTHON" scripts/study.py ablation accuracy convergence refinement realtime swap region orient "${study[@]}"
+  "$PYTHON" scripts/claims.py results
+fi
 echo "reproduce: results written in $(( $(date +%s) - start )) s"
 
 # The counts the report quotes (runs, configurations, points), from what was just made.

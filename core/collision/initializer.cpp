@@ -23,12 +23,22 @@ double resolve_voxel_size(const World& w, const ContactSpec& spec) {
     throw std::invalid_argument("voxel_size must be finite and >= 0 (0 = automatic)");
   if (spec.voxel_size > 0.0) return round_down_pow2(spec.voxel_size);
 
+  // The smallest power of two at or above the host's node spacing at rest (its mean surface
+  // edge; a body without a surface: node_spacing): a finer voxel inside the host can hold none of
+  // its nodes, and the guest's nodes there go undetected (the run warns about an explicit one).
   const Body& b = w.bodies[spec.host];
-  const double spacing = node_spacing(w, spec.host);
+  const double spacing = host_node_spacing(w, spec.host);
   if (!(spacing > 0.0) || !std::isfinite(spacing))
     throw std::invalid_argument("cannot choose an automatic voxel_size for host '" + b.name +
                                 "' (no springs and no extent); give voxel_size");
-  return round_down_pow2(spacing);
+  const double v = round_down_pow2(spacing);
+  return v < spacing ? 2.0 * v : v;
+}
+
+double host_node_spacing(const World& w, int host) {
+  const Points& rest = w.x0.empty() ? w.x : w.x0;
+  const double e = mean_surface_edge(w, host, rest);
+  return e > 0.0 ? e : node_spacing(w, host);
 }
 
 void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData& grid) {

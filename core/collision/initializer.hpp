@@ -47,6 +47,10 @@ constexpr long long kMaxVoxels = 64LL * 1000 * 1000;
 // Voxel size the pair uses (m, a power of two), as documented above. Throws
 // std::invalid_argument for a bad request or when no automatic size can be chosen.
 double resolve_voxel_size(const World& w, const ContactSpec& spec);
+// The spacing of a host's nodes that a voxel must not be below: its mean surface edge at rest,
+// or node_spacing for a body without a surface. The automatic voxel size is the smallest power
+// of two at or above it; a run warns about a paper's grid finer than it.
+double host_node_spacing(const World& w, int host);
 
 class Initializer {
  public:

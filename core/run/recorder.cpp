@@ -165,6 +165,22 @@ void Recorder::pair_figures(const Simulation& sim) {
     if (m.has_cgal) {
       ser.depth_max.add(step, m.max_depth);
       ser.true_pen.add(step, m.true_pen_guest + m.true_pen_host);
+      ser.true_pen_guest.add(step, m.true_pen_guest);
+      Vec3 lo, hi;
+      const Collision* c = pairs[p].collision.get();
+      if (c && m.pen_guest && c->detector().region(lo, hi)) {
+        const Body& g = w.bodies[pairs[p].spec.guest];
+        int outside = 0;
+        for (int i = 0; i < g.size(); ++i) {
+          if (!(*m.pen_guest)[static_cast<std::size_t>(i)]) continue;
+          const Vec3& x = w.x[g.begin + i];
+          if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) ++outside;
+        }
+        ser.outside_region.add(step, outside);
+        t.has_region = true;
+        t.outside_region_final = outside;
+        t.outside_region_peak = std::max(t.outside_region_peak, outside);
+      }
     }
     if (!any) continue;
     if (const Collision* c = pairs[p].collision.get()) {

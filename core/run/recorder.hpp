@@ -30,6 +30,10 @@ struct PairTotals {
   bool has_band = false;
   long long beyond_band_total = 0;
   int beyond_band_peak = 0;
+  // Truly penetrating guest nodes outside the detector's grid region (undetectable by it), at
+  // the last measured step and the most at one; has_region: the detector has a region.
+  bool has_region = false;
+  int outside_region_final = 0, outside_region_peak = 0;
 };
 
 // Guest nodes that have passed through the host, and host nodes through the guest, at the last
@@ -46,6 +50,8 @@ struct PairSeries {
   Series depth_max;                                     // deepest node of either body, m (CGAL)
   Series true_pen;                                      // truly penetrating nodes, guest + host
   Series tunnelled;                                     // guest + host
+  Series true_pen_guest;                                // truly penetrating guest nodes
+  Series outside_region;  // truly penetrating guest nodes outside the detector's grid region
 };
 
 // One episode of true penetration: a node found penetrating on consecutive measured steps.
@@ -57,6 +63,9 @@ struct Episode {
 // Per-step wall times (microseconds) over the run, for medians.
 struct RunTimings {
   std::vector<double> step, physics, detect, eliminate, cgal, fcl;
+  // Per step, what the run spends outside the step: the recorder (references, series, episodes),
+  // steps.csv, frames, trajectory, progress.
+  std::vector<double> outside;
 };
 
 struct RecorderOptions {
@@ -104,6 +113,8 @@ class Recorder {
   const std::vector<PairTotals>& totals() const { return totals_; }
   const std::vector<Episode>& episodes() const { return episodes_; }
   const RunTimings& timings() const { return timings_; }
+  // The time the run loop spent outside the step after it (measurement and outputs), µs.
+  void note_outside_us(double us) { timings_.outside.push_back(us); }
   double kinetic_energy() const { return ke_; }
   double kinetic_energy_peak() const { return ke_peak_; }
   double potential_energy() const { return pe_; }

@@ -132,8 +132,13 @@ json pair_json(const Simulation& sim, const Recorder& rec, const RunOutcome& out
   pj["measured_steps"] = static_cast<long long>(rec.series()[pi].tunnelled.size());
   const WindowSpan& span = outcome.judged.span;
   const PairSeries& ser = rec.series()[pi];
+  // Truly penetrating guest nodes outside the detector's grid region (null without a region).
+  pj["outside_region"] = t.has_region ? json(t.outside_region_final) : json(nullptr);
+  pj["outside_region_peak"] = t.has_region ? json(t.outside_region_peak) : json(nullptr);
   pj["window"] = {{"depth_max", stat_json(ser.depth_max.over(span))},
                   {"true_pen", stat_json(ser.true_pen.over(span))},
+                  {"true_pen_guest", stat_json(ser.true_pen_guest.over(span))},
+                  {"outside_region", stat_json(ser.outside_region.over(span))},
                   {"tunnelled", stat_json(ser.tunnelled.over(span))}};
   return pj;
 }
@@ -169,6 +174,17 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& 
   timing[part[3]] = num_or_null(median(t.eliminate));
   timing[part[4]] = num_or_null(median(t.cgal));
   timing[part[5]] = num_or_null(median(t.fcl));
+  // What the run's measurement and outputs cost, outside the step (the recorder with the
+  // references it runs, steps.csv, frames): the mean over the steps (the measured steps are the
+  // dear ones, every references.every) and its share of the step's own mean. The energy audit is
+  // inside the step (booked in its force and update passes): `harness bench` rows step_audited
+  // against step give its share.
+  double outside = 0.0, inside = 0.0;
+  for (double v : t.outside) outside += v;
+  for (double v : t.step) inside += v;
+  const double n_out = static_cast<double>(t.outside.size()), n_in = static_cast<double>(t.step.size());
+  timing["outside_step_mean"] = n_out > 0 ? num_or_null(outside / n_out) : json(nullptr);
+  timing["outside_step_share"] = n_out > 0 && inside > 0.0 ? num_or_null((outside / n_out) / (inside / n_in)) : json(nullptr);
   at(sum, key::kStability) = stability_json(sim);
   at(sum, key::kMaxSubsteps) = outcome.stability.max_substeps;
   at(sum, key::kGuardViolations) = outcome.stability.guard_violations;
@@ -176,6 +192,9 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& 
   sum["stability_verdict"] = outcome.verdict;
   sum["nodes"] = w.num_nodes();
   sum["springs"] = w.springs.size();
+  sum["bodies"] = json::array();
+  for (const Body& b : w.bodies)
+    sum["bodies"].push_back({{"name", b.name}, {"nodes", b.size()}, {"surface_nodes", b.n_surface}});
   at(sum, key::kKineticFinal) = sim.kinetic_energy();
   at(sum, key::kKineticPeak) = rec.kinetic_energy_peak();
   const EnergyLedger& e = sim.energy();

@@ -1,5 +1,7 @@
 #include "core/run/warnings.hpp"
 
+#include "core/collision/initializer.hpp"
+
 #include <cmath>
 #include <algorithm>
 #include <cstdio>
@@ -39,6 +41,13 @@ std::vector<Warning> start_warnings(const Simulation& sim) {
     const int host = pair.spec.host, guest = pair.spec.guest;
     const Points& rest = w.x0.empty() ? w.x : w.x0;
     const double hg = mean_surface_edge(w, guest, rest), hh = mean_surface_edge(w, host, rest);
+    // The paper's grid lists the host's nodes: a voxel finer than their spacing can hold none of
+    // them while a guest node sits inside the host there (voxel_exact lists triangles instead).
+    const double hs = host_node_spacing(w, host);
+    if (pair.spec.detector == DetectorKind::voxel && used > 0.0 && hs > used)
+      out.push_back({key, "voxel " + mm(used) + " is finer than host '" + w.bodies[host].name + "' node spacing " + mm(hs) +
+                              ": a voxel inside the host can hold none of its nodes, guest nodes there go undetected "
+                              "(a voxel of at least the spacing, or voxel_exact, avoids it)"});
     if (used > 0.0 && hg > used)
       out.push_back({key, "guest '" + w.bodies[guest].name + "' node spacing " + mm(hg) + " is coarser than the voxel " +
                               mm(used) + ": host nodes can pass between guest nodes undetected (tunnelling expected)"});

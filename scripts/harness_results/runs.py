@@ -13,9 +13,9 @@ from . import reader
 SCENES = [
     ("sphere_collision", "sphere_collision", "Sphere collision", "auto"),
     ("cylinder_press", "cylinder_press", "Cylinder press", "auto"),
-    ("cylinder_press_f003", "cylinder_press", "Cylinder press, F = 0.03 N, 8 mm voxels", "0.03 N"),
+    ("cylinder_press_f0003", "cylinder_press", "Cylinder press, F = 0.003 N", "0.003 N"),
     ("implant_expansion", "implant_expansion", "Implant expansion", "auto"),
-    ("implant_expansion_f002", "implant_expansion", "Implant expansion, F = 0.02 N", "0.02 N"),
+    ("implant_expansion_f0003", "implant_expansion", "Implant expansion, F = 0.003 N", "0.003 N"),
 ]
 ELIMINATORS = ["line", "plane"]
 

@@ -12,7 +12,7 @@ bad() { echo "FAIL: $*"; fail=$((fail+1)); }
 
 "$H" bench --quick --sizes 1000 --min-time 0 --out "$T/bench.csv" 2>"$T/err" && ok || { bad "bench ran"; cat "$T/err"; }
 head -1 "$T/bench.csv" | grep -q '^method,nodes,threads,us_per_step,bytes' && ok || bad "bench columns"
-for m in voxel_detect voxel_detect_eliminate voxel_exact_detect voxel_exact_detect_eliminate stream_positions step stream_step; do
+for m in voxel_detect voxel_detect_eliminate voxel_exact_detect voxel_exact_detect_eliminate stream_positions step step_audited stream_step; do
   for t in 1 2; do
     grep -q "^$m,1000,$t,[0-9.]*,[0-9]*," "$T/bench.csv" && ok || bad "row $m threads $t"
   done
@@ -25,7 +25,7 @@ if "$H" --help 2>/dev/null | grep -q bench && grep -q "^fcl,1000,1," "$T/bench.c
 fi
 # step rows carry their ns per spring and their ratio to stream_step of the same run
 head -1 "$T/bench.csv" | grep -q ',ns_per_spring,step_over_stream$' && ok || bad "bench ns_per_spring, step_over_stream columns"
-awk -F, '$1=="step" && !($13 > 0 && $14 > 0) {exit 1}' "$T/bench.csv" && ok || bad "step rows: ns per spring and stream ratio"
+awk -F, '($1=="step" || $1=="step_audited") && !($13 > 0 && $14 > 0) {exit 1}' "$T/bench.csv" && ok || bad "step rows: ns per spring and stream ratio"
 # voxel rows carry the grid's bytes (> 0); voxel_exact rows name their band count
 awk -F, '$1=="voxel_detect" && $5 <= 0 {exit 1}' "$T/bench.csv" && ok || bad "voxel bytes > 0"
 grep -q "^voxel_exact_detect,1000,1,.*beyond the band" "$T/bench.csv" && ok || bad "voxel_exact note"

@@ -39,8 +39,11 @@ grep -q 'type="PolyData"' "$f" && grep -q 'Name="signed_distance"' "$f" && ok ||
   && "$H" run cylinder_press --out "$T/dt" --steps 10 --dt 2.5e-5 --set 'references.solvers=[]' --quiet \
   && [[ "$(grep -o '"state_hash": "[0-9a-f]*"' "$T/div/summary.json")" == "$(grep -o '"state_hash": "[0-9a-f]*"' "$T/dt/summary.json")" ]] \
   && grep -q '"steps_run": 20' "$T/dt/summary.json" && ok || bad "--dt equals --dt-divide"
+# --dt not a divisor of the scene's dt: every count rounded (10 steps of 5e-5 s: 17 of 3e-5 s).
 "$H" run cylinder_press --out "$T/dt3" --steps 10 --dt 3e-5 --quiet 2>"$T/err"; rc=$?
-[[ $rc -eq 2 ]] && grep -q -- "--dt: the scene's time.dt" "$T/err" && ok || bad "--dt not a divisor: exit $rc"
+[[ $rc -eq 0 ]] && grep -q '"steps_run": 17' "$T/dt3/summary.json" && ok || bad "--dt not a divisor: exit $rc"
+"$H" run cylinder_press --out "$T/dt0" --steps 10 --dt 0 --quiet 2>"$T/err"; rc=$?
+[[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && grep -q -- "--dt" "$T/err" && ok || bad "--dt 0: exit $rc"
 # harness schema prints the scene format's JSON Schema.
 "$H" schema | grep -q '"$schema": "https://json-schema.org/draft/2020-12/schema"' && ok || bad "harness schema"
 

@@ -480,18 +480,19 @@ TEST_CASE("voxel size: automatic choice and the capacity cap", "[collision][voxe
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 0.0;
-  // No springs: largest extent / cbrt(nodes) = 1 / 1.587 -> 0.5.
-  CHECK(resolve_voxel_size(w, s) == 0.5);
-  // With springs: the mean rest length (0.3 + 0.5) / 2 = 0.4 -> 0.25.
+  // No surface, no springs: largest extent / cbrt(nodes) = 1 / 1.587 = 0.63 -> 1 (the smallest
+  // power of two at or above the spacing).
+  CHECK(resolve_voxel_size(w, s) == 1.0);
+  // With springs: the mean rest length (0.3 + 0.5) / 2 = 0.4 -> 0.5.
   w.springs.ends = {Edge{0, 1}, Edge{0, 2}};
   w.springs.rest = {0.3, 0.5};
   w.springs.body = {0, 0};
   w.bodies[0].spring_begin = 0;
   w.bodies[0].spring_end = 2;
-  CHECK(resolve_voxel_size(w, s) == 0.25);
+  CHECK(resolve_voxel_size(w, s) == 0.5);
   {
     Collision col(w, s);
-    CHECK(col.voxel_size() == 0.25);
+    CHECK(col.voxel_size() == 0.5);
   }
   s.voxel_size = -1.0;
   CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);

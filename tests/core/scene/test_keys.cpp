@@ -242,6 +242,30 @@ TEST_CASE("running at dt / N scales exactly the keys that count steps, defaults 
   SceneSource at = parse_scene_source(text, "dt.json");
   rescale_to_dt(at.doc, 2.5e-5);
   CHECK(scene_from_source(at).steps == 120);
+  // Any other time step: every count times dt / S, rounded to the nearest (at least 1); step k at
+  // dt covers the steps from (k - 1) dt / S + 1 on.
   SceneSource odd = parse_scene_source(text, "dt.json");
-  CHECK_THROWS_AS(rescale_to_dt(odd.doc, 3e-5), InputError);
+  rescale_to_dt(odd.doc, 3e-5);  // 10/3 steps per step
+  const Scene o = scene_from_source(odd);
+  CHECK(o.dt == 3e-5);
+  CHECK(o.steps == 100);
+  CHECK(o.window == 3333);
+  CHECK(o.settle.max_steps == 167);
+  CHECK(o.bodies[0].drivers[0].from_step == 8);  // (3 - 1) 10/3 + 1 = 7.67
+  CHECK(o.bodies[0].drivers[0].to_step == 23);   // 7 x 10/3 = 23.3
+  CHECK(o.bodies[0].loads[0].ramp_steps == 13);
+  CHECK(o.bodies[0].pressure.ramp_steps == 17);
+  CHECK(o.frames_every == 20);
+  SceneSource big = parse_scene_source(text, "dt.json");
+  rescale_to_dt(big.doc, 2e-4);  // half a step per step: implicit Euler at a large dt
+  const Scene b = scene_from_source(big);
+  CHECK(b.steps == 15);
+  CHECK(b.settle.max_steps == 25);
+  CHECK(b.bodies[0].drivers[0].from_step == 2);
+  CHECK(b.bodies[0].drivers[0].to_step == 4);  // 3.5, rounded half away from zero
+  CHECK(b.frames_every == 3);
+  SceneSource tiny = parse_scene_source(text, "dt.json");
+  CHECK_THROWS_AS(rescale_to_dt(tiny.doc, 1e-12), InputError);  // a million times off
+  SceneSource zero = parse_scene_source(text, "dt.json");
+  CHECK_THROWS_AS(rescale_to_dt(zero.doc, 0.0), InputError);
 }
