@@ -132,7 +132,7 @@ def collect(root):
     # Real time by method, mode and threads (scripts/study.py realtime).
     rt = rows_of(root, "realtime.csv")
     count("RealtimeScenes", None if rt is None else len({r["scene"] for r in rt}))
-    count("RealtimeMethods", None if rt is None else len({r["method"] for r in rt}))
+    count("RealtimeMethods", None if rt is None or (rt and "method" not in rt[0]) else len({r["method"] for r in rt}))
 
     # harness bench (scripts/plot_bench.py).
     b = rows_of(root, "bench.csv")
