@@ -61,8 +61,8 @@ def run(a):
     sums = runner.run_all(a, jobs)
     for scene, v, f, i in index:
         rows.append(dict(figures(sums[i]), scene=scene, voxel_mm=1e3 * v, force=f))
-    cols = ["scene", "voxel_mm", "force", "stable", "pos_err_max_mm", "pos_err_rms_mm", "gap_max_mm", "depth_max_mm",
-            "t_contact_us", "why_unstable"]
+    cols = ["scene", "voxel_mm", "force", "stable", "stability", "pos_err_max_mm", "pos_err_amp_mm", "pos_err_rms_mm",
+            "gap_max_mm", "depth_max_mm", "tunnelled", "recall", "t_contact_us", "why_unstable"]
     writers.write_csv(os.path.join(a.results, "convergence.csv"), rows, cols)
     plot_convergence(a, rows)
     with open(table_path(a, "convergence.md"), "w") as f:
