@@ -124,9 +124,12 @@ Nearest nearest(const CgalSurface::Impl& s, const Vec3& p, int hint) {
   if (!tree.empty()) {
     cgal::Tree::Point_and_primitive_id seed;
     if (hinted) {
+      // The point of the hinted face closest to p: a tight first radius, so the traversal prunes
+      // nearly everything (a far centroid would leave most of the tree to visit).
       const Tri& t = s.faces[hint];
-      const Vec3 c = (cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[0]))) + cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[1]))) +
-                      cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[2])))) / 3.0;
+      const Vec3 c = closest_on_triangle(p, cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[0]))),
+                                         cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[1]))),
+                                         cgal::to_vec(s.mesh.point(Mesh::Vertex_index(t[2]))));
       seed = {cgal::to_point(c), Mesh::Face_index(static_cast<Mesh::size_type>(hint))};
     } else if (!kd_ready) {
       tree.accelerate_distance_queries();

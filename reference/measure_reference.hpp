@@ -68,6 +68,7 @@ class ReferenceMeasurer final : public Measurer {
   FclSurface fc_host_, fc_guest_;
   std::vector<std::uint8_t> pen_guest_;
   std::vector<std::uint8_t> pen_host_;
+  std::vector<int> hint_guest_, hint_host_;  // per surface vertex: its closest face when last measured
   std::vector<double> sd_guest_, sd_host_;  // per surface vertex: signed distance to the other body, m
   Passages pass_guest_, pass_host_;         // guest nodes through the host, host nodes through the guest
   std::vector<int> seen_;       // per guest node: stamp of the last call that counted it as detected

@@ -97,7 +97,8 @@ def collect(root):
         text("AccRepeats", "%d--%d" % (reps[0], reps[-1]) if reps else None)
         text("AccRepeatsWord", "%d--%d" % (reps[0], reps[-1]) if reps else None)
         text("AccTimings", "the medians of %d to %d runs per configuration" % (reps[0], reps[-1]) if reps else None)
-    vox = sorted({float(r["config"].split()[1]) for r in acc if r["detector"] == "voxel"}) if acc else []
+    vox = sorted({float(r["voxel_mm"]) for r in acc if r["detector"] == "voxel" and reader.present(r.get("voxel_mm"))
+                  and r["config"].startswith("voxel ")}) if acc else []
     text("AccVoxelSizes", listing(vox) if vox else None)
 
     # Ablation (scripts/study.py ablation).

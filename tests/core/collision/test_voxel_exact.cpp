@@ -366,9 +366,10 @@ TEST_CASE("voxel_exact: surface vertices listed, automatic size, refusals, regis
   Collision col(w, s);
   col.detect(w);
   CHECK(exact(col).grid().listed_nodes() == w.bodies[0].n_surface);
-  // Automatic: the paper's size (no springs here: the lattice estimate 1/cbrt(125) = 0.2 ->
-  // 0.125), doubled until above L_max / sqrt(3) = 0.354 / 1.732 = 0.204: 0.25.
-  CHECK(col.voxel_size() == 0.25);
+  // Automatic: the paper's size, the smallest power of two at or above the host's mean surface
+  // edge (lattice edges 0.25 and face diagonals 0.354: mean above 0.25 -> 0.5), already above
+  // L_max / sqrt(3) = 0.354 / 1.732 = 0.204, so not doubled: 0.5.
+  CHECK(col.voxel_size() == 0.5);
   CHECK(exact(col).longest_edge() == Approx(0.25 * std::sqrt(2.0)).epsilon(1e-12));
   CHECK(std::string(col.detector().name()) == "voxel_exact");
 
