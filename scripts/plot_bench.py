@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Scaling figure and ratio table of `harness bench` (DESIGN.md, "Output of harness bench").
+"""Scaling figure and ratio table of `harness bench` (its columns: README.md, "harness bench").
 
 Usage: plot_bench.py [BENCH_CSV] [RESULTS_DIR]
        (defaults: results/bench.csv, results; run with /usr/bin/python3 or $PYTHON)
@@ -120,7 +120,6 @@ def figure(rows, out_dir):
 
 def table(rows, out_dir, csv_path):
     sizes = sorted({r["nodes"] for r in rows})
-    big = 1000000 if 1000000 in sizes else (sizes[-1] if sizes else None)
     lines = ["# harness bench: ratios", "",
              "From `%s` (`harness bench`; medians over repetitions). Ratios of times per step; "
              "`1T`/`2T` = one/two threads. FCL and CGAL are single-threaded libraries: they are "
@@ -148,6 +147,19 @@ def table(rows, out_dir, csv_path):
         "(ceiling)", None)
     row("bound: CGAL / stream over positions (1T)", "10^5", ratio(us(rows, "cgal", n5, 1), us(rows, "stream_positions", n5, 1)),
         "(ceiling)", None)
+    # The step against its physical limit: ns per spring and the ratio to the streaming pass over
+    # what it reads and writes, at 10^3 and 10^4 nodes per body; the energy audit's share.
+    for n, at in ((1000, "10^3"), (10000, "10^4")):
+        for t in (1, 2):
+            r = get(rows, "step", n, t)
+            v = us(rows, "step", n, t)
+            row("step: ns per spring (%dT)" % t, at, (1e3 * v / r["springs"]) if v and r and r.get("springs") else None,
+                "<= 3" if t == 1 and n == 10000 else "-", (lambda v: v <= 3) if t == 1 and n == 10000 else None)
+            row("step / stream over what it reads (%dT)" % t, at, ratio(v, us(rows, "stream_step", n, t)), "<= 3",
+                lambda v: v <= 3)
+        row("energy audit: step_audited / step - 1 (1T)", at,
+            (lambda a, b: a / b - 1.0 if a and b else None)(us(rows, "step_audited", n, 1), us(rows, "step", n, 1)),
+            "<= 0.1", lambda v: v <= 0.1)
     for t in (1, 2):
         row("voxel detection / stream over positions (%dT)" % t, "10^6",
             ratio(us(rows, "voxel_detect", 1000000, t), us(rows, "stream_positions", 1000000, t)), "<= 3", lambda v: v <= 3)

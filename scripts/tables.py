@@ -23,7 +23,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import reader, runs, writers  # noqa: E402
+from harness_results import reader, rules, runs, writers  # noqa: E402
 
 
 def tex_prose(s):
@@ -119,6 +119,11 @@ def collect(root):
 
 def mm(v):
     return writers.fmt(None if v is None else v * 1000.0, ".3f")
+
+
+def window_figure(p, name, stat):
+    """One statistic of a pair's window figure (summary pairs[].window; None when absent)."""
+    return ((p.get("window") or {}).get(name) or {}).get(stat)
 
 
 def vox(v, size):
@@ -239,29 +244,32 @@ def main():
         p = r["pair"]
         rows.append([r["title"], r["elim"], r["force"], "%.4g" % (r["voxel"] * 1000.0), "%d" % r["steps"],
                      writers.fmt(r["pen_final"], "d"), writers.fmt(r["pen_peak"], "d"),
-                     mm(p.get("max_depth_final")), vox(p.get("max_depth_final"), r["voxel"]),
-                     mm(p.get("max_depth_peak")), vox(p.get("max_depth_peak"), r["voxel"]),
+                     mm(p.get("max_depth_final")), mm(p.get("max_depth_peak")),
+                     mm(window_figure(p, "pos_err_max", "mean")), mm(window_figure(p, "pos_err_max", "amplitude")),
                      writers.fmt(p.get("recall"), ".3f"), writers.fmt(p.get("precision"), ".4f"),
-                     writers.fmt(p.get("tunnelled"), "d")])
+                     writers.fmt(p.get("tunnelled_peak", p.get("tunnelled")), "d"),
+                     rules.classify(r["summary"])[0]])
     write_table(
         root, "accuracy",
         "Accuracy per scenario and eliminator. Truly penetrating nodes: guest + host nodes strictly "
         "inside the other body (CGAL), at the last step and the peak over the measured steps. "
-        "Depth: maximum residual depth over the penetrating nodes (mm, and in voxels).",
+        "Depth: deepest node inside the other body (mm), at the last step and its peak over the run. "
+        "Position error against the reference: window mean and chatter (max - min over the window), mm. "
+        "Tunnelled: peak of the nodes that passed through. Stability: the studies' rule (rules.py).",
         ["scenario", "eliminator", "force", "voxel (mm)", "steps", "pen. final", "pen. peak",
-         "depth final (mm)", "depth final (vox)", "depth peak (mm)", "depth peak (vox)",
-         "recall", "precision", "tunnelled"],
+         "depth final (mm)", "depth peak (mm)", "pos. error (mm)", "chatter (mm)",
+         "recall", "precision", "tunnelled", "stability"],
         rows,
         tex_header=["scenario", "elim.", "force", "$v$ (mm)", "steps", "\\multicolumn{2}{c}{penetrating}",
-                    "\\multicolumn{2}{c}{depth final}", "\\multicolumn{2}{c}{depth peak}", "recall", "prec.",
-                    "tunn."],
-        align="lllrrrrrrrrrrr")
+                    "\\multicolumn{2}{c}{depth (mm)}", "\\multicolumn{2}{c}{pos. error (mm)}", "recall", "prec.",
+                    "tunn.", "stability"],
+        align="lllrrrrrrrrrrrl")
     # The LaTeX header above spans two columns per pair; add the sub-header line.
     texp = os.path.join(root, "tables", "accuracy.tex")
     with open(texp) as f:
         t = f.read()
     t = t.replace("\\\\\n\\midrule\n",
-                  "\\\\\n & & & & & final & peak & mm & vox & mm & vox & & & \\\\\n\\midrule\n", 1)
+                  "\\\\\n & & & & & final & peak & final & peak & window & chatter & & & & \\\\\n\\midrule\n", 1)
     with open(texp, "w") as f:
         f.write(t)
 

@@ -28,10 +28,10 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from harness_results import reader, runner  # noqa: E402
-from harness_results.studies.common import SCENES, force_setting  # noqa: E402
+from harness_results.studies.common import SCENES, STUDY_EVERY, force_setting  # noqa: E402
 
 SETTLE = 4000
-EVERY = 50
+EVERY = STUDY_EVERY  # the one sampling rule of runs, sweeps and studies (rules.py)
 MARGIN = {"pos_err_max": 1.5, "gap_max": 1.5, "depth_max": 1.5, "tunnelled": 1.5, "recall": 1.1}
 FLOOR = 5e-5  # m: the reference's own tolerance
 COMPLETED = {"contacts.0.detector": '"voxel_exact"', "contacts.0.eliminator": '"line"',

@@ -32,6 +32,39 @@ WORDS = ["zero", "one", "two", "three", "four", "five", "six", "seven", "eight",
 SCENE_TAG = {"sphere_collision": "Sphere", "cylinder_press": "Cylinder", "implant_expansion": "Implant"}
 
 
+# results/references/<name> -> the suffix of its macros.
+REFERENCE_TAG = {"sphere_collision": "Sphere", "sphere_collision_one_sided": "SphereOneWay",
+                 "cylinder_press": "Cylinder", "cylinder_press_one_sided": "CylinderOneWay",
+                 "implant_expansion": "Implant", "implant_expansion_one_sided": "ImplantOneWay",
+                 "sphere_collision_refined": "SphereRefined"}
+
+
+SIZE_WORD = {1000: "Thousand", 10000: "TenThousand", 100000: "HundredThousand", 1000000: "Million"}
+
+
+def mm(v):
+    """A length in mm for prose, two significant digits ("0.27", "0.0012", "3.5"); None when absent,
+    "--" when not a number."""
+    if v is None or v == "":
+        return None
+    try:
+        x = float(v)
+    except ValueError:
+        return "--"
+    return "--" if x != x else "%.2g" % x
+
+
+def num3(v):
+    """A figure with three significant digits for prose; None when absent, "--" when not a number."""
+    if v is None or v == "":
+        return None
+    try:
+        x = float(v)
+    except ValueError:
+        return "--"
+    return "--" if x != x else "%.3g" % x
+
+
 def rows_of(root, name):
     """A CSV file of the results (reader.read_csv), None when missing."""
     return reader.read_csv(os.path.join(root, name), text=reader.STUDY_TEXT)
@@ -135,11 +168,57 @@ def collect(root):
     count("RealtimeScenes", None if rt is None else len({r["scene"] for r in rt}))
     count("RealtimeMethods", None if rt is None or (rt and "method" not in rt[0]) else len({r["method"] for r in rt}))
 
+    # The references (scripts/study.py references): floors, convergence, one way against both ways.
+    ref = rows_of(root, "references.csv")
+    for name, tag in REFERENCE_TAG.items():
+        last = [r for r in ref if r["reference"] == name] if ref else []
+        last = last[-1] if last else None
+        text("Ref%sFloor" % tag, mm(last and last.get("floor_mm")))
+        text("Ref%sLevels" % tag, "%d" % (int(last["level"]) + 1) if last else None)
+        text("Ref%sConverged" % tag, None if not last else
+             "converged" if str(last.get("converged")) in ("True", "true", "yes") else "not converged")
+    text("RefGuardViolations", None if not ref else "%d" % sum(int(float(r["guard_violations"] or 0)) for r in ref))
+    diff = rows_of(root, "references_differences.csv")
+    for key, tag in (("sphere_collision: one way", "OneWaySphere"), ("cylinder_press: one way", "OneWayCylinder"),
+                     ("implant_expansion: one way", "OneWayImplant"), ("sphere_collision: mesh refined", "RefinedSphere")):
+        row = next((r for r in diff or [] if r["comparison"].startswith(key)), None)
+        text("Ref" + tag, mm(row and row["difference_mm"]))
+
+    # What accuracy costs: the best stable error of each family per scene, the baseline's, times.
+    for scene, tag in SCENE_TAG.items():
+        sr = [r for r in acc or [] if r["scene"] == scene]
+        base = next((r for r in sr if r["config"] == "no contact force"), None)
+        text("AccNoForce" + tag, mm(base and base.get("pos_err_max_mm")))
+        for fam, name in (("voxel", "Voxel"), ("voxel_exact", "VoxelExact"), ("exact", "Exact")):
+            dets = ("cgal", "hash") if fam == "exact" else (fam,)
+            ok = [r for r in sr if r["detector"] in dets and r["stable"] == "yes" and r["config"] != "no contact force"
+                  and reader.present(r.get("pos_err_max_mm"))]
+            best = min(ok, key=lambda r: float(r["pos_err_max_mm"])) if ok else None
+            text("AccBest%s%s" % (name, tag), None if not sr else mm(best["pos_err_max_mm"]) if best else "--")
+            text("AccBest%s%sTime" % (name, tag), None if not sr else num3(best.get("t_contact_us")) if best else "--")
+            text("AccBest%s%sMethod" % (name, tag), None if not sr else "--" if not best else
+                 "%s, %s, %s" % (best["config"], best["eliminator"], best["force"]))
+
     # harness bench (scripts/plot_bench.py).
     b = rows_of(root, "bench.csv")
     sizes = sorted({int(r["nodes"]) for r in b}) if b else []
     text("BenchSizeMin", power_of_ten(sizes[0]) if sizes else None)
     text("BenchSizeMax", power_of_ten(sizes[-1]) if sizes else None)
+    # Per size, one thread: ns per spring of the step, the step against the streaming pass over what
+    # it reads and writes, and the energy audit's share (step_audited against step), in percent.
+    def at(method, n, threads=1):
+        return next((float(r["us_per_step"]) for r in b or [] if r["method"] == method and int(r["nodes"]) == n
+                     and int(r["threads"]) == threads and reader.present(r.get("us_per_step"))), None)
+    for n, word in SIZE_WORD.items():
+        step, stream, audited = at("step", n), at("stream_step", n), at("step_audited", n)
+        springs = next((float(r["springs"]) for r in b or [] if r["method"] == "step" and int(r["nodes"]) == n
+                        and reader.present(r.get("springs"))), None)
+        text("BenchNsPerSpring" + word, None if not b else "%.2g" % (1e3 * step / springs) if step and springs else "--")
+        text("BenchStepOverStream" + word, None if not b else "%.2g" % (step / stream) if step and stream else "--")
+        text("BenchAuditShare" + word, None if not b else "%.0f" % (100.0 * (audited / step - 1.0))
+             if step and audited else "--")
+        text("BenchStepTwoThreads" + word, None if not b else "%.2g" % (step / at("step", n, 2))
+             if step and at("step", n, 2) else "--")
     th = sorted({int(r["threads"]) for r in b}) if b else []
     text("BenchThreads", " and ".join(WORDS[t] if t < len(WORDS) else "%d" % t for t in th) if th else None)
     return out

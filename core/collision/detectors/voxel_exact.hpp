@@ -48,7 +48,8 @@
 // as outside (most are; the references measure the rest).
 //
 // Voxel size. An explicit voxel_size is rounded down to a power of two as the paper's. Automatic
-// (0): the paper's (the largest power of two <= the host's mean spring length), doubled until
+// (0): the paper's automatic size (initializer.hpp: the smallest power of two at or above the host's
+// node spacing, its mean surface edge at rest), doubled until
 // v > L_max / sqrt(3) at rest, so that every node has a positive band at rest (the bundled scenes
 // and the bench keep the paper's size). A wider band needs a larger voxel_size: the candidates
 // grow as v^2 on a surface.

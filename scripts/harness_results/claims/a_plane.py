@@ -86,7 +86,7 @@ def judge(ctx):
         ("ClaimAOrientFor", str(t_orient["for"])), ("ClaimAOrientAgainst", str(t_orient["against"])),
         ("ClaimAOrientNoise", str(t_orient["noise"])), ("ClaimAOrientNotJudged", str(t_orient["not judged"])),
         ("ClaimAFloor", "%.2g" % floor)]
-    if best["line"] and best["plane"]:
-        macros += [("ClaimABestLine", "%.3g" % best["line"]["pos_err_max_mm"]),
-                   ("ClaimABestPlane", "%.3g" % best["plane"]["pos_err_max_mm"])]
+    both = best["line"] and best["plane"]
+    macros += [("ClaimABestLine", "%.3g" % best["line"]["pos_err_max_mm"] if both else "--"),
+               ("ClaimABestPlane", "%.3g" % best["plane"]["pos_err_max_mm"] if both else "--")]
     return Verdict("a_plane", verdict, md, macros, data=outcomes)

@@ -90,6 +90,6 @@ def judge(ctx):
     verdict = rules.claim_verdict(outcomes, "a")
     md += ["", verdict_line("(c)", verdict, outcomes), ""]
     macros = tally_macros("ClaimC", verdict, outcomes) + [("ClaimCMuch", "%g" % MUCH)]
-    if bound_ratios:
-        macros += [("ClaimCRatioMin", "%.3g" % min(bound_ratios)), ("ClaimCRatioMax", "%.3g" % max(bound_ratios))]
+    macros += [("ClaimCRatioMin", "%.3g" % min(bound_ratios) if bound_ratios else "--"),
+               ("ClaimCRatioMax", "%.3g" % max(bound_ratios) if bound_ratios else "--")]
     return Verdict("c_restrictions", verdict, md, macros, data=outcomes)

@@ -55,6 +55,6 @@ def judge(ctx):
     verdict = rules.claim_verdict(outcomes, "a")
     md += ["", verdict_line("(completed model)", verdict, outcomes), ""]
     macros = tally_macros("ClaimVE", verdict, outcomes)
-    if speedups:
-        macros += [("ClaimVESpeedupMin", "%.2g" % min(speedups)), ("ClaimVESpeedupMax", "%.2g" % max(speedups))]
+    macros += [("ClaimVESpeedupMin", "%.2g" % min(speedups) if speedups else "--"),
+               ("ClaimVESpeedupMax", "%.2g" % max(speedups) if speedups else "--")]
     return Verdict("completed", verdict, md, macros, data=outcomes)
