@@ -65,11 +65,13 @@ TEST_CASE("the bundled scenes settle to the same state at dt and dt / 2", "[dt]"
   }
 }
 
-TEST_CASE("the automatic force depends on dt only through the integration; the old rule did not", "[dt]") {
+TEST_CASE("the automatic force depends on dt only through the integration, the old rule did not", "[dt]") {
   // cylinder_press with exact detection and the automatic force (its contact never settles: the
-  // states after the same physical time are compared). Measured (2026-11-23): position
-  // difference 0.093 mm and gap 0.028 mm at dt / 2; the old rule (separation speed L / (2000 dt),
-  // i.e. separation_time 0.05 s at dt / 2) gives 0.138 mm and 0.068 mm.
+  // states after the same physical time are compared). Measured (2026-11-25, the scene settling to
+  // its own tolerance, at most 4000 steps): position difference 0.033 mm and gap 0.014 mm at dt / 2;
+  // the old rule (separation speed L / (2000 dt), i.e. separation_time 0.05 s at dt / 2) gives
+  // 0.038 mm and 0.024 mm: its gap is 1.7 times the new rule's, beyond the margin of 1.5.
+  // (Measured 2026-11-23 before the window and settle changes: 0.093 / 0.028 mm, old 0.138 / 0.068.)
   const std::vector<std::pair<std::string, std::string>> ov = {{"contacts.0.force", "\"auto\""},
                                                                {"contacts.0.two_sided", "false"},
                                                                {"time.settle.max_steps", "4000"}};
@@ -78,7 +80,7 @@ TEST_CASE("the automatic force depends on dt only through the integration; the o
   WARN("auto, dt vs dt / 2: position " << now.pos_err_max * 1e3 << " mm, gap " << now.gap_max * 1e3
                                        << " mm; old rule: position " << old.pos_err_max * 1e3 << " mm, gap "
                                        << old.gap_max * 1e3 << " mm");
-  const double pos_tol = 1.5 * 0.093e-3, gap_tol = 1.5 * 0.028e-3;
+  const double pos_tol = 1.5 * 0.033e-3, gap_tol = 1.5 * 0.014e-3;
   CHECK(now.pos_err_max <= pos_tol);
   CHECK(now.gap_max <= gap_tol);
   CHECK((old.pos_err_max > pos_tol || old.gap_max > gap_tol));  // the old rule fails the agreement

@@ -80,19 +80,32 @@ def row_of(scene, label, kind, mode, threads, args, s):
 
 def run(a):
     rows = []
+    # One thread, measured against the reference: the scene's dt first (its smallest dt_crit sets
+    # the dt of the second mode), then the other modes; -j of them at once (one core each). Then
+    # the two-thread runs one at a time (both cores), timing only: the scene's steps without
+    # settling and without the references (they step the same state bit for bit as one thread, so
+    # their error is the one-thread run's).
+    plan = []
     for scene in SCENES:
-        srows = []
         for label, kind, sets in REALTIME_METHODS:
-            base = runner.sets_args(sets)
             tag = label.split(" (")[0].replace(" ", "_").replace(",", "")
-            # The scene's dt first, measured: its smallest dt_crit sets the dt of the second mode.
-            first = realtime_run(a, scene, "%s/%s_scene_dt_t1" % (scene, tag), base, 1, True)
-            for mode, args in modes(scene, base, first):
-                for threads in [1, 2]:
-                    folder = "%s/%s_%s_t%d" % (scene, tag, mode.split(",")[0].replace(" ", "_").replace(".", ""), threads)
-                    s = first if (mode == "scene dt" and threads == 1) else realtime_run(a, scene, folder, args, threads,
-                                                                                         threads == 1)
-                    srows.append(row_of(scene, label, kind, mode, threads, args, s))
+            plan.append((scene, label, kind, runner.sets_args(sets), tag))
+    firsts = runner.parallel(a, lambda p: realtime_run(a, p[0], "%s/%s_scene_dt_t1" % (p[0], p[4]), p[3], 1, True), plan)
+    jobs = []
+    for (scene, label, kind, base, tag), first in zip(plan, firsts):
+        for mode, args in modes(scene, base, first):
+            stem = "%s/%s_%s" % (scene, tag, mode.split(",")[0].replace(" ", "_").replace(".", ""))
+            for threads in [1, 2]:
+                jobs.append((scene, label, kind, mode, threads, args, stem + "_t%d" % threads,
+                             first if (mode == "scene dt" and threads == 1) else None))
+    one = [j for j in jobs if j[4] == 1 and j[7] is None]
+    done = dict(zip([j[6] for j in one], runner.parallel(a, lambda j: realtime_run(a, j[0], j[6], j[5], 1, True), one)))
+    for j in jobs:
+        if j[4] == 2:
+            done[j[6]] = realtime_run(a, j[0], j[6], j[5] + ["--set", "time.settle=null"], 2, False)
+    for scene in SCENES:
+        srows = [row_of(scene, label, kind, mode, threads, args, first if first is not None else done[folder])
+                 for (sc, label, kind, mode, threads, args, folder, first) in jobs if sc == scene]
         # Two threads step the same state as one (bit-identical): their error is the one-thread run's.
         for r in srows:
             if r["threads"] == 2:
@@ -120,8 +133,9 @@ def run(a):
                 "real-time factor = simulated time per wall time = dt / median step), at the scene's dt, at 0.9 of "
                 "the smallest dt_crit the run at the scene's dt met (guard `substep` as a safety net: its substeps are "
                 "inside the step's time), and with implicit Euler at ten times the scene's dt; one and two threads "
-                "(HARNESS_THREADS); the error against the reference over the final window beside it (the same "
-                "state with two threads), and its ratio to the best exact method's at the scene's dt. Timings "
+                "(HARNESS_THREADS; the two-thread runs time the scene's steps without settling or references); the "
+                "error against the reference over the final window beside it (the two-thread run steps the same "
+                "state bit for bit: its error is the one-thread run's), and its ratio to the best exact method's at the scene's dt. Timings "
                 "exclude the references' measurement. `arguments`: what follows `harness run SCENE` to reproduce "
                 "the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary.\n\n"
                 + writers.md_table(rows, cols, heads))
