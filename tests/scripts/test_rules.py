@@ -135,8 +135,10 @@ def test_a_default_must_beat_no_force_by_ten_percent():
     base = {"pos_err_max_mm": 10.0, "depth_max_mm": 10.0}
     assert chosen([row("a", 9.5, depth=9.5)], base) is None                      # 95 %: not useful
     assert chosen([row("a", 9.0, depth=9.5)], base) == "a"                       # 90 % in position
-    assert chosen([row("a", 12.0, depth=9.0)], base) == "a"                      # 90 % in depth
-    assert chosen([row("a", 9.5, depth=9.5), row("b", 20.0, depth=1.0)], base) == "b"
+    assert chosen([row("a", 10.0, depth=9.0)], base) == "a"                      # 90 % in depth, no worse in position
+    assert chosen([row("a", 12.0, depth=9.0)], base) is None                     # shallower, but farther than no force
+    assert chosen([row("a", 20.0, depth=0.0)], base) is None                     # held apart: depth 0, error doubled
+    assert chosen([row("a", 9.5, depth=9.5), row("b", 10.0, depth=1.0)], base) == "b"
     assert rules.useful(row("a", 9.0, depth=20.0), base) and not rules.useful(row("a", 9.01, depth=9.01), base)
 
 

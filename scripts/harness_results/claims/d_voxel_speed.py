@@ -1,7 +1,8 @@
 """Claim (d), section 3: "collision search using space voxelization is one of the most fast".
 Judged on results/accuracy_time.csv at matched error, with every setting of the equal-footing grid
 that helps: per scenario, the paper's voxel model's most accurate setting that is stable and helps
-(its position error at most 90 % of the run without contact force's, or its depth: rules.useful)
+(its position error at most 90 % of the run without contact force's, or its depth with a position error no
+larger: rules.useful)
 sets the error e_v; every method family (the paper's voxel model, the completed model voxel_exact,
 spatial hashing, CGAL, FCL) is represented by its fastest stable setting whose error is at most e_v
 plus the noise. The paper's model is "one of the most fast" when its time (detection and

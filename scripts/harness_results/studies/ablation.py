@@ -79,10 +79,12 @@ def run(a):
 def default_text(scene, rows, best, base):
     stable = [r for r in rows if r["stable"] == "yes"]
     good = [r for r in stable if rules.useful(r, base)]
-    out = ("Rule: among the stable settings with voxels at or above the host's node spacing and a position error or a depth at most %g %% of the run without "
-           "contact force (%.3g mm and %.3g mm here), the smallest largest position error; among those within 10 %% "
+    out = ("Rule: among the stable settings with voxels at or above the host's node spacing that help (a position "
+           "error at most %g %% of the run without contact force's, or a depth at most %g %% of its depth with a "
+           "position error no larger: %.3g mm and %.3g mm here), the smallest largest position error; among those "
+           "within 10 %% "
            "of it, the smallest gap; among those, the fastest. %d of %d settings are stable, %d of them clearly "
-           "better than no force. " % (100 * USEFUL, base["pos_err_max_mm"], base["depth_max_mm"], len(stable),
+           "better than no force. " % (100 * USEFUL, 100 * USEFUL, base["pos_err_max_mm"], base["depth_max_mm"], len(stable),
                                        len(rows), len(good)))
     if best is None:
         return out + ("None qualifies: the voxel model has no default for this scenario, and CI has no accuracy "
