@@ -10,7 +10,7 @@ pkgs=(g++ cmake ninja-build make git pkg-config libeigen3-dev libfcl-dev libccd-
       python3 python3-matplotlib python3-numpy python3-meshio python3-jsonschema python3-pytest snakemake
       slurmctld slurmd slurm-client munge)
 if [[ "${1:-}" == "--latex" ]]; then
-  pkgs+=(texlive-latex-base texlive-latex-recommended texlive-latex-extra latexmk)
+  pkgs+=(texlive-latex-base texlive-latex-recommended texlive-latex-extra latexmk poppler-utils)
 fi
 missing=()
 for p in "${pkgs[@]}"; do

@@ -50,6 +50,14 @@ build_paper() {
   if command -v latexmk >/dev/null && command -v pdflatex >/dev/null; then
     (cd paper && latexmk -pdf -interaction=nonstopmode -halt-on-error -quiet main.tex)
     echo "reproduce: paper/main.pdf built"
+    # A rendered page of the claims section (its first page, from the label in main.aux).
+    local page
+    page=$(sed -n 's/^\\newlabel{sec:claims}{{[^}]*}{\([0-9]*\)}.*/\1/p' paper/main.aux | head -1)
+    if [[ -n "$page" ]] && command -v pdftoppm >/dev/null; then
+      mkdir -p paper/preview
+      pdftoppm -f "$page" -l "$page" -r 90 -png -singlefile paper/main.pdf paper/preview/claims
+      echo "reproduce: paper/preview/claims.png (page $page)"
+    fi
   else
     echo "reproduce: latexmk/pdflatex missing: paper/main.pdf not built (results/ are complete)" >&2
     exit 1
@@ -80,7 +88,9 @@ else
 fi
 out=results/runs
 mkdir -p "$out"
-extra=(--set time.settle.max_steps=4000)
+# Each run settles as the scene says (time.settle: the same tolerance and cap as the studies and the
+# references), so that its final window is judged as theirs are.
+extra=()
 [[ $quick -eq 1 ]] && extra=(--steps 300)
 
 # run FOLDER SCENE ELIMINATOR FORCE [--set ...]: the paper's voxel model (one-sided, the scene's

@@ -121,9 +121,23 @@ def mm(v):
     return writers.fmt(None if v is None else v * 1000.0, ".3f")
 
 
+def tunnelled_peak(p):
+    """The peak of the nodes that passed through the other body (summary pairs[].tunnelled_peak:
+    guest and host), None when not measured."""
+    t = p.get("tunnelled_peak")
+    if isinstance(t, dict):
+        vals = [v for v in (t.get("guest"), t.get("host")) if v is not None]
+        return sum(vals) if vals else None
+    return t if t is not None else p.get("tunnelled")
+
+
 def window_figure(p, name, stat):
-    """One statistic of a pair's window figure (summary pairs[].window; None when absent)."""
-    return ((p.get("window") or {}).get(name) or {}).get(stat)
+    """One statistic of a pair's window figure (summary pairs[].error_vs_reference.window for the
+    errors against the reference, pairs[].window for the others; None when absent)."""
+    for w in ((p.get("error_vs_reference") or {}).get("window") or {}, p.get("window") or {}):
+        if name in w:
+            return (w[name] or {}).get(stat)
+    return None
 
 
 def vox(v, size):
@@ -247,7 +261,7 @@ def main():
                      mm(p.get("max_depth_final")), mm(p.get("max_depth_peak")),
                      mm(window_figure(p, "pos_err_max", "mean")), mm(window_figure(p, "pos_err_max", "amplitude")),
                      writers.fmt(p.get("recall"), ".3f"), writers.fmt(p.get("precision"), ".4f"),
-                     writers.fmt(p.get("tunnelled_peak", p.get("tunnelled")), "d"),
+                     writers.fmt(tunnelled_peak(p), "d"),
                      rules.classify(r["summary"])[0]])
     write_table(
         root, "accuracy",
