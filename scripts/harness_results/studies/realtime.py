@@ -24,10 +24,9 @@ HAPTIC_BUDGET_US = 1000.0
 REALTIME_METHODS = [
     ("cgal both ways, penalty (scene default)", "exact", []),
     ("voxel_exact both ways, penalty", "completed", ['contacts.0.detector="voxel_exact"']),
-    ("hash both ways, penalty", "exact", ['contacts.0.detector="hash"']),
-    ("voxel 4 mm line auto (the paper's)", "paper",
+    ("voxel, scene size, line, auto (the paper's)", "paper",
      ['contacts.0.detector="voxel"', 'contacts.0.eliminator="line"', 'contacts.0.force="auto"',
-      "contacts.0.two_sided=false", "contacts.0.voxel_size=0.004"]),
+      "contacts.0.two_sided=false"]),
 ]
 
 
