@@ -101,8 +101,13 @@ def test_claim_a_grid_best_and_oriented(tmp_path):
     assert v.data == ["a", rules.NOT_STABLE, rules.WITHIN_NOISE, rules.WITHIN_NOISE]
     assert v.verdict == "supported"
     # oriented the same way, the line better beyond the noise: against the claim
+    # (an orient.csv without the window figures, the `stability` column, is not judged at all)
     write(tmp_path, "orient.csv", "scene,eliminator,orient,force,voxel_mm,stable,pos_err_max_mm,pos_err_amp_mm\n"
           "implant_expansion,line,guest,F=0.003,8,yes,1.0,0\nimplant_expansion,plane,guest,F=0.003,8,yes,2.0,0\n")
+    assert a_plane.judge(Context(str(tmp_path))).verdict == "supported"
+    write(tmp_path, "orient.csv", "scene,eliminator,orient,force,voxel_mm,stable,stability,pos_err_max_mm,pos_err_amp_mm\n"
+          "implant_expansion,line,guest,F=0.003,8,yes,stable,1.0,0\n"
+          "implant_expansion,plane,guest,F=0.003,8,yes,stable,2.0,0\n")
     assert a_plane.judge(Context(str(tmp_path))).verdict == "not supported"
 
 

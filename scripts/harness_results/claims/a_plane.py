@@ -28,7 +28,7 @@ def grid_rows(ctx):
 def judge(ctx):
     floor = floor_mm(ctx, SCENE)
     grid = grid_rows(ctx)
-    orient = ctx.csv("orient.csv", NUMBERS)
+    orient = ctx.window_csv("orient.csv", NUMBERS)
     md = ["## (a) The plane works better than the line in implant expansion", "",
           "On `%s`, position error against the converged reference over the final window (mm; chatter amplitude "
           "and the reference's floor, %.3g mm, make the noise: rules.py). The claim predicts the plane's error "
@@ -65,8 +65,11 @@ def judge(ctx):
             e for e in ["line", "plane"] if not best[e]))
     # Oriented the same way.
     cell = {(r["force"], r["voxel_mm"], r["eliminator"], r["orient"]): r for r in orient}
-    md += ["", "### Oriented the same way (results/orient.csv)", "",
-           "| force | voxel (mm) | orient | line | plane | better |", "|---|---:|---|---:|---:|---|"]
+    md += ["", "### Oriented the same way (results/orient.csv)", ""]
+    if not orient:
+        md += ["Not judged: results/orient.csv is missing or predates the window figures (rerun "
+               "`scripts/study.py orient`).", ""]
+    md += ["| force | voxel (mm) | orient | line | plane | better |", "|---|---:|---|---:|---:|---|"]
     orient_out = []
     for (f, v, e, o_), line in sorted(cell.items()):
         if e != "line" or (f, v, "plane", o_) not in cell:

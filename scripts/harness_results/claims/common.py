@@ -53,6 +53,13 @@ class Context:
                                            missing=[])
         return self._csv[k]
 
+    def window_csv(self, name, numbers=()):
+        """csv(name) when it holds the window figures (a `stability` column, scripts/study.py since
+        the final window and stability as a rate); [] for an older file: its "stable" and its
+        end-of-run errors are not the footing the rules judge on, so its comparisons are not made."""
+        rows = self.csv(name, numbers)
+        return rows if rows and "stability" in rows[0] else []
+
     def pairs(self):
         """(key, title, force, line path, plane path) of every setting run with both eliminators."""
         for key, _scene, title, force in runs.SCENES:

@@ -12,7 +12,7 @@ NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "ma
 
 
 def judge(ctx):
-    sw = ctx.csv("swap.csv", NUMBERS)
+    sw = ctx.window_csv("swap.csv", NUMBERS)
     if not sw:
         return Verdict("swap")
     md = ["## Which body carries the grid (host and guest swapped)", "",
