@@ -21,7 +21,9 @@ Options: --harness PATH (default build/bin/harness), --results DIR (default resu
          --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
          --repeats N (runs per configuration for the timings, default 5),
          --plots-only (runs nothing: redraws the figures of accuracy, ablation and convergence from
-         accuracy_time.csv, ablation.csv and convergence.csv in --results; the others have none).
+         accuracy_time.csv, ablation.csv and convergence.csv in --results; the others have none),
+         --cached-only (runs nothing: writes a study's files from the runs already cached in
+         results/sweeps/; a configuration not run yet is listed with status "not run").
 Every study ends by rewriting tables/counts.tex (the counts the report quotes).
 Each study is a module of scripts/harness_results/studies/; the rules below are in
 scripts/harness_results/rules.py, the runs go through harness_results/runner.py.
@@ -43,6 +45,9 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("-j", dest="jobs", type=int, default=2)
     ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--cached-only", action="store_true",
+                    help="run nothing: write the study's files from the runs already in results/sweeps/, a "
+                         "configuration not run yet listed with status 'not run' (stability: failed)")
     ap.add_argument("--plots-only", action="store_true",
                     help="only redraw the figures of the named studies from their CSVs in --results "
                          "(accuracy_time.csv, ablation.csv, convergence.csv); runs nothing")

@@ -24,6 +24,8 @@ def harness(a, args, out, check=False, show_stderr=False, cached=True, threads="
     """`harness ARGS` (ARGS writes into `out`), unless `cached` and out/summary.json is there; then
     out's summary. `threads`: HARNESS_THREADS (None: the caller's environment)."""
     if not (cached and reader.has_summary(out)):
+        if getattr(a, "cached_only", False):  # study.py --cached-only: a run not made is listed, not made
+            return {"status": "not run"}
         env = dict(os.environ, HARNESS_THREADS=threads) if threads else None
         subprocess.run([a.harness] + args, check=check, env=env, stderr=None if show_stderr else subprocess.DEVNULL)
     return reader.load_summary(out)
