@@ -14,7 +14,9 @@ NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "ma
 def judge(ctx):
     sw = ctx.window_csv("swap.csv", NUMBERS)
     if not sw:
-        return Verdict("swap")
+        return Verdict("swap", rules.NOT_TESTED, ["## Which body carries the grid (host and guest swapped)", "",
+                                                  "Not tested: results/swap.csv is missing or predates the window "
+                                                  "figures (rerun `scripts/study.py swap`).", ""])
     md = ["## Which body carries the grid (host and guest swapped)", "",
           "The paper leaves open which body carries the grid. The voxel model as the scene has it and with the roles "
           "swapped, against the reference over the final window (scripts/study.py swap, results/tables/swap.md); "

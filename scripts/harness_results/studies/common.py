@@ -62,14 +62,16 @@ def figures(s):
 def combine(summaries):
     """Errors of the first run; contact and step time: median over the runs, and their range (min, max)."""
     f = figures(summaries[0])
-    tc = sorted(figures(s)["t_contact_us"] for s in summaries)
-    ts = sorted(figures(s)["t_step_us"] for s in summaries)
+    # A repeat not run (study.py --cached-only) has no time: the others' median and range.
+    timed = [s for s in summaries if s.get("status") != "not run"] or summaries[:1]
+    tc = sorted(figures(s)["t_contact_us"] for s in timed)
+    ts = sorted(figures(s)["t_step_us"] for s in timed)
     f["t_contact_us"] = rules.median(tc)
     f["t_contact_range"] = "%.3g-%.3g" % (tc[0], tc[-1])
     f["t_contact_min_us"], f["t_contact_max_us"] = tc[0], tc[-1]
     f["t_step_us"] = rules.median(ts)
     f["t_step_min_us"], f["t_step_max_us"] = ts[0], ts[-1]
-    f["repeats"] = len(summaries)
+    f["repeats"] = len(timed)
     return f
 
 

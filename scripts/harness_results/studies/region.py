@@ -16,6 +16,8 @@ from .. import reader, runner, writers
 from .common import PENALTY, config_sets, figures, force_label, table_path
 
 REGION_SCENE = "claims/region_wrap"
+# `harness run` finds the bundled scenes by name; this one by its path (relative to the checkout).
+REGION_SCENE_FILE = os.path.join(reader.SOURCE, "experiments", "scenes", "claims", "region_wrap.json")
 REGION_VOXEL = 0.008   # the smallest power of two above the limb's node spacing (6.7 mm)
 REGIONS = ["half", "full", "overlap"]
 MARGINS = [0, 1, 3]
@@ -42,7 +44,7 @@ def run(a):
                 sets = config_sets("voxel", REGION_VOXEL, "line", force,
                                    ['contacts.0.region="%s"' % reg, "contacts.0.margin=%d" % m])
                 folder = "region/%s_%s_margin%d" % (force_label(force), reg, m)
-                configs.append(((force, reg, m), REGION_SCENE, folder, sets))
+                configs.append(((force, reg, m), REGION_SCENE_FILE, folder, sets))
     for (force, reg, m), s in runner.run_configs(a, configs):
         # No reference for this scene: the depth is the pair's own (deepest node, window maximum).
         rows.append(dict(figures(s), scene=REGION_SCENE, force=force_label(force), region=reg, margin=m,
