@@ -42,27 +42,25 @@ REFERENCE_TAG = {"sphere_collision": "Sphere", "sphere_collision_one_sided": "Sp
 SIZE_WORD = {1000: "Thousand", 10000: "TenThousand", 100000: "HundredThousand", 1000000: "Million"}
 
 
-def mm(v):
-    """A length in mm for prose, two significant digits ("0.27", "0.0012", "3.5"); None when absent,
-    "--" when not a number."""
+def figure(v, spec):
+    """A figure for prose in `spec` ("%.2g"); None when absent, "--" when not a number."""
     if v is None or v == "":
         return None
     try:
         x = float(v)
     except ValueError:
         return "--"
-    return "--" if x != x else "%.2g" % x
+    return "--" if x != x else spec % x
+
+
+def mm(v):
+    """A length in mm for prose, two significant digits ("0.27", "0.0012", "3.5")."""
+    return figure(v, "%.2g")
 
 
 def num3(v):
-    """A figure with three significant digits for prose; None when absent, "--" when not a number."""
-    if v is None or v == "":
-        return None
-    try:
-        x = float(v)
-    except ValueError:
-        return "--"
-    return "--" if x != x else "%.3g" % x
+    """A figure with three significant digits for prose."""
+    return figure(v, "%.3g")
 
 
 def rows_of(root, name):
