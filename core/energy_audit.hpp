@@ -10,6 +10,16 @@
 // and in a step's first substep, when drivers start or stop nodes, the kinetic energy the step
 // began with (the drivers' velocities set), whose change since the last step is the work they
 // put in.
+//
+// What it costs: the work of every account, the kinetic energy and the force residual are booked
+// every step (the works are sums over every interval, the residual decides when a run settles);
+// the springs' energy, which costs a transcendental function per spring, is evaluated only when
+// it is read. On the fused path (symplectic Euler without position corrections) a step leaves it
+// pending, and complete() evaluates it at the step's last force point x_n = x_{n+1} - dx (dx the
+// displacement the step applied, kept for the works' closing); the first step after a reset and
+// every step of the general path evaluate it in the force pass as before. Simulation::energy()
+// completes it; Simulation::energy_booked() does not (the recorder reads the energy on the steps
+// a run measures and the last: core/run/recorder.cpp).
 #pragma once
 
 #include "core/effects/effect.hpp"
@@ -35,8 +45,9 @@ class EnergyAudit {
  public:
   EnergyAudit(const World& w, const AuditSetup& setup);
 
-  // Points the step's force pass at the audit's per-node outputs.
-  void attach(StepContext& ctx);
+  // Points the step's force pass at the audit's per-node outputs; lazy_elastic: the springs'
+  // energy may be left pending (the fused path: the step's displacement is exactly what it added).
+  void attach(StepContext& ctx, bool lazy_elastic);
   // The springs' forces per node (null without springs): a peer engine's residual scale.
   Points* spring_forces() { return f_spring_.empty() ? nullptr : &f_spring_; }
   // Before a step's first substep.
@@ -61,21 +72,42 @@ class EnergyAudit {
   void reset(double kinetic, double elastic, double potential);
 
   const EnergyLedger& ledger() const { return ledger_; }
+  // The elastic and potential energies and E*_n of the last step are not evaluated yet.
+  bool elastic_pending() const { return elastic_pending_; }
+  // Evaluates them at the last step's force point: w.x is swapped with x_n for elastic(w) and
+  // back (the state's bits are unchanged).
+  template <class Elastic>
+  void complete(World& w, Elastic&& elastic) {
+    if (!elastic_pending_) return;
+    for (std::size_t i = 0; i < w.x.size(); ++i) x_scratch_[i] = w.x[i] - disp_prev_[i];
+    if (setup_.gravity) gravity_potential_ = gravity_potential(w, x_scratch_);
+    w.x.swap(x_scratch_);
+    const double U = elastic(static_cast<const World&>(w));
+    w.x.swap(x_scratch_);
+    book_elastic(U);
+  }
   // The force residual (simulation.hpp, Simulation::residual).
   double residual() const { return residual_; }
 
  private:
   void close_substep(const double* sums);
+  void book_elastic(double U);
+  double gravity_potential(const World& w, const Points& x) const;
 
   AuditSetup setup_;
   // Per node: the force pass's springs' and dashpots' parts, the springs' energy, the previous
   // substep's displacement, the velocities before the update (general path only), the body's
   // mass damping where damping is built.
-  Points f_spring_, f_dashpot_, disp_prev_, v_before_;
+  Points f_spring_, f_dashpot_, disp_prev_, v_before_, x_scratch_;
   std::vector<double> node_energy_;
   std::vector<double> mass_damping_;
+  std::vector<double> m3_, inv_m3_, mdm3_;  // per coordinate: mass, 1 / mass, mass damping x mass
   std::vector<double> chunk_sums_;  // the booking pass's partial sums, per chunk of nodes
   bool first_substep_ = false;
+  bool energy_in_pass_ = true;      // this step's force pass writes the springs' energy
+  bool elastic_pending_ = false;    // the last step's elastic energy is not evaluated yet
+  double ke_staggered_ = 0.0;       // J, the kinetic part of E*_n of the last step
+  double gravity_potential_ = 0.0;  // J, at the last step's force point
   // Work of the interval ahead of the last force point, booked when the next one closes it
   // (energy.hpp): external, dissipative, drivers, contact.
   double pending_[4] = {0.0, 0.0, 0.0, 0.0};

@@ -92,7 +92,7 @@ void Simulation::step() {
     ctx.guard_rows = &rows;
   }
   if (audit_) {
-    audit_->attach(ctx);
+    audit_->attach(ctx, scene_.integrator == Integrator::symplectic_euler && !corrects_);
     audit_->begin_step();
   }
   for (const auto& e : effects_) e->begin_step(w, ctx);
@@ -218,9 +218,22 @@ void Simulation::reset_energy() {
   if (audit_) audit_->reset(kinetic_energy(), elastic_energy(), potential_energy());
 }
 
-const EnergyLedger& Simulation::energy() const {
+const EnergyLedger& Simulation::energy_booked() const {
   static const EnergyLedger none;
   return audit_ ? audit_->ledger() : none;
+}
+
+// Evaluating the pending energy swaps the positions with the step's force point and back: the
+// world is the simulation's own (never a const object), its bits unchanged.
+const EnergyLedger& Simulation::energy() const {
+  if (audit_ && audit_->elastic_pending())
+    audit_->complete(const_cast<World&>(world_), [this](const World& w) {
+      double e = 0.0;
+      for (const auto& f : effects_)
+        if (f->category() == EffectCategory::elastic) e += f->energy(w);
+      return e;
+    });
+  return energy_booked();
 }
 
 double Simulation::residual() const {

@@ -72,8 +72,14 @@ class Simulation {
   double kinetic_energy() const;    // of the current state (kinetic_energy(World), world.hpp)
   double potential_energy() const;  // stored energy of the built effects (springs, gravity)
   double elastic_energy() const;    // stored in the springs
-  // The energy audit so far (audit on); zeros otherwise.
+  // The energy audit so far (audit on); zeros otherwise. energy() evaluates the springs' energy
+  // of the last step where the step left it pending (energy_audit.hpp: only when read; a pass
+  // over the springs); energy_booked() does not: its works, kinetic energy and residual are the
+  // last step's, its elastic and potential energies and E*_n those of the last step evaluated
+  // (energy_current() says whether that is the last step).
   const EnergyLedger& energy() const;
+  const EnergyLedger& energy_booked() const;
+  bool energy_current() const { return !audit_ || !audit_->elastic_pending(); }
   // Restarts the audit from the current state (after a caller changed it by hand).
   void reset_energy();
   // |net force on the free nodes| / |applied forces on them| (gravity, pressure, loads), or,

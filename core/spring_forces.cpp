@@ -281,13 +281,18 @@ void add_damping_forces(const World& w, Points& f) {
   add_damping_forces(g, w, f);
 }
 
-double spring_potential(const World& w) {
-  SpringGather g;
-  std::vector<double> e(static_cast<std::size_t>(w.num_nodes()), 0.0);
+double spring_potential(SpringGather& g, const World& w, std::vector<double>& e) {
+  e.assign(static_cast<std::size_t>(w.num_nodes()), 0.0);
   SpringPassOut o;
   o.energy = &e;
   spring_pass(g, w, false, false, o);
   return sum_node_energy(e);
+}
+
+double spring_potential(const World& w) {
+  SpringGather g;
+  std::vector<double> e;
+  return spring_potential(g, w, e);
 }
 
 void add_spring_stiffness_rows(SpringGather& g, const World& w, std::vector<Vec3>& rows) {

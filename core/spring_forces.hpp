@@ -77,6 +77,8 @@ void add_damping_forces(SpringGather& g, const World& w, Points& f);
 void add_mass_damping(const World& w, Points& f);
 // Elastic energy of every spring (J), the same value for any thread count.
 double spring_potential(const World& w);
+// The same with a kept gather and node-energy buffer (sized here once): no allocation per call.
+double spring_potential(SpringGather& g, const World& w, std::vector<double>& e);
 // Gershgorin row sums of |df/dx| of the springs (tangent stiffness k_t u u^T at the current
 // strain, the compressive geometric term left out) added into rows (one per node).
 void add_spring_stiffness_rows(const World& w, std::vector<Vec3>& rows);

@@ -21,10 +21,11 @@ class SpringsEffect final : public Effect {
   void add_jacobian(const World& w, LinearSystem& sys) const override;
   bool add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const override;
   bool has_stiffness() const override { return has_springs_; }
-  double energy(const World& w) const override { return spring_potential(w); }
+  double energy(const World& w) const override { return spring_potential(gather_, w, energy_); }
 
  private:
   mutable SpringGather gather_;  // kept between steps (spring topology is fixed once built)
+  mutable std::vector<double> energy_;  // energy(): the node energies, sized once
   bool has_springs_;
   bool dashpots_;
 };

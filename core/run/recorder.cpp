@@ -26,6 +26,7 @@ Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_
   ke_ = ke_peak_ = sim.kinetic_energy();
   series_.resize(pairs.size());
   initial_energy_ = sim.energy().initial;
+  energy_every_ = measurers_.empty() ? kEnergyEvery : std::max(1, sc.references.every);
   energy_.reserve(static_cast<std::size_t>(sc.steps));
   timings_.step.reserve(static_cast<std::size_t>(sc.steps));
   timings_.physics.reserve(static_cast<std::size_t>(sc.steps));
@@ -55,17 +56,18 @@ void Recorder::record(const Simulation& sim, bool last) {
   const Scene& sc = sim.scene();
   const int s = sim.step_index();
   measured_now_ = !measurers_.empty() && (s % sc.references.every == 0 || last);
-  // The audit's figures (booked in the step's own pass); without it, evaluated here.
-  ke_ = sim.audited() ? sim.energy().kinetic : sim.kinetic_energy();
+  // The audit's figures (booked in the step's own pass); without it, evaluated here. The stored
+  // energies (springs, gravity) on the steps that measure and the last (energy_step): evaluated
+  // there, NaN on the others.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const bool energy_now = last || s % energy_every_ == 0;
+  const EnergyLedger& e = energy_now ? sim.energy() : sim.energy_booked();
+  ke_ = sim.audited() ? e.kinetic : sim.kinetic_energy();
   ke_peak_ = std::max(ke_peak_, ke_);
-  pe_ = sim.audited() ? sim.energy().potential : sim.potential_energy();
-  {
-    const EnergyLedger& e = sim.energy();
-    // A peer engine books no work (simulation.hpp): its contact power is unknown, not zero.
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    energy_.push_back({sim.engine() ? nan : e.work_contact, sim.engine() ? nan : e.work_external, ke_, e.elastic,
-                       sim.residual()});
-  }
+  pe_ = !energy_now ? nan : sim.audited() ? e.potential : sim.potential_energy();
+  // A peer engine books no work (simulation.hpp): its contact power is unknown, not zero.
+  energy_.push_back({sim.engine() ? nan : e.work_contact, sim.engine() ? nan : e.work_external, ke_,
+                     energy_now ? e.elastic : nan, sim.residual()});
   timings_.step.push_back(sim.last().step_us);
   timings_.physics.push_back(sim.last().physics_us);
   if (!sim.pairs().empty() && sc.has(kContact)) {

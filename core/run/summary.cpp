@@ -202,7 +202,10 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& 
   energy = {{"energy_kinetic", e.kinetic},          {"energy_elastic", e.elastic},
             {key::kWorkExternal, e.work_external},   {key::kDissipated, e.dissipated},
             {key::kWorkContact, e.work_contact},     {key::kBalanceError, e.balance_error()},
-            {key::kWorkContactPeak, e.work_contact_peak}, {"energy_initial", e.initial}};
+            {key::kWorkContactPeak, e.work_contact_peak}, {"energy_initial", e.initial},
+            // The springs' energy is evaluated on these steps and the last (recorder.hpp); works,
+            // kinetic energy and residual on every step.
+            {"elastic_every", rec.energy_every()}};
   if (sim.engine()) {
     // A peer engine's work is not booked (simulation.hpp): only the energies are known.
     for (const char* k : {key::kWorkExternal, key::kDissipated, key::kWorkContact, key::kBalanceError, key::kWorkContactPeak})
