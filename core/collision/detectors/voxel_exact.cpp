@@ -111,9 +111,12 @@ void VoxelExactDetector::ensure_workspaces(int threads) {
   while (static_cast<int>(ws_.size()) < threads) {
     Workspace ws;
     ws.stamp.assign(F, 0);
-    ws.tri.assign(static_cast<std::size_t>(kEntries) * kEntryCap, -1);
-    ws.box.assign(static_cast<std::size_t>(6) * kEntries * kEntryCap, 0.0);
-    ws.overflow.assign(F, -1);
+    for (Entry& e : ws.entry) {
+      e.cap = kEntryCap;
+      e.tri.assign(kEntryCap, -1);
+      e.box.assign(static_cast<std::size_t>(6) * kEntryCap, 0.0);
+    }
+    ws.gathered.assign(F, -1);
     ws.bound.assign(F + 4, 0.0);
     ws_.push_back(std::move(ws));
   }
@@ -175,11 +178,9 @@ double VoxelExactDetector::band_at(const Vec3& x) const {
 }
 
 VoxelExactDetector::Entry& VoxelExactDetector::candidates(const World& w, int cell, Workspace& ws, int& slot) const {
-  slot = static_cast<int>((static_cast<std::uint32_t>(cell) * 2654435761u) >> 26);  // kEntries = 64
+  slot = static_cast<int>((static_cast<std::uint32_t>(cell) * 2654435761u) >> (32 - kEntryBits));
   Entry& e = ws.entry[slot];
-  if (e.step == now_ && e.cell == cell &&
-      (e.count <= kEntryCap || (ws.overflow_step == now_ && ws.overflow_cell == cell)))
-    return e;
+  if (e.step == now_ && e.cell == cell) return e;
   const GridGeometry& g = grid_.geometry();
   e.step = now_;
   e.cell = cell;
@@ -197,8 +198,7 @@ VoxelExactDetector::Entry& VoxelExactDetector::candidates(const World& w, int ce
   }
   const std::uint32_t now = ws.gather;
   std::uint32_t* stamp = ws.stamp.data();
-  int* tris = ws.overflow.data();  // gathered here first: whatever voxel's list it held is gone
-  ws.overflow_step = 0;
+  int* tris = ws.gathered.data();
   int m = 0;
   for (int z = lo[2]; z < hi[2]; ++z)
     for (int y = lo[1]; y < hi[1]; ++y)
@@ -216,21 +216,22 @@ VoxelExactDetector::Entry& VoxelExactDetector::candidates(const World& w, int ce
         }
       }
   e.count = m;
-  if (m > kEntryCap) {  // stays in the overflow list; boxes per node
-    ws.overflow_step = now_;
-    ws.overflow_cell = cell;
-    return e;
+  if (m > e.cap) {  // the entry's storage doubles (a few times in a run at most)
+    e.cap = std::max(m + (m & 1), 2 * e.cap);  // even: box_bounds reads candidates in pairs
+    e.tri.assign(static_cast<std::size_t>(e.cap), -1);
+    e.box.assign(static_cast<std::size_t>(6) * e.cap, 0.0);
   }
-  int* dst = ws.tri.data() + static_cast<std::size_t>(slot) * kEntryCap;
-  double* box = ws.box.data() + static_cast<std::size_t>(slot) * 6 * kEntryCap;
+  const std::size_t cap = static_cast<std::size_t>(e.cap);
+  int* dst = e.tri.data();
+  double* box = e.box.data();
   for (int i = 0; i < m; ++i) {
     const int f = tris[i];
     dst[i] = f;
     const Tri& t = faces_[f];
     const Vec3 &a = w.x[host_begin_ + t[0]], &b = w.x[host_begin_ + t[1]], &c = w.x[host_begin_ + t[2]];
-    for (int d = 0; d < 3; ++d) {
-      box[d * kEntryCap + i] = std::min(a[d], std::min(b[d], c[d]));
-      box[(3 + d) * kEntryCap + i] = std::max(a[d], std::max(b[d], c[d]));
+    for (std::size_t d = 0; d < 3; ++d) {
+      box[d * cap + i] = std::min(a[d], std::min(b[d], c[d]));
+      box[(3 + d) * cap + i] = std::max(a[d], std::max(b[d], c[d]));
     }
   }
   return e;
@@ -272,8 +273,7 @@ bool VoxelExactDetector::evaluate(const World& w, const Vec3& x, int cell, Works
   const Entry& e = candidates(w, cell, ws, slot);
   const int m = e.count;
   if (m == 0) return false;  // nothing listed around: deeper than the grid sees, or far outside
-  const bool cached = m <= kEntryCap;
-  const int* tris = cached ? ws.tri.data() + static_cast<std::size_t>(slot) * kEntryCap : ws.overflow.data();
+  const int* tris = e.tri.data();
   double* bound = ws.bound.data();
 
   // The nearest candidate: the one with the least lower bound first, then every other one whose
@@ -299,15 +299,7 @@ bool VoxelExactDetector::evaluate(const World& w, const Vec3& x, int cell, Works
   };
   // Lower bounds: the squared distance from x to each candidate's box (min and max are exact,
   // so the cached and the computed boxes are the same numbers).
-  if (cached) {
-    box_bounds(ws.box.data() + static_cast<std::size_t>(slot) * 6 * kEntryCap, kEntryCap, m, x, bound);
-  } else {
-    for (int i = 0; i < m; ++i) {
-      const Tri& t = faces_[tris[i]];
-      const Vec3 &a = w.x[host_begin_ + t[0]], &b = w.x[host_begin_ + t[1]], &c = w.x[host_begin_ + t[2]];
-      bound[i] = box_bound(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), x);
-    }
-  }
+  box_bounds(e.box.data(), e.cap, m, x, bound);
   int first = 0;
   for (int i = 1; i < m; ++i) first = bound[i] < bound[first] ? i : first;
   consider(first);
@@ -365,10 +357,8 @@ void VoxelExactDetector::detect(const World& w, std::vector<Contact>& out) {
   beyond_ = 0;
   if (++now_ == 0) {  // the counter wrapped: forget every stamp
     std::fill(hit_step_.begin(), hit_step_.end(), 0u);
-    for (Workspace& ws : ws_) {
+    for (Workspace& ws : ws_)
       for (Entry& e : ws.entry) e.step = 0;
-      ws.overflow_step = 0;
-    }
     now_ = 1;
   }
   const GridGeometry g = init_.update(w, grid_);

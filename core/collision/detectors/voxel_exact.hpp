@@ -68,14 +68,15 @@
 // it is rejected before any candidate is looked at (most nodes of the region's margin). The
 // candidates of a voxel are the same for every guest node in it: each thread keeps those of up
 // to kEntries voxels (direct-mapped by voxel index) with their triangles' bounding boxes side
-// by side (kEntryCap of them; a voxel with more keeps an overflow list, boxes computed per
-// node). Per node the squared distance to each box (two lanes at a time) bounds the distance
+// by side (each entry's storage starts at kEntryCap candidates and doubles when a voxel lists
+// more: a host with long triangles, such as a shell, lists hundreds per voxel). Per node the squared distance to each box (two lanes at a time) bounds the distance
 // to its triangle from below: the candidate with the least bound is evaluated first, then only
 // those whose bound is below the best distance so far (a skipped one can at most tie: any
 // nearest point gives the exact distance and verdict; ties go to the first found in the voxel's
 // fixed candidate order). L_max is one parallel pass over the host's unique surface edges.
 // No heap allocation per step after initialize(), except when the host outgrows the region (a
-// rebuild) and once when the thread count is first raised. With several threads the guest
+// rebuild), once when the thread count is first raised, and when a cache entry first has to
+// hold more candidates than it ever held (its storage doubles: a few times in a run). With several threads the guest
 // nodes are looked up in chunks whose contacts are appended in chunk order, as in voxel.cpp:
 // contacts, their data and beyond_band() are the same, bit for bit, for any thread count.
 #pragma once
@@ -95,11 +96,11 @@ class VoxelExactDetector final : public CollisionDetector {
   // Feature of a triangle (t[0], t[1], t[2]) nearest to a node: vertex t[k] (k = 0..2), edge
   // (t[k], t[k+1 mod 3]) (3 + k), or the interior (6).
   static constexpr int kInterior = 6;
-  // Each thread keeps the candidates of up to kEntries voxels (a direct-mapped cache), up to
-  // kEntryCap candidates each with their bounding boxes; a voxel with more keeps its list in the
-  // thread's overflow list and its boxes are computed per node.
-  static constexpr int kEntries = 64;
-  static constexpr int kEntryCap = 128;
+  // Each thread keeps the candidates of up to kEntries voxels (a direct-mapped cache) with their
+  // bounding boxes, room for kEntryCap candidates each at first (doubled when a voxel has more).
+  static constexpr int kEntries = 256;
+  static constexpr int kEntryBits = 8;  // log2(kEntries)
+  static constexpr int kEntryCap = 32;
 
   // What detect() found for a guest node it reports as a contact.
   struct Hit {
@@ -141,19 +142,18 @@ class VoxelExactDetector final : public CollisionDetector {
   struct Entry {
     std::uint32_t step = 0;  // detect() it belongs to (0: none)
     int cell = -1;
-    int count = 0;           // candidates; > kEntryCap: in the overflow list
+    int count = 0;           // candidates
+    int cap = 0;             // room in tri and box (candidates): box holds 6 rows of cap
     double tlo[3] = {}, thi[3] = {};  // its block, grid coordinates (t = (x - c) / v)
+    std::vector<int> tri;       // candidate faces
+    std::vector<double> box;    // 6 x cap: lo x, y, z, hi x, y, z of each candidate
   };
   // One thread's cache of candidates.
   struct Workspace {
     std::vector<std::uint32_t> stamp;  // per host face: the gather that last took it
     std::uint32_t gather = 0;
     Entry entry[kEntries];
-    std::vector<int> tri;       // kEntries x kEntryCap candidate faces
-    std::vector<double> box;    // per entry 6 x kEntryCap: lo x, y, z, hi x, y, z of each candidate
-    std::vector<int> overflow;  // a voxel's candidates (capacity: every face), gathered first here
-    std::uint32_t overflow_step = 0;  // the voxel whose more than kEntryCap candidates it holds
-    int overflow_cell = -1;
+    std::vector<int> gathered;  // a voxel's candidates (capacity: every face), gathered first here
     std::vector<double> bound;  // per candidate of one node: squared distance to its box (+ 4)
   };
 
