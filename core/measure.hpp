@@ -54,7 +54,9 @@ struct Measurement {
   const std::vector<std::uint8_t>* pen_guest = nullptr;
   const std::vector<std::uint8_t>* pen_host = nullptr;
   // CGAL: per surface vertex (body-local, < n_surface) its signed distance to the other body's
-  // surface, m (negative inside); null when not measured. Valid until the next measure().
+  // surface, m (negative inside); null when not measured. Valid until the next measure(). Exact
+  // for the vertices Measurer::needs asks for (all by default); the others get a lower bound >= 0
+  // (their distance to the other body's bounding box).
   const std::vector<double>* sd_guest = nullptr;
   const std::vector<double>* sd_host = nullptr;
   double t_ccd_us = 0.0;
@@ -63,6 +65,19 @@ struct Measurement {
 class Measurer {
  public:
   virtual ~Measurer() = default;
+  // Which surface vertices' signed distances must be exact at the next measure(): all of them
+  // (the default), or only those inside the other body, those a detector reported this step,
+  // and those whose distance in the reference (ref_guest, ref_host: per surface vertex, null for
+  // none) is within `touch`: the only ones the figures read (depth, distance of pushed nodes,
+  // gap of touching nodes). The recorder asks for all on steps that write them (frames, the
+  // trajectory, the last step's surfaces.csv).
+  struct DistanceNeeds {
+    bool all = true;
+    const std::vector<double>* ref_guest = nullptr;
+    const std::vector<double>* ref_host = nullptr;
+    double touch = 0.0;
+  };
+  DistanceNeeds needs;
   // `detected` is what the pair's detector reported this step (guest nodes, global indices);
   // `detected_host` what it reported the other way round (host nodes inside the guest; empty
   // for a one-sided pair).

@@ -31,8 +31,10 @@ void check_pair(const World& w, const ContactSpec& pair) {
 // hints (n_surface): each surface vertex's closest face at its previous measurement, in and out;
 // it seeds the exact search with the point of that face nearest the vertex (an upper bound, so the
 // answer is the same, and no kd-tree to rebuild after each update).
+// need (n_surface, or null for all): the surface vertices whose distance must be exact when they
+// are outside; the others get their distance to the other body's box (a lower bound, 0 within it).
 int classify(const World& w, const Body& b, const CgalSurface& other, double& max_depth,
-             double& sum_depth, std::uint8_t* flags, double* sd, int* hints) {
+             double& sum_depth, std::uint8_t* flags, double* sd, int* hints, const std::uint8_t* need = nullptr) {
   Vec3 lo, hi;
   other.bounds(lo, hi);
   const double far = 0.25 * (hi - lo).norm();
@@ -45,7 +47,7 @@ int classify(const World& w, const Body& b, const CgalSurface& other, double& ma
     const bool surface = i - b.begin < b.n_surface;
     if (!in && !surface) continue;
     double d;
-    if (!in && box > far) {
+    if (!in && (box > far || (need && !need[i - b.begin]))) {
       d = box;
     } else if (surface) {
       Vec3 q;
@@ -62,6 +64,19 @@ int classify(const World& w, const Body& b, const CgalSurface& other, double& ma
     sum_depth += d;
   }
   return count;
+}
+
+// The surface vertices of b whose distance must be exact (Measurer::needs): those a detector
+// reported (global node indices) and those within `touch` of the other body in the reference.
+void mark_needs_of(std::vector<std::uint8_t>& need, const Body& b, const std::vector<double>* ref, double touch,
+                   const std::vector<Contact>& detected) {
+  need.assign(static_cast<std::size_t>(b.n_surface), 0);
+  if (ref)
+    for (std::size_t i = 0; i < need.size() && i < ref->size(); ++i) need[i] = std::fabs((*ref)[i]) <= touch ? 1 : 0;
+  for (const Contact& c : detected) {
+    const int li = c.guest - b.begin;
+    if (li >= 0 && li < b.n_surface) need[static_cast<std::size_t>(li)] = 1;
+  }
 }
 
 bool all_finite(const World& w, const Body& b) {
@@ -160,6 +175,11 @@ ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
   }
 }
 
+void ReferenceMeasurer::mark_needs(std::vector<std::uint8_t>& need, const Body& b, const std::vector<double>* ref,
+                                   const std::vector<Contact>& detected) const {
+  mark_needs_of(need, b, ref, needs.touch, detected);
+}
+
 void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected,
                                 const std::vector<Contact>& detected_host, Measurement& out) {
   if (pair.host != host_ || pair.guest != guest_)
@@ -176,8 +196,15 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair, const s
     cg_guest_.update(&w.x[G.begin]);
     if (spec_.cgal) {
       double max_depth = 0.0, sum_depth = 0.0;
-      out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data(), sd_guest_.data(), hint_guest_.data());
-      out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data(), sd_host_.data(), hint_host_.data());
+      const bool some = !needs.all;
+      if (some) {
+        mark_needs(need_guest_, G, needs.ref_guest, detected);
+        mark_needs(need_host_, H, needs.ref_host, detected_host);
+      }
+      out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data(), sd_guest_.data(),
+                                    hint_guest_.data(), some ? need_guest_.data() : nullptr);
+      out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data(), sd_host_.data(),
+                                   hint_host_.data(), some ? need_host_.data() : nullptr);
       out.tunnelled_guest = pass_guest_.update(w, G, cg_host_, pen_guest_);
       out.tunnelled_host = pass_host_.update(w, H, cg_guest_, pen_host_);
       out.pen_guest = &pen_guest_;

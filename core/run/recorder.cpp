@@ -87,6 +87,20 @@ void Recorder::record(const Simulation& sim, bool last) {
     static const std::vector<Contact> none;
     Measurement& m = meas_[p];
     m = Measurement{};
+    // Exact signed distances where a figure reads them (Measurer::needs); every surface vertex's
+    // on the steps that write them all: frames, the trajectory, the last step's surfaces.csv.
+    Measurer::DistanceNeeds& needs = measurers_[p]->needs;
+    needs = Measurer::DistanceNeeds{};
+    needs.all = last || sc.trajectory || (sc.frames_every > 0 && s % sc.frames_every == 0);
+    needs.touch = kTouchTolerance;
+    if (opt_.compare && !needs.all) {
+      const SurfaceState& ref = opt_.compare->target(s);
+      const auto body_sd = [&ref](int b) {
+        return static_cast<std::size_t>(b) < ref.sd.size() && !ref.sd[b].empty() ? &ref.sd[b] : nullptr;
+      };
+      needs.ref_guest = body_sd(pair.spec.guest);
+      needs.ref_host = body_sd(pair.spec.host);
+    }
     measurers_[p]->measure(sim.world(), pair.spec, pair.collision ? pair.collision->contacts() : none,
                            pair.collision ? pair.collision->reverse_contacts() : none, m);
     if (m.has_cgal && m.pen_guest && m.pen_host) {
