@@ -99,6 +99,90 @@ TEST_CASE("signed distance and gap: a cube above a layer at a known gap", "[accu
   }
 }
 
+// Measurer::needs: asked for only the distances the figures read (nodes inside, nodes reported,
+// nodes the reference has touching), the measurement gives those exactly and a lower bound >= 0
+// elsewhere, and the gap, depth and error against the reference are those of a full measurement.
+TEST_CASE("signed distance: exact where the figures read it, a lower bound elsewhere", "[accuracy][cgal]") {
+  auto scene = [](World& w, ContactSpec& p, double g) {
+    p.host = add_body(w, "layer", box_surface(Vec3(-1, -1, -0.5), Vec3(2, 2, 0.0), Vec3i(6, 6, 1)));
+    p.guest = add_body(w, "cube", box_surface(Vec3(0, 0, g), Vec3(1, 1, 1 + g), Vec3i(4, 4, 4)));
+  };
+  World w0;
+  ContactSpec p0;
+  scene(w0, p0, 0.0);
+  ReferenceMeasurer m0(w0, p0, cgal_only());
+  Measurement o0;
+  m0.measure(w0, p0, {}, o0);
+  const SurfaceState ref = surface_state(w0, 0, 0.0, {*o0.sd_host, *o0.sd_guest});
+  for (double g : {0.05, -0.1}) {  // apart (a gap over the bottom face), overlapping (a depth)
+    World w;
+    ContactSpec pair;
+    scene(w, pair, g);
+    ReferenceMeasurer all(w, pair, cgal_only()), some(w, pair, cgal_only());
+    const Body& c = w.bodies[pair.guest];
+    const std::vector<Contact> reported = {Contact{c.begin + c.n_surface - 1, 0}};  // a reported node: the cube's last vertex
+    some.needs.all = false;
+    some.needs.touch = kTouchTolerance;
+    some.needs.ref_host = &ref.sd[pair.host];
+    some.needs.ref_guest = &ref.sd[pair.guest];
+    Measurement a, s;
+    all.measure(w, pair, reported, a);
+    some.measure(w, pair, reported, s);
+    CHECK(s.true_pen_guest == a.true_pen_guest);
+    CHECK(s.max_depth == a.max_depth);
+    int exact = 0, bounded = 0;
+    for (int k = 0; k < c.n_surface; ++k) {
+      const double full = (*a.sd_guest)[k], part = (*s.sd_guest)[k];
+      const bool needed = (*a.pen_guest)[k] || std::fabs(ref.sd[pair.guest][k]) <= kTouchTolerance || k == c.n_surface - 1;
+      if (needed) {
+        CHECK(part == full);
+        ++exact;
+      } else {
+        CHECK(part >= 0.0);
+        CHECK(part <= full + 1e-15);  // (for a box-shaped host the box distance is exact)
+        ++bounded;
+      }
+    }
+    CHECK(exact >= 26);    // the bottom face's 25 vertices and the reported one
+    CHECK(bounded > 0);    // the rest of the cube got its lower bound
+    const SurfaceState na = surface_state(w, 0, 0.0, {*a.sd_host, *a.sd_guest});
+    const SurfaceState ns = surface_state(w, 0, 0.0, {*s.sd_host, *s.sd_guest});
+    const ReferenceErrors ea = Comparison::errors(na, ref, pair.host, pair.guest);
+    const ReferenceErrors es = Comparison::errors(ns, ref, pair.host, pair.guest);
+    CHECK(es.gap_max == ea.gap_max);
+    CHECK(es.gap_mean == ea.gap_mean);
+    CHECK(es.depth_max == ea.depth_max);
+    CHECK(es.touching == ea.touching);
+    if (g > 0.0) CHECK(es.gap_max == Approx(g).margin(1e-12));
+  }
+  // A round host: within its bounding box a vertex not asked for gets 0, below its distance.
+  World w;
+  ContactSpec pair;
+  pair.host = add_body(w, "a", icosphere(Vec3::Zero(), 1.0, 3));
+  pair.guest = add_body(w, "b", icosphere(Vec3(2.05, 0, 0), 1.0, 3));
+  ReferenceMeasurer all(w, pair, cgal_only()), some(w, pair, cgal_only());
+  some.needs.all = false;
+  Measurement a, s;
+  all.measure(w, pair, {}, a);
+  some.measure(w, pair, {}, s);
+  int strictly = 0, k0 = -1;
+  for (std::size_t k = 0; k < a.sd_guest->size(); ++k) {
+    CHECK((*s.sd_guest)[k] <= (*a.sd_guest)[k] + 1e-15);
+    if ((*s.sd_guest)[k] < (*a.sd_guest)[k]) ++strictly, k0 = k0 < 0 ? static_cast<int>(k) : k0;
+  }
+  REQUIRE(strictly > 0);
+  // That vertex touching in a reference: now exact.
+  std::vector<double> touching(a.sd_guest->size(), 1.0);
+  touching[static_cast<std::size_t>(k0)] = 0.0;
+  ReferenceMeasurer touched(w, pair, cgal_only());
+  touched.needs.all = false;
+  touched.needs.touch = kTouchTolerance;
+  touched.needs.ref_guest = &touching;
+  Measurement t;
+  touched.measure(w, pair, {}, t);
+  CHECK((*t.sd_guest)[static_cast<std::size_t>(k0)] == (*a.sd_guest)[static_cast<std::size_t>(k0)]);
+}
+
 TEST_CASE("error against a reference: a hand-computed case", "[accuracy]") {
   SurfaceState ref, now;
   ref.bodies = now.bodies = {"a", "b"};
