@@ -33,6 +33,9 @@ void CgalSurface::set_topology(int n_vertices, const std::vector<Tri>& F) {
   s.tree.clear();
   s.kd_ready = false;
   s.ready = false;
+  s.built_at.clear();
+  s.margin = 0.0;
+  s.updates = s.rebuilds = 0;
   s.mesh.clear();
   s.faces = F;
   s.mesh.reserve(static_cast<Mesh::size_type>(n_vertices),
@@ -61,11 +64,34 @@ void CgalSurface::update(const Vec3* points) {
   Impl& s = *impl_;
   const int n = static_cast<int>(s.mesh.number_of_vertices());
   for (int i = 0; i < n; ++i) s.mesh.point(Mesh::Vertex_index(i)) = cgal::to_point(points[i]);
-  s.side_of.reset();
-  s.tree.build();  // the primitives read the points through the mesh: only the hierarchy is stale
+  ++s.updates;
+  // The hierarchy holds while every vertex is within the margin of where the boxes were made
+  // (each face then inside its grown box); else it is rebuilt on boxes grown from the points now.
+  bool rebuild = !s.ready || !(s.margin > 0.0) || static_cast<int>(s.built_at.size()) != n;
+  for (int i = 0; i < n && !rebuild; ++i) rebuild = !((points[i] - s.built_at[i]).squaredNorm() <= s.margin * s.margin);
+  if (rebuild) {
+    if (!(s.margin > 0.0)) {  // a quarter of the mean edge, once
+      double sum = 0.0;
+      for (const Tri& t : s.faces)
+        for (int k = 0; k < 3; ++k) sum += (points[t[(k + 1) % 3]] - points[t[k]]).norm();
+      s.margin = s.faces.empty() ? 0.0 : 0.25 * sum / (3.0 * static_cast<double>(s.faces.size()));
+    }
+    s.built_at.assign(points, points + n);
+    // Grown by the margin and a little more, so that rounding in the box never decides.
+    const double g = std::isfinite(s.margin) ? s.margin * (1.0 + 1e-9) + 1e-300 : 0.0;
+    s.boxes.resize(s.faces.size());
+    for (std::size_t f = 0; f < s.faces.size(); ++f) {
+      const Vec3 &a = points[s.faces[f][0]], &b = points[s.faces[f][1]], &c = points[s.faces[f][2]];
+      const Vec3 lo = a.cwiseMin(b).cwiseMin(c).array() - g, hi = a.cwiseMax(b).cwiseMax(c).array() + g;
+      s.boxes[f] = CGAL::Bbox_3(lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
+    }
+    s.side_of.reset();
+    s.tree.build();
+    s.side_of.emplace(s.tree);  // it keeps the tree's box: re-made with every build
+    ++s.rebuilds;
+  }
   s.tree.do_not_accelerate_distance_queries();  // drops the kd-tree of old points
   s.kd_ready = false;
-  s.side_of.emplace(s.tree);
 
   s.degenerate.clear();
   s.proper.clear();
@@ -91,6 +117,9 @@ void CgalSurface::update(const Vec3* points) {
   }
   s.ready = true;
 }
+
+long long CgalSurface::updates() const { return impl_->updates; }
+long long CgalSurface::tree_rebuilds() const { return impl_->rebuilds; }
 
 int CgalSurface::num_vertices() const { return static_cast<int>(impl_->mesh.number_of_vertices()); }
 const std::vector<Tri>& CgalSurface::faces() const { return impl_->faces; }

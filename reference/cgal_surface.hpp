@@ -35,8 +35,13 @@ class CgalSurface {
   // F: #F triangles over vertices 0..n_vertices-1, counter-clockwise seen from outside. Throws
   // std::invalid_argument if they do not form a closed 2-manifold triangle mesh.
   void set_topology(int n_vertices, const std::vector<Tri>& F);
-  // Replaces the vertex positions with points[0..n_vertices) and rebuilds the tree.
+  // Replaces the vertex positions with points[0..n_vertices). CGAL 5.5's AABB tree has no refit:
+  // its boxes are the faces' boxes grown by a margin (a quarter of the mean edge), and the tree is
+  // rebuilt only when some vertex has moved farther than that since its last build; in between
+  // every face lies inside its box and every query stays exact.
   void update(const Vec3* points);
+  long long updates() const;        // update() calls since set_topology()
+  long long tree_rebuilds() const;  // of them, those that rebuilt the tree
 
   int num_vertices() const;
   const std::vector<Tri>& faces() const;

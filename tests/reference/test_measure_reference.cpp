@@ -408,3 +408,49 @@ TEST_CASE("tunnelled: through counts, pushed back, around and back again do not"
     CHECK(out.true_pen_guest == 0);
   }
 }
+
+// CgalSurface::update keeps its AABB tree (boxes grown by a margin) while no vertex has moved
+// farther than the margin since the tree was built: every query must then equal that of a surface
+// built afresh on the same points, and a larger move must rebuild it.
+TEST_CASE("CGAL surface: a kept tree answers as a fresh one, and is rebuilt past its margin", "[reference][cgal]") {
+  const Surface ball = icosphere(Vec3::Zero(), 1.0, 3);
+  CgalSurface kept;
+  kept.set_topology(ball.n_surface, ball.F);
+  kept.update(ball.V.data());
+  REQUIRE(kept.tree_rebuilds() == 1);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // Mean edge of this icosphere ~0.1: margin ~0.025; wobble every vertex by up to 0.012 (within).
+  Points moved = ball.V;
+  int compared = 0, disagreements = 0;
+  for (int round = 0; round < 20; ++round) {
+    for (int i = 0; i < ball.n_surface; ++i) moved[i] = ball.V[i] + 0.007 * Vec3(u(rng), u(rng), u(rng));
+    kept.update(moved.data());
+    CgalSurface fresh;
+    fresh.set_topology(ball.n_surface, ball.F);
+    fresh.update(moved.data());
+    for (int q = 0; q < 200; ++q) {
+      const Vec3 p = 1.2 * Vec3(u(rng), u(rng), u(rng));
+      disagreements += kept.side(p) != fresh.side(p);
+      Vec3 a, b;
+      kept.closest_face(p, &a);
+      fresh.closest_face(p, &b);
+      disagreements += std::fabs((a - p).norm() - (b - p).norm()) > 1e-14;
+      std::vector<SurfaceCrossing> ca, cb;
+      const Vec3 r = 1.2 * Vec3(u(rng), u(rng), u(rng));
+      kept.crossings(p, r, ca);
+      fresh.crossings(p, r, cb);
+      disagreements += ca.size() != cb.size();
+      ++compared;
+    }
+  }
+  CHECK(compared == 4000);
+  CHECK(disagreements == 0);
+  CHECK(kept.tree_rebuilds() == 1);  // every wobble stayed within the margin: never rebuilt
+  // A rigid shift of a third of the radius leaves the margin: rebuilt, and right.
+  for (int i = 0; i < ball.n_surface; ++i) moved[i] = ball.V[i] + Vec3(0.33, 0, 0);
+  kept.update(moved.data());
+  CHECK(kept.tree_rebuilds() == 2);
+  CHECK(kept.strictly_inside(Vec3(1.2, 0, 0)));
+  CHECK_FALSE(kept.strictly_inside(Vec3(-0.8, 0, 0)));
+}
