@@ -227,12 +227,7 @@ const EnergyLedger& Simulation::energy_booked() const {
 // world is the simulation's own (never a const object), its bits unchanged.
 const EnergyLedger& Simulation::energy() const {
   if (audit_ && audit_->elastic_pending())
-    audit_->complete(const_cast<World&>(world_), [this](const World& w) {
-      double e = 0.0;
-      for (const auto& f : effects_)
-        if (f->category() == EffectCategory::elastic) e += f->energy(w);
-      return e;
-    });
+    audit_->complete(const_cast<World&>(world_), [this](const World& w) { return elastic_energy(w); });
   return energy_booked();
 }
 
@@ -240,10 +235,12 @@ double Simulation::residual() const {
   return audit_ ? audit_->residual() : std::numeric_limits<double>::quiet_NaN();
 }
 
-double Simulation::elastic_energy() const {
+double Simulation::elastic_energy() const { return elastic_energy(world_); }
+
+double Simulation::elastic_energy(const World& w) const {
   double e = 0.0;
   for (const auto& f : effects_)
-    if (f->category() == EffectCategory::elastic) e += f->energy(world_);
+    if (f->category() == EffectCategory::elastic) e += f->energy(w);
   return e;
 }
 

@@ -96,6 +96,7 @@ class Simulation {
   void add_forces(StepContext& s);
   void after_integration(const StepContext& s);
   void engine_step();
+  double elastic_energy(const World& w) const;  // of the built effects at w's positions
 
   Scene scene_;
   World world_;

@@ -35,7 +35,7 @@ void CgalSurface::set_topology(int n_vertices, const std::vector<Tri>& F) {
   s.ready = false;
   s.built_at.clear();
   s.margin = 0.0;
-  s.updates = s.rebuilds = 0;
+  s.rebuilds = 0;
   s.mesh.clear();
   s.faces = F;
   s.mesh.reserve(static_cast<Mesh::size_type>(n_vertices),
@@ -64,7 +64,6 @@ void CgalSurface::update(const Vec3* points) {
   Impl& s = *impl_;
   const int n = static_cast<int>(s.mesh.number_of_vertices());
   for (int i = 0; i < n; ++i) s.mesh.point(Mesh::Vertex_index(i)) = cgal::to_point(points[i]);
-  ++s.updates;
   // The hierarchy holds while every vertex is within the margin of where the boxes were made
   // (each face then inside its grown box); else it is rebuilt on boxes grown from the points now.
   bool rebuild = !s.ready || !(s.margin > 0.0) || static_cast<int>(s.built_at.size()) != n;
@@ -118,7 +117,6 @@ void CgalSurface::update(const Vec3* points) {
   s.ready = true;
 }
 
-long long CgalSurface::updates() const { return impl_->updates; }
 long long CgalSurface::tree_rebuilds() const { return impl_->rebuilds; }
 
 int CgalSurface::num_vertices() const { return static_cast<int>(impl_->mesh.number_of_vertices()); }

@@ -40,8 +40,7 @@ class CgalSurface {
   // rebuilt only when some vertex has moved farther than that since its last build; in between
   // every face lies inside its box and every query stays exact.
   void update(const Vec3* points);
-  long long updates() const;        // update() calls since set_topology()
-  long long tree_rebuilds() const;  // of them, those that rebuilt the tree
+  long long tree_rebuilds() const;  // update() calls that rebuilt the tree since set_topology()
 
   int num_vertices() const;
   const std::vector<Tri>& faces() const;

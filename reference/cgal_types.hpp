@@ -53,7 +53,7 @@ struct CgalSurface::Impl {
   std::vector<CGAL::Bbox_3> boxes;
   std::vector<Vec3> built_at;
   double margin = 0.0;
-  long long updates = 0, rebuilds = 0;
+  long long rebuilds = 0;
   // Mutable: the kd-tree that seeds distance queries is built lazily on the first query after an
   // update (CGAL 5.5's build() does not rebuild it, and a stale seed can give a wrong distance).
   mutable cgal::Tree tree;

@@ -68,7 +68,7 @@ int classify(const World& w, const Body& b, const CgalSurface& other, double& ma
 
 // The surface vertices of b whose distance must be exact (Measurer::needs): those a detector
 // reported (global node indices) and those within `touch` of the other body in the reference.
-void mark_needs_of(std::vector<std::uint8_t>& need, const Body& b, const std::vector<double>* ref, double touch,
+void mark_needs(std::vector<std::uint8_t>& need, const Body& b, const std::vector<double>* ref, double touch,
                    const std::vector<Contact>& detected) {
   need.assign(static_cast<std::size_t>(b.n_surface), 0);
   if (ref)
@@ -175,11 +175,6 @@ ReferenceMeasurer::ReferenceMeasurer(const World& w, const ContactSpec& pair,
   }
 }
 
-void ReferenceMeasurer::mark_needs(std::vector<std::uint8_t>& need, const Body& b, const std::vector<double>* ref,
-                                   const std::vector<Contact>& detected) const {
-  mark_needs_of(need, b, ref, needs.touch, detected);
-}
-
 void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair, const std::vector<Contact>& detected,
                                 const std::vector<Contact>& detected_host, Measurement& out) {
   if (pair.host != host_ || pair.guest != guest_)
@@ -198,8 +193,8 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair, const s
       double max_depth = 0.0, sum_depth = 0.0;
       const bool some = !needs.all;
       if (some) {
-        mark_needs(need_guest_, G, needs.ref_guest, detected);
-        mark_needs(need_host_, H, needs.ref_host, detected_host);
+        mark_needs(need_guest_, G, needs.ref_guest, needs.touch, detected);
+        mark_needs(need_host_, H, needs.ref_host, needs.touch, detected_host);
       }
       out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data(), sd_guest_.data(),
                                     hint_guest_.data(), some ? need_guest_.data() : nullptr);

@@ -71,8 +71,6 @@ class ReferenceMeasurer final : public Measurer {
   std::vector<int> hint_guest_, hint_host_;  // per surface vertex: its closest face when last measured
   std::vector<double> sd_guest_, sd_host_;  // per surface vertex: signed distance to the other body, m
   std::vector<std::uint8_t> need_guest_, need_host_;  // per surface vertex: its distance must be exact
-  void mark_needs(std::vector<std::uint8_t>& need, const Body& b, const std::vector<double>* ref,
-                  const std::vector<Contact>& detected) const;
   Passages pass_guest_, pass_host_;         // guest nodes through the host, host nodes through the guest
   std::vector<int> seen_;       // per guest node: stamp of the last call that counted it as detected
   std::vector<int> seen_host_;  // the same per host node

@@ -177,8 +177,8 @@ double VoxelExactDetector::band_at(const Vec3& x) const {
   return band_of(x, tlo, thi);
 }
 
-VoxelExactDetector::Entry& VoxelExactDetector::candidates(const World& w, int cell, Workspace& ws, int& slot) const {
-  slot = static_cast<int>((static_cast<std::uint32_t>(cell) * 2654435761u) >> (32 - kEntryBits));
+VoxelExactDetector::Entry& VoxelExactDetector::candidates(const World& w, int cell, Workspace& ws) const {
+  const int slot = static_cast<int>((static_cast<std::uint32_t>(cell) * 2654435761u) >> (32 - kEntryBits));
   Entry& e = ws.entry[slot];
   if (e.step == now_ && e.cell == cell) return e;
   const GridGeometry& g = grid_.geometry();
@@ -269,8 +269,7 @@ Vec3 VoxelExactDetector::pseudonormal(const World& w, int face, int feature) con
 }
 
 bool VoxelExactDetector::evaluate(const World& w, const Vec3& x, int cell, Workspace& ws, Hit& out) const {
-  int slot = 0;
-  const Entry& e = candidates(w, cell, ws, slot);
+  const Entry& e = candidates(w, cell, ws);
   const int m = e.count;
   if (m == 0) return false;  // nothing listed around: deeper than the grid sees, or far outside
   const int* tris = e.tri.data();

@@ -158,7 +158,7 @@ class VoxelExactDetector final : public CollisionDetector {
   };
 
   // The cache entry of `cell`, gathered if it is not there.
-  Entry& candidates(const World& w, int cell, Workspace& ws, int& slot) const;
+  Entry& candidates(const World& w, int cell, Workspace& ws) const;
   // The node's answer; true (and `out` set) when it is inside.
   bool evaluate(const World& w, const Vec3& x, int cell, Workspace& ws, Hit& out) const;
   // Scans the guest nodes [begin, end) (global) in order: emit(contact) for each one inside, its
