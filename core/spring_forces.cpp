@@ -57,7 +57,9 @@ void SpringGather::build(const World& w) {
       lo_slot[h] = slot_of[k];
       lo_min[s.ends[k][end]] = std::min(lo_min[s.ends[k][end]], s.ends[k][1 - end]);
     }
-  for (int a = 0; a < 3; ++a) F[a].assign(U + kPad, 0.0), G[a].assign(U + kPad, 0.0), R[a].assign(U + kPad, 0.0);
+  // Three doubles per upper half-edge and one past the padding entries (a four-lane load of the
+  // last entry reads it).
+  F.assign(3 * (U + kPad) + 1, 0.0), G.assign(3 * (U + kPad) + 1, 0.0), R.assign(3 * (U + kPad) + 1, 0.0);
   e.assign(U + kPad, 0.0);
   // Runs: each body's upper half-edges; mixed when a spring's upper end lies outside its body.
   runs.clear();
@@ -125,14 +127,14 @@ void mixed_eval(SpringGather& g, const World& w, bool springs, bool dashpots, bo
     const bool zero = l2 <= 0.0;
     if (springs) {
       const double c = spring_force_per_length(law, L0, l);
-      for (int a = 0; a < 3; ++a) g.F[a][h] = zero ? 0.0 : c * d[a];
+      for (int a = 0; a < 3; ++a) g.F[3 * static_cast<std::size_t>(h) + a] = zero ? 0.0 : c * d[a];
     }
     if (rows) {
       const double t = tangent_over_l2(law, L0, l);
       const double ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
       const double rr = 2.0 * t * ((ax + ay) + az);
       const double ad[3] = {ax, ay, az};
-      for (int a = 0; a < 3; ++a) g.R[a][h] = 0.0 < l2 ? rr * ad[a] : 0.0;
+      for (int a = 0; a < 3; ++a) g.R[3 * static_cast<std::size_t>(h) + a] = 0.0 < l2 ? rr * ad[a] : 0.0;
     }
     if (energy) g.e[h] = spring_energy(law, L0, l);
     if (dashpots) {
@@ -140,7 +142,7 @@ void mixed_eval(SpringGather& g, const World& w, bool springs, bool dashpots, bo
       const double u[3] = {vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]};
       const double r = 1.0 / l;
       const double s = w.bodies[S.body[k]].material.damping * ((u[0] * d[0] + u[1] * d[1]) + u[2] * d[2]) * (r * r);
-      for (int a = 0; a < 3; ++a) g.G[a][h] = zero ? 0.0 : s * d[a];
+      for (int a = 0; a < 3; ++a) g.G[3 * static_cast<std::size_t>(h) + a] = zero ? 0.0 : s * d[a];
     }
   }
 }
@@ -160,15 +162,13 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
   ev.self = g.up_self.data(), ev.other = g.up_other.data(), ev.rest = g.up_rest.data();
   ev.inv_rest = g.up_inv_rest.data(), ev.stiff = g.up_stiff.data();
   ev.x = coords(w.x), ev.v = coords(w.v);
-  for (int a = 0; a < 3; ++a) {
-    ev.F[a] = springs ? g.F[a].data() : nullptr;
-    ev.G[a] = dashpots ? g.G[a].data() : nullptr;
-    ev.R[a] = rows ? g.R[a].data() : nullptr;
-  }
+  ev.F = springs ? g.F.data() : nullptr;
+  ev.G = dashpots ? g.G.data() : nullptr;
+  ev.R = rows ? g.R.data() : nullptr;
   ev.e = energy ? g.e.data() : nullptr;
   simd::SpringSumRun su{};
   su.up_start = g.up_start.data(), su.lo_start = g.lo_start.data(), su.lo_slot = g.lo_slot.data();
-  for (int a = 0; a < 3; ++a) su.F[a] = ev.F[a], su.G[a] = ev.G[a], su.R[a] = ev.R[a];
+  su.F = ev.F, su.G = ev.G, su.R = ev.R;
   su.e = ev.e;
   su.f = coords(out.f);
   su.f_spring = coords(out.f_spring), su.f_dashpot = coords(out.f_dashpot);
@@ -195,6 +195,11 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
   // Sums of the nodes of [i0, i1) whose lower partners are all at or after `ready` (deferred:
   // false) or those with one before it (true).
   auto sum = [&](int i0, int i1, int ready, bool deferred) {
+    if (ready == 0 && !deferred) {  // the first part: no node has a partner before it
+      simd::SpringSumRun r = su;
+      r.i0 = i0, r.i1 = i1;
+      return kern.spring_sum(r);
+    }
     for (int i = i0; i < i1;) {
       if ((g.lo_min[i] < ready) != deferred) {
         ++i;

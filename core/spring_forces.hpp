@@ -24,7 +24,7 @@ namespace harness {
 // by one thread (no scatter, no conflicts), in one order, the same for any thread count and
 // instruction set (core/simd/kernels.hpp: four interleaved partial sums per node, upper then
 // lower half-edges). The index arrays and the box carry 4 padding entries (the SIMD tails read
-// them).
+// them), the box one double more (a four-lane load of its last entry).
 struct SpringGather {
   int nodes = -1;
   std::size_t springs = 0;
@@ -34,9 +34,9 @@ struct SpringGather {
   // Per node: its lowest lower partner (nodes: none): a node whose partner lies in an earlier part
   // of the pass is summed after every part has evaluated its springs.
   std::vector<int> lo_min;
-  // The box, per upper half-edge: the force on its node c d (F), the dashpot's s d (G), the
-  // Gershgorin rows (R), x y z each, and the energy (e).
-  std::vector<double> F[3], G[3], R[3], e;
+  // The box, per upper half-edge h: the force on its node c d (F), the dashpot's s d (G), the
+  // Gershgorin rows (R), x y z each at 3 h (one load in the sums), and the energy (e).
+  std::vector<double> F, G, R, e;
   std::vector<int> up_spring;                     // the spring of each upper half-edge
   // Runs of upper half-edges of one body [begin, end): its law and dashpot apply to all.
   struct Run {

@@ -69,10 +69,10 @@ struct SpringEvalRun {
   const double* stiff;   // stiffness, N/m
   const double* x;       // three doubles per node
   const double* v;
-  double* F[3];          // per upper half-edge (the box), x y z; F[0] null: no springs
-  double* G[3];          // G[0] null: no dashpots
-  double* R[3];          // R[0] null: no rows
-  double* e;             // null: no energy
+  double* F;             // per upper half-edge h (the box), x y z at 3 h; null: no springs
+  double* G;             // null: no dashpots
+  double* R;             // null: no rows
+  double* e;             // per upper half-edge; null: no energy
   double beta;           // the body's nonlinearity
   double damping;        // the body's dashpot coefficient, N s/m
   int h0, h1;
@@ -82,15 +82,16 @@ struct SpringEvalRun {
 // its upper half-edges (+F, +G, +R, +e) then its lower ones (-F, -G, +R through lo_slot, the
 // same spring's upper half-edge), half-edge q of each list into partial q % 4, in list order;
 // each sum is (p0 + p1) + (p2 + p3); then f[i] = (f[i] + springs) + dashpots, rows[i] += rows.
-// The index arrays and the box carry 4 padding entries past their ends (the four-lane tails read
-// them and mask them out).
+// The boxes F, G, R hold a half-edge's x y z together (three doubles at 3 h) and one padding
+// entry past their ends: the four-lane levels read an entry as four doubles (x y z and the next
+// entry's x, never added into a result), one load per half-edge and component triple.
 struct SpringSumRun {
   const int* up_start;
   const int* lo_start;
   const int* lo_slot;
-  const double* F[3];    // null: no springs
-  const double* G[3];    // null: no dashpots
-  const double* R[3];    // null: no rows
+  const double* F;       // x y z at 3 h; null: no springs
+  const double* G;       // null: no dashpots
+  const double* R;       // null: no rows
   const double* e;       // null: no energy
   double* f;             // += per node, three doubles (with F or G)
   double* f_spring;      // = the springs' sum per node, or null (audit)

@@ -109,11 +109,8 @@ void cell_range(const int* c, std::size_t n, unsigned& lo, int& hi) {
 }
 
 // ---- The force pass (SpringEvalRun, SpringSumRun: kernels.hpp).
-// The sums use four lanes (D4) at every SIMD level, one (D1) at the scalar level; lane l of a
-// four-lane iteration starting at half-edge q (a multiple of four) is partial sum (q + l) % 4 = l,
-// and the scalar level puts half-edge q into partial q % 4: the same partial sums, and the same
-// (p0 + p1) + (p2 + p3), at every level.
-constexpr double kLaneIndex[4] = {0.0, 1.0, 2.0, 3.0};
+// The sums use four-lane registers (D4) at every SIMD level, one lane (D1) at the scalar level,
+// the same partial sums in the same order at every level (sum_nodes below).
 
 // The laws' constants as lanes, made once per call.
 template <class D>
@@ -179,37 +176,33 @@ template <class D, SpringLawKind K>
   const D dx = bx - ax, dy = by - ay, dz = bz - az;
   const D l2 = (dx * dx + dy * dy) + dz * dz;
   const auto zero_length = le(l2, C.zero);  // l <= 0 exactly when l2 <= 0 (NaN: neither)
-  const bool springs = r.F[0] != nullptr, rows = r.R[0] != nullptr, energy = r.e != nullptr;
+  const bool springs = r.F != nullptr, rows = r.R != nullptr, energy = r.e != nullptr;
   const D l = sqrt(l2);
   const D rl = C.one / l;  // the pass's one division: 1 / l
   if (springs || rows || energy) {
     D c = C.zero, t = C.zero, e = C.zero;
     law_lanes<D, K>(C, D::load(r.stiff + h), D::load(r.rest + h), D::load(r.inv_rest + h), l, rl, rows, energy, c, t,
                     e);
-    if (springs) {
-      store(r.F[0] + h, select(zero_length, C.zero, c * dx));
-      store(r.F[1] + h, select(zero_length, C.zero, c * dy));
-      store(r.F[2] + h, select(zero_length, C.zero, c * dz));
-    }
+    if (springs)
+      store_xyz(r.F + 3 * static_cast<std::ptrdiff_t>(h), select(zero_length, C.zero, c * dx),
+                select(zero_length, C.zero, c * dy), select(zero_length, C.zero, c * dz));
     if (rows) {
       const auto ok = lt(C.zero, l2);
       const D adx = abs(dx), ady = abs(dy), adz = abs(dz);
       const D rr = C.two * t * ((adx + ady) + adz);
-      store(r.R[0] + h, select(ok, rr * adx, C.zero));
-      store(r.R[1] + h, select(ok, rr * ady, C.zero));
-      store(r.R[2] + h, select(ok, rr * adz, C.zero));
+      store_xyz(r.R + 3 * static_cast<std::ptrdiff_t>(h), select(ok, rr * adx, C.zero), select(ok, rr * ady, C.zero),
+                select(ok, rr * adz, C.zero));
     }
     if (energy) store(r.e + h, e);
   }
-  if (r.G[0]) {
+  if (r.G) {
     D ux, uy, uz, wx, wy, wz;
     D::gather_xyz(r.v, r.self + h, ux, uy, uz);
     D::gather_xyz(r.v, r.other + h, wx, wy, wz);
     ux = wx - ux, uy = wy - uy, uz = wz - uz;
     const D s = C.damping * ((ux * dx + uy * dy) + uz * dz) * (rl * rl);
-    store(r.G[0] + h, select(zero_length, C.zero, s * dx));
-    store(r.G[1] + h, select(zero_length, C.zero, s * dy));
-    store(r.G[2] + h, select(zero_length, C.zero, s * dz));
+    store_xyz(r.G + 3 * static_cast<std::ptrdiff_t>(h), select(zero_length, C.zero, s * dx),
+              select(zero_length, C.zero, s * dy), select(zero_length, C.zero, s * dz));
   }
 }
 
@@ -224,108 +217,146 @@ void spring_eval(const SpringEvalRun& r) {
   for (; h < r.h1; ++h) eval_lanes<D1, K>(r, C1, h);
 }
 
-// ---- The summing half (SpringSumRun): four half-edges per iteration, lane l into partial l, the
-// partial sums in registers over a node's upper then lower list; the last iteration of a list
-// masks the lanes past its end (the next node's entries or the padding: read, never added). The
-// scalar level goes one half-edge at a time into partial q % 4. What a pass does not want
-// (springs, dashpots, rows, energy) is compiled out (one variant per combination). Adding +0 to a
-// partial sum, which is never -0, leaves it as it is: a masked lane adds nothing.
+// ---- The summing half (SpringSumRun). The four-lane levels keep a node's partial sum q of each
+// quantity as one four-lane register (x y z and a fourth lane never read): half-edge q of a list
+// adds its box entry, loaded as four doubles, to register q % 4 (four at a time, then the last
+// one to three into registers 0, 1, 2), for the upper list then the lower one; the node's sum is
+// (p0 + p1) + (p2 + p3), lane by lane. The scalar level does the same one component at a time.
+// Both are the partial sums of kernels.hpp, in its order. What a pass does not want (springs,
+// dashpots, rows, energy) is compiled out (one variant per combination).
 
-// The node's sums from its partials p[quantity][partial]: springs x y z, dashpots x y z, rows
-// x y z, energy.
-template <bool SP, bool DP, bool RO, bool EN>
-[[gnu::always_inline]] inline void finish(const SpringSumRun& r, std::ptrdiff_t node, const double (*p)[4]) {
-  for (int a = 0; a < 3; ++a) {
-    const double se = (p[a][0] + p[a][1]) + (p[a][2] + p[a][3]);
-    const double sd = (p[3 + a][0] + p[3 + a][1]) + (p[3 + a][2] + p[3 + a][3]);
-    if (SP) r.f[3 * node + a] += se;
-    if (DP) r.f[3 * node + a] += sd;
-    if (r.f_spring) r.f_spring[3 * node + a] = se;
-    if (r.f_dashpot) r.f_dashpot[3 * node + a] = sd;
-    if (RO) r.rows[3 * node + a] += (p[6 + a][0] + p[6 + a][1]) + (p[6 + a][2] + p[6 + a][3]);
+// One half-edge's entry of the box B (three doubles at 3 k) as four lanes.
+template <class D>
+[[gnu::always_inline]] inline D entry(const double* B, int k) {
+  return D::load(B + 3 * static_cast<std::ptrdiff_t>(k));
+}
+
+// The node's four partials of a quantity in registers (four lanes).
+template <class D>
+struct Partials {
+  D p0, p1, p2, p3;
+  explicit Partials(D z) : p0(z), p1(z), p2(z), p3(z) {}
+  D sum() const { return (p0 + p1) + (p2 + p3); }
+};
+
+template <class D, bool SP, bool DP, bool RO>
+[[gnu::always_inline]] inline void add_upper(const SpringSumRun& r, int h, int n, Partials<D>& a, Partials<D>& b,
+                                             Partials<D>& c) {
+  // n in 1..4 half-edges h, h + 1, ...: into partials 0, 1, ..., n - 1.
+  if constexpr (SP) {
+    a.p0 = a.p0 + entry<D>(r.F, h);
+    if (n > 1) a.p1 = a.p1 + entry<D>(r.F, h + 1);
+    if (n > 2) a.p2 = a.p2 + entry<D>(r.F, h + 2);
+    if (n > 3) a.p3 = a.p3 + entry<D>(r.F, h + 3);
   }
-  if (EN) r.energy[node] = (p[9][0] + p[9][1]) + (p[9][2] + p[9][3]);
+  if constexpr (DP) {
+    b.p0 = b.p0 + entry<D>(r.G, h);
+    if (n > 1) b.p1 = b.p1 + entry<D>(r.G, h + 1);
+    if (n > 2) b.p2 = b.p2 + entry<D>(r.G, h + 2);
+    if (n > 3) b.p3 = b.p3 + entry<D>(r.G, h + 3);
+  }
+  if constexpr (RO) {
+    c.p0 = c.p0 + entry<D>(r.R, h);
+    if (n > 1) c.p1 = c.p1 + entry<D>(r.R, h + 1);
+    if (n > 2) c.p2 = c.p2 + entry<D>(r.R, h + 2);
+    if (n > 3) c.p3 = c.p3 + entry<D>(r.R, h + 3);
+  }
+}
+
+template <class D, bool SP, bool DP, bool RO>
+[[gnu::always_inline]] inline void add_lower(const SpringSumRun& r, const int* slot, int n, Partials<D>& a,
+                                             Partials<D>& b, Partials<D>& c) {
+  // n in 1..4 lower half-edges (their upper entries slot[0], slot[1], ...): -F, -G, +R. p - F is
+  // p + (0 - F) of kernels.hpp bit for bit: a partial sum is never -0 (it starts at +0).
+  const int k0 = slot[0], k1 = n > 1 ? slot[1] : 0, k2 = n > 2 ? slot[2] : 0, k3 = n > 3 ? slot[3] : 0;
+  if constexpr (SP) {
+    a.p0 = a.p0 - entry<D>(r.F, k0);
+    if (n > 1) a.p1 = a.p1 - entry<D>(r.F, k1);
+    if (n > 2) a.p2 = a.p2 - entry<D>(r.F, k2);
+    if (n > 3) a.p3 = a.p3 - entry<D>(r.F, k3);
+  }
+  if constexpr (DP) {
+    b.p0 = b.p0 - entry<D>(r.G, k0);
+    if (n > 1) b.p1 = b.p1 - entry<D>(r.G, k1);
+    if (n > 2) b.p2 = b.p2 - entry<D>(r.G, k2);
+    if (n > 3) b.p3 = b.p3 - entry<D>(r.G, k3);
+  }
+  if constexpr (RO) {
+    c.p0 = c.p0 + entry<D>(r.R, k0);
+    if (n > 1) c.p1 = c.p1 + entry<D>(r.R, k1);
+    if (n > 2) c.p2 = c.p2 + entry<D>(r.R, k2);
+    if (n > 3) c.p3 = c.p3 + entry<D>(r.R, k3);
+  }
 }
 
 template <class D, bool SP, bool DP, bool RO, bool EN>
 void sum_nodes(const SpringSumRun& r) {
   for (int i = r.i0; i < r.i1; ++i) {
     const std::ptrdiff_t node = i;
-    alignas(32) double p[10][4] = {};
+    double se[4] = {0.0, 0.0, 0.0, 0.0}, sd[4] = {0.0, 0.0, 0.0, 0.0}, sr[4] = {0.0, 0.0, 0.0, 0.0};
     if constexpr (D::W == 4) {
-      const D zero = D::set1(0.0), lane = D::load(kLaneIndex);
-      D a0 = zero, a1 = zero, a2 = zero, b0 = zero, b1 = zero, b2 = zero, c0 = zero, c1 = zero, c2 = zero, es = zero;
-      // Upper half-edges: contiguous box entries, +F, +G, +R, +e.
+      const D zero = D::set1(0.0);
+      Partials<D> a(zero), b(zero), c(zero);
       {
-        const int a = r.up_start[i], m = r.up_start[i + 1] - a;
-        for (int q = 0; q < m; q += 4) {
-          const int h = a + q;
-          const auto in = lt(lane, D::set1(static_cast<double>(m - q)));
-          if constexpr (SP) {
-            a0 = a0 + select(in, D::load(r.F[0] + h), zero), a1 = a1 + select(in, D::load(r.F[1] + h), zero);
-            a2 = a2 + select(in, D::load(r.F[2] + h), zero);
-          }
-          if constexpr (DP) {
-            b0 = b0 + select(in, D::load(r.G[0] + h), zero), b1 = b1 + select(in, D::load(r.G[1] + h), zero);
-            b2 = b2 + select(in, D::load(r.G[2] + h), zero);
-          }
-          if constexpr (RO) {
-            c0 = c0 + select(in, D::load(r.R[0] + h), zero), c1 = c1 + select(in, D::load(r.R[1] + h), zero);
-            c2 = c2 + select(in, D::load(r.R[2] + h), zero);
-          }
-          if constexpr (EN) es = es + select(in, D::load(r.e + h), zero);
-        }
+        const int h0 = r.up_start[i], m = r.up_start[i + 1] - h0;
+        int q = 0;
+        for (; q + 4 <= m; q += 4) add_upper<D, SP, DP, RO>(r, h0 + q, 4, a, b, c);
+        if (q < m) add_upper<D, SP, DP, RO>(r, h0 + q, m - q, a, b, c);
       }
-      // Lower half-edges: the same spring's upper entry through lo_slot, -F, -G, +R.
       {
-        const int a = r.lo_start[i], m = r.lo_start[i + 1] - a;
-        for (int q = 0; q < m; q += 4) {
-          const int* slot = r.lo_slot + a + q;
-          const auto in = lt(lane, D::set1(static_cast<double>(m - q)));
-          if constexpr (SP) {
-            a0 = a0 + select(in, zero - D::gather(r.F[0], slot), zero);
-            a1 = a1 + select(in, zero - D::gather(r.F[1], slot), zero);
-            a2 = a2 + select(in, zero - D::gather(r.F[2], slot), zero);
-          }
-          if constexpr (DP) {
-            b0 = b0 + select(in, zero - D::gather(r.G[0], slot), zero);
-            b1 = b1 + select(in, zero - D::gather(r.G[1], slot), zero);
-            b2 = b2 + select(in, zero - D::gather(r.G[2], slot), zero);
-          }
-          if constexpr (RO) {
-            c0 = c0 + select(in, D::gather(r.R[0], slot), zero), c1 = c1 + select(in, D::gather(r.R[1], slot), zero);
-            c2 = c2 + select(in, D::gather(r.R[2], slot), zero);
-          }
-        }
+        const int* slot = r.lo_slot + r.lo_start[i];
+        const int m = r.lo_start[i + 1] - r.lo_start[i];
+        int q = 0;
+        for (; q + 4 <= m; q += 4) add_lower<D, SP, DP, RO>(r, slot + q, 4, a, b, c);
+        if (q < m) add_lower<D, SP, DP, RO>(r, slot + q, m - q, a, b, c);
       }
-      store(p[0], a0), store(p[1], a1), store(p[2], a2), store(p[3], b0), store(p[4], b1), store(p[5], b2);
-      store(p[6], c0), store(p[7], c1), store(p[8], c2), store(p[9], es);
+      if constexpr (SP) store(se, a.sum());
+      if constexpr (DP) store(sd, b.sum());
+      if constexpr (RO) store(sr, c.sum());
     } else {
+      double p[9][4] = {};
       for (int h = r.up_start[i], q = 0; h < r.up_start[i + 1]; ++h, ++q) {
         const int l = q & 3;
-        for (int c = 0; c < 3; ++c) {
-          if (SP) p[c][l] += r.F[c][h];
-          if (DP) p[3 + c][l] += r.G[c][h];
-          if (RO) p[6 + c][l] += r.R[c][h];
+        for (int k = 0; k < 3; ++k) {
+          if (SP) p[k][l] += r.F[3 * static_cast<std::ptrdiff_t>(h) + k];
+          if (DP) p[3 + k][l] += r.G[3 * static_cast<std::ptrdiff_t>(h) + k];
+          if (RO) p[6 + k][l] += r.R[3 * static_cast<std::ptrdiff_t>(h) + k];
         }
-        if (EN) p[9][l] += r.e[h];
       }
       for (int h = r.lo_start[i], q = 0; h < r.lo_start[i + 1]; ++h, ++q) {
-        const int l = q & 3, k = r.lo_slot[h];
-        for (int c = 0; c < 3; ++c) {
-          if (SP) p[c][l] += 0.0 - r.F[c][k];
-          if (DP) p[3 + c][l] += 0.0 - r.G[c][k];
-          if (RO) p[6 + c][l] += r.R[c][k];
+        const int l = q & 3;
+        const std::ptrdiff_t s = 3 * static_cast<std::ptrdiff_t>(r.lo_slot[h]);
+        for (int k = 0; k < 3; ++k) {
+          if (SP) p[k][l] += 0.0 - r.F[s + k];
+          if (DP) p[3 + k][l] += 0.0 - r.G[s + k];
+          if (RO) p[6 + k][l] += r.R[s + k];
         }
       }
+      for (int k = 0; k < 3; ++k) {
+        se[k] = (p[k][0] + p[k][1]) + (p[k][2] + p[k][3]);
+        sd[k] = (p[3 + k][0] + p[3 + k][1]) + (p[3 + k][2] + p[3 + k][3]);
+        sr[k] = (p[6 + k][0] + p[6 + k][1]) + (p[6 + k][2] + p[6 + k][3]);
+      }
     }
-    finish<SP, DP, RO, EN>(r, node, p);
+    for (int k = 0; k < 3; ++k) {
+      if (SP) r.f[3 * node + k] += se[k];
+      if (DP) r.f[3 * node + k] += sd[k];
+      if (r.f_spring) r.f_spring[3 * node + k] = se[k];
+      if (r.f_dashpot) r.f_dashpot[3 * node + k] = sd[k];
+      if (RO) r.rows[3 * node + k] += sr[k];
+    }
+    if constexpr (EN) {
+      // The node's upper springs' energy: partial q % 4 in list order.
+      double pe[4] = {0.0, 0.0, 0.0, 0.0};
+      for (int h = r.up_start[i], q = 0; h < r.up_start[i + 1]; ++h, ++q) pe[q & 3] += r.e[h];
+      r.energy[node] = (pe[0] + pe[1]) + (pe[2] + pe[3]);
+    }
   }
 }
 
 template <class D>
 void spring_sum(const SpringSumRun& r) {
-  const int key = (r.F[0] ? 8 : 0) | (r.G[0] ? 4 : 0) | (r.R[0] ? 2 : 0) | (r.e ? 1 : 0);
+  const int key = (r.F ? 8 : 0) | (r.G ? 4 : 0) | (r.R ? 2 : 0) | (r.e ? 1 : 0);
   switch (key) {
     case 0: return sum_nodes<D, false, false, false, false>(r);
     case 1: return sum_nodes<D, false, false, false, true>(r);

@@ -5,6 +5,7 @@
 // A double lane type D has W lanes, a mask type D::M, and:
 //   D::load(p), D::set1(a), store(p, a);
 //   D::load_xyz(q, px, py, pz): W consecutive points of q (three doubles each) as x, y, z lanes;
+//   store_xyz(q, px, py, pz): the inverse, lane j to q[3j], q[3j + 1], q[3j + 2];
 //   D::gather_xyz(x, idx, px, py, pz): lane j the coordinates of point idx[j] of x;
 //   D::gather(base, idx): lane j = base[idx[j]];
 //   + - * /, sqrt, abs (clears the sign bit), floor;
@@ -76,6 +77,7 @@ inline D1 select(M1 m, D1 a, D1 b) { return m.v ? a : b; }
 inline D1 min(D1 a, D1 b) { return {a.v < b.v ? a.v : b.v}; }
 inline D1 max(D1 a, D1 b) { return {a.v > b.v ? a.v : b.v}; }
 inline void store(double* p, D1 a) { *p = a.v; }
+inline void store_xyz(double* q, D1 px, D1 py, D1 pz) { q[0] = px.v, q[1] = py.v, q[2] = pz.v; }
 inline void store_i32(int* p, D1 a) { *p = static_cast<int>(a.v); }
 
 struct I1 {
@@ -113,13 +115,15 @@ struct D4 {
     pz = {_mm256_shuffle_pd(r1, r2, 0b1010)};
   }
   static void gather_xyz(const double* x, const int* idx, D4& px, D4& py, D4& pz) {
-    const double* p0 = x + 3 * static_cast<std::ptrdiff_t>(idx[0]);
-    const double* p1 = x + 3 * static_cast<std::ptrdiff_t>(idx[1]);
-    const double* p2 = x + 3 * static_cast<std::ptrdiff_t>(idx[2]);
-    const double* p3 = x + 3 * static_cast<std::ptrdiff_t>(idx[3]);
-    px = {_mm256_set_pd(p3[0], p2[0], p1[0], p0[0])};
-    py = {_mm256_set_pd(p3[1], p2[1], p1[1], p0[1])};
-    pz = {_mm256_set_pd(p3[2], p2[2], p1[2], p0[2])};
+    // Each point as one masked load (x y z 0: nothing read past it), then a 4 x 4 transpose.
+    const __m256i m = _mm256_setr_epi64x(-1, -1, -1, 0);
+    auto point = [&](int j) { return _mm256_maskload_pd(x + 3 * static_cast<std::ptrdiff_t>(idx[j]), m); };
+    const __m256d P0 = point(0), P1 = point(1), P2 = point(2), P3 = point(3);
+    const __m256d L01 = _mm256_unpacklo_pd(P0, P1), L23 = _mm256_unpacklo_pd(P2, P3);  // x x z z
+    const __m256d H01 = _mm256_unpackhi_pd(P0, P1), H23 = _mm256_unpackhi_pd(P2, P3);  // y y 0 0
+    px = {_mm256_permute2f128_pd(L01, L23, 0x20)};
+    py = {_mm256_permute2f128_pd(H01, H23, 0x20)};
+    pz = {_mm256_permute2f128_pd(L01, L23, 0x31)};
   }
   static D4 gather(const double* base, const int* idx) {
     return {_mm256_set_pd(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]])};
@@ -141,6 +145,15 @@ inline D4 select(M4 m, D4 a, D4 b) { return {_mm256_blendv_pd(b.v, a.v, m.v)}; }
 inline D4 min(D4 a, D4 b) { return {_mm256_min_pd(a.v, b.v)}; }
 inline D4 max(D4 a, D4 b) { return {_mm256_max_pd(a.v, b.v)}; }
 inline void store(double* p, D4 a) { _mm256_storeu_pd(p, a.v); }
+inline void store_xyz(double* q, D4 px, D4 py, D4 pz) {
+  // load_xyz backwards: r0 = x0 y0 | x2 y2, r1 = z0 x1 | z2 x3, r2 = y1 z1 | y3 z3, then halves.
+  const __m256d r0 = _mm256_shuffle_pd(px.v, py.v, 0b0000);
+  const __m256d r1 = _mm256_shuffle_pd(pz.v, px.v, 0b1010);
+  const __m256d r2 = _mm256_shuffle_pd(py.v, pz.v, 0b1111);
+  _mm256_storeu_pd(q, _mm256_permute2f128_pd(r0, r1, 0x20));
+  _mm256_storeu_pd(q + 4, _mm256_permute2f128_pd(r2, r0, 0x30));
+  _mm256_storeu_pd(q + 8, _mm256_permute2f128_pd(r1, r2, 0x31));
+}
 inline void store_i32(int* p, D4 a) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm256_cvttpd_epi32(a.v)); }
 
 struct I4 {
@@ -192,11 +205,19 @@ struct D8 {
     pz = {_mm512_permutex2var_pd(_mm512_permutex2var_pd(A, az1, B), az2, C)};
   }
   static void gather_xyz(const double* x, const int* idx, D8& px, D8& py, D8& pz) {
-    const double* p[8];
-    for (int j = 0; j < 8; ++j) p[j] = x + 3 * static_cast<std::ptrdiff_t>(idx[j]);
-    px = {_mm512_set_pd(p[7][0], p[6][0], p[5][0], p[4][0], p[3][0], p[2][0], p[1][0], p[0][0])};
-    py = {_mm512_set_pd(p[7][1], p[6][1], p[5][1], p[4][1], p[3][1], p[2][1], p[1][1], p[0][1])};
-    pz = {_mm512_set_pd(p[7][2], p[6][2], p[5][2], p[4][2], p[3][2], p[2][2], p[1][2], p[0][2])};
+    // Each point as one masked four-lane load (x y z 0: nothing read past it), point k and k + 4
+    // in one register Zk = x y z 0 | x' y' z' 0, then unpacked and permuted into x, y, z lanes.
+    auto point = [&](int j) { return _mm256_maskz_loadu_pd(0x7, x + 3 * static_cast<std::ptrdiff_t>(idx[j])); };
+    const __m512d Z0 = _mm512_insertf64x4(_mm512_castpd256_pd512(point(0)), point(4), 1);
+    const __m512d Z1 = _mm512_insertf64x4(_mm512_castpd256_pd512(point(1)), point(5), 1);
+    const __m512d Z2 = _mm512_insertf64x4(_mm512_castpd256_pd512(point(2)), point(6), 1);
+    const __m512d Z3 = _mm512_insertf64x4(_mm512_castpd256_pd512(point(3)), point(7), 1);
+    const __m512d L01 = _mm512_unpacklo_pd(Z0, Z1), L23 = _mm512_unpacklo_pd(Z2, Z3);  // x x z z | x x z z
+    const __m512d H01 = _mm512_unpackhi_pd(Z0, Z1), H23 = _mm512_unpackhi_pd(Z2, Z3);  // y y 0 0 | y y 0 0
+    const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), hi = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+    px = {_mm512_permutex2var_pd(L01, lo, L23)};
+    py = {_mm512_permutex2var_pd(H01, lo, H23)};
+    pz = {_mm512_permutex2var_pd(L01, hi, L23)};
   }
   static D8 gather(const double* base, const int* idx) {
     return {_mm512_set_pd(base[idx[7]], base[idx[6]], base[idx[5]], base[idx[4]], base[idx[3]], base[idx[2]],
@@ -219,6 +240,15 @@ inline D8 select(M8 m, D8 a, D8 b) { return {_mm512_mask_blend_pd(m.v, b.v, a.v)
 inline D8 min(D8 a, D8 b) { return {_mm512_min_pd(a.v, b.v)}; }
 inline D8 max(D8 a, D8 b) { return {_mm512_max_pd(a.v, b.v)}; }
 inline void store(double* p, D8 a) { _mm512_storeu_pd(p, a.v); }
+inline void store_xyz(double* q, D8 px, D8 py, D8 pz) {
+  // load_xyz backwards: each of the three stores x and y lanes first (lane k: x, 8 + k: y), then z.
+  const __m512i a1 = _mm512_setr_epi64(0, 8, 0, 1, 9, 0, 2, 10), a2 = _mm512_setr_epi64(0, 1, 8, 3, 4, 9, 6, 7);
+  const __m512i b1 = _mm512_setr_epi64(0, 3, 11, 0, 4, 12, 0, 5), b2 = _mm512_setr_epi64(10, 1, 2, 11, 4, 5, 12, 7);
+  const __m512i c1 = _mm512_setr_epi64(13, 0, 6, 14, 0, 7, 15, 0), c2 = _mm512_setr_epi64(0, 13, 2, 3, 14, 5, 6, 15);
+  _mm512_storeu_pd(q, _mm512_permutex2var_pd(_mm512_permutex2var_pd(px.v, a1, py.v), a2, pz.v));
+  _mm512_storeu_pd(q + 8, _mm512_permutex2var_pd(_mm512_permutex2var_pd(px.v, b1, py.v), b2, pz.v));
+  _mm512_storeu_pd(q + 16, _mm512_permutex2var_pd(_mm512_permutex2var_pd(px.v, c1, py.v), c2, pz.v));
+}
 inline void store_i32(int* p, D8 a) {
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), _mm512_cvttpd_epi32(a.v));
 }
