@@ -57,9 +57,8 @@ void SpringGather::build(const World& w) {
       lo_slot[h] = slot_of[k];
       lo_min[s.ends[k][end]] = std::min(lo_min[s.ends[k][end]], s.ends[k][1 - end]);
     }
-  // Three doubles per upper half-edge and one past the padding entries (a four-lane load of the
-  // last entry reads it).
-  F.assign(3 * (U + kPad) + 1, 0.0), G.assign(3 * (U + kPad) + 1, 0.0), R.assign(3 * (U + kPad) + 1, 0.0);
+  // Four doubles per upper half-edge (x y z 0), the entries from a 32-byte boundary (box()).
+  F.assign(4 * (U + kPad) + 4, 0.0), G.assign(4 * (U + kPad) + 4, 0.0), R.assign(4 * (U + kPad) + 4, 0.0);
   e.assign(U + kPad, 0.0);
   // Runs: each body's upper half-edges; mixed when a spring's upper end lies outside its body.
   runs.clear();
@@ -73,6 +72,11 @@ void SpringGather::build(const World& w) {
   long long covered = 0;
   for (const Run& r : runs) covered += r.end - r.begin;
   mixed = mixed || covered != static_cast<long long>(U);  // springs on nodes of no body
+}
+
+double* SpringGather::box(std::vector<double>& b) {
+  const auto a = reinterpret_cast<std::uintptr_t>(b.data());
+  return b.data() + ((32 - a % 32) % 32) / sizeof(double);
 }
 
 void SpringGather::part(int T, int t, int& i0, int& i1) const {
@@ -127,14 +131,18 @@ void mixed_eval(SpringGather& g, const World& w, bool springs, bool dashpots, bo
     const bool zero = l2 <= 0.0;
     if (springs) {
       const double c = spring_force_per_length(law, L0, l);
-      for (int a = 0; a < 3; ++a) g.F[3 * static_cast<std::size_t>(h) + a] = zero ? 0.0 : c * d[a];
+      double* q = SpringGather::box(g.F) + 4 * static_cast<std::size_t>(h);
+      for (int a = 0; a < 3; ++a) q[a] = zero ? 0.0 : c * d[a];
+      q[3] = 0.0;
     }
     if (rows) {
       const double t = tangent_over_l2(law, L0, l);
       const double ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
       const double rr = 2.0 * t * ((ax + ay) + az);
       const double ad[3] = {ax, ay, az};
-      for (int a = 0; a < 3; ++a) g.R[3 * static_cast<std::size_t>(h) + a] = 0.0 < l2 ? rr * ad[a] : 0.0;
+      double* q = SpringGather::box(g.R) + 4 * static_cast<std::size_t>(h);
+      for (int a = 0; a < 3; ++a) q[a] = 0.0 < l2 ? rr * ad[a] : 0.0;
+      q[3] = 0.0;
     }
     if (energy) g.e[h] = spring_energy(law, L0, l);
     if (dashpots) {
@@ -142,7 +150,9 @@ void mixed_eval(SpringGather& g, const World& w, bool springs, bool dashpots, bo
       const double u[3] = {vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]};
       const double r = 1.0 / l;
       const double s = w.bodies[S.body[k]].material.damping * ((u[0] * d[0] + u[1] * d[1]) + u[2] * d[2]) * (r * r);
-      for (int a = 0; a < 3; ++a) g.G[3 * static_cast<std::size_t>(h) + a] = zero ? 0.0 : s * d[a];
+      double* q = SpringGather::box(g.G) + 4 * static_cast<std::size_t>(h);
+      for (int a = 0; a < 3; ++a) q[a] = zero ? 0.0 : s * d[a];
+      q[3] = 0.0;
     }
   }
 }
@@ -162,9 +172,9 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
   ev.self = g.up_self.data(), ev.other = g.up_other.data(), ev.rest = g.up_rest.data();
   ev.inv_rest = g.up_inv_rest.data(), ev.stiff = g.up_stiff.data();
   ev.x = coords(w.x), ev.v = coords(w.v);
-  ev.F = springs ? g.F.data() : nullptr;
-  ev.G = dashpots ? g.G.data() : nullptr;
-  ev.R = rows ? g.R.data() : nullptr;
+  ev.F = springs ? SpringGather::box(g.F) : nullptr;
+  ev.G = dashpots ? SpringGather::box(g.G) : nullptr;
+  ev.R = rows ? SpringGather::box(g.R) : nullptr;
   ev.e = energy ? g.e.data() : nullptr;
   simd::SpringSumRun su{};
   su.up_start = g.up_start.data(), su.lo_start = g.lo_start.data(), su.lo_slot = g.lo_slot.data();

@@ -24,7 +24,7 @@ namespace harness {
 // by one thread (no scatter, no conflicts), in one order, the same for any thread count and
 // instruction set (core/simd/kernels.hpp: four interleaved partial sums per node, upper then
 // lower half-edges). The index arrays and the box carry 4 padding entries (the SIMD tails read
-// them), the box one double more (a four-lane load of its last entry).
+// them).
 struct SpringGather {
   int nodes = -1;
   std::size_t springs = 0;
@@ -35,8 +35,11 @@ struct SpringGather {
   // of the pass is summed after every part has evaluated its springs.
   std::vector<int> lo_min;
   // The box, per upper half-edge h: the force on its node c d (F), the dashpot's s d (G), the
-  // Gershgorin rows (R), x y z each at 3 h (one load in the sums), and the energy (e).
+  // Gershgorin rows (R), each x y z 0 at 4 h from box(F) (one aligned four-lane load in the
+  // sums), and the energy (e).
   std::vector<double> F, G, R, e;
+  // The first entry of box b (F, G or R): its first 32-byte boundary.
+  static double* box(std::vector<double>& b);
   std::vector<int> up_spring;                     // the spring of each upper half-edge
   // Runs of upper half-edges of one body [begin, end): its law and dashpot apply to all.
   struct Run {

@@ -8,6 +8,7 @@
 #include "core/parallel.hpp"
 #include "core/scene/scene.hpp"
 #include "core/run/recorder.hpp"
+#include "core/simd/kernels.hpp"
 #include "core/simulation.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
@@ -215,13 +216,34 @@ __attribute__((noinline)) std::uint64_t stream_step(World& w) {
   return total;
 }
 
+// The force pass's arithmetic floor: one square root and one division per spring (of its rest
+// length) in the pass's lanes, the springs split over the threads as stream_step splits them.
+__attribute__((noinline)) double arith_floor(const World& w) {
+  const std::size_t ns = w.springs.size();
+  const double* rest = w.springs.rest.data();
+  const int T = threads_for(w.x.size());
+  const simd::Kernels& k = simd::kernels();
+  double total = 0.0;
+#pragma omp parallel num_threads(T) reduction(+ : total)
+  {
+    int t = 0;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+#endif
+    std::size_t b, e;
+    split_range(ns, T, t, b, e);
+    total += k.sqrt_div(rest + b, e - b);
+  }
+  return total;
+}
+
 }  // namespace
 
 const std::vector<std::string>& bench_methods() {
   static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "voxel_exact_detect",
                                                  "voxel_exact_detect_eliminate", "hash_detect",
                                                  "hash_detect_cell_x0.5", "hash_detect_cell_x2", "hash_detect_cell_x4",
-                                                 "stream_positions", "step", "step_audited", "stream_step", "fcl", "cgal",
+                                                 "stream_positions", "step", "step_audited", "stream_step", "arith_floor", "fcl", "cgal",
                                                  "bullet_collide"};
   return names;
 }
@@ -259,6 +281,9 @@ class BenchSize {
     measure("stream_positions", T, [&] { sink = sink + stream_positions(w); }, node_bytes, "bytes read");
     // stream_step first: the step's rows carry their ratio to it (the same thread count, this run).
     measure("stream_step", T, [&] { sink = sink + stream_step(w); }, step_bytes, "bytes read and written");
+    volatile double fsink = 0.0;
+    measure("arith_floor", T, [&] { fsink = fsink + arith_floor(w); }, 8LL * static_cast<long long>(w.springs.size()),
+            "one square root and one division per spring (force pass lanes)");
     if (wanted("step")) {
       // Steps move the bodies (the penalties push the guest out: fewer contacts, a faster step):
       // every repetition starts from the initial state (restored untimed), the one every other

@@ -34,6 +34,9 @@
 //   stream_step             one pass reading every spring (ends, rest length) and every node's
 //                           position, velocity, force, inverse mass and kinematic flag, and
 //                           writing every position and velocity: the memory limit of a step.
+//   arith_floor             one square root and one division per spring, in the force pass's
+//                           SIMD lanes (simd::Kernels::sqrt_div): the arithmetic limit of a step
+//                           (correctly rounded IEEE operations, which no layout removes).
 //   bullet_collide          Bullet's collision step on the same two bodies as soft bodies
 //                           (reference/bullet_engine.hpp, BulletCollisionBench): their node and
 //                           face trees refitted and the vertex-face (VF_SS) pass.

@@ -57,10 +57,11 @@ struct VoxelGrid {
 //   d = x_j - x_i, l2 = (dx dx + dy dy) + dz dz, l = sqrt(l2), r = 1 / l, c = the law's
 //   tension over length (springs.hpp), s = damping (u.d) (r r) with u = v_j - v_i and
 //   u.d = (ux dx + uy dy) + uz dz, t = the tangent stiffness over l2;
-//   F[h] = c d (springs), G[h] = s d (dashpots), both 0 for a spring of zero length (l2 <= 0,
-//   NaN excluded: it propagates); R[h] = 2 t ((|dx| + |dy|) + |dz|) |d_a| (rows) where l2 > 0,
-//   else 0; e[h] = the spring's energy. The force on node j is -F, -G exactly (d there is
-//   exactly -d); its rows R.
+//   F[h] = c d (springs), G[h] = s d (dashpots), both 0 d (+-0) for a spring of zero length
+//   (l2 <= 0, NaN excluded: it propagates); R[h] = 2 t ((|dx| + |dy|) + |dz|) |d_a| (rows)
+//   where l2 > 0, else 0; e[h] = the spring's energy. The force on node j is -F, -G exactly (d
+//   there is exactly -d); its rows R. F, G and R hold x y z 0 at 4 h (the point form the
+//   positions are loaded in: no transposition on the way out).
 struct SpringEvalRun {
   const int* self;
   const int* other;
@@ -69,7 +70,7 @@ struct SpringEvalRun {
   const double* stiff;   // stiffness, N/m
   const double* x;       // three doubles per node
   const double* v;
-  double* F;             // per upper half-edge h (the box), x y z at 3 h; null: no springs
+  double* F;             // per upper half-edge h (the box), x y z 0 at 4 h; null: no springs
   double* G;             // null: no dashpots
   double* R;             // null: no rows
   double* e;             // per upper half-edge; null: no energy
@@ -82,14 +83,13 @@ struct SpringEvalRun {
 // its upper half-edges (+F, +G, +R, +e) then its lower ones (-F, -G, +R through lo_slot, the
 // same spring's upper half-edge), half-edge q of each list into partial q % 4, in list order;
 // each sum is (p0 + p1) + (p2 + p3); then f[i] = (f[i] + springs) + dashpots, rows[i] += rows.
-// The boxes F, G, R hold a half-edge's x y z together (three doubles at 3 h) and one padding
-// entry past their ends: the four-lane levels read an entry as four doubles (x y z and the next
-// entry's x, never added into a result), one load per half-edge and component triple.
+// The boxes F, G, R hold a half-edge's x y z 0 together (four doubles at 4 h): the four-lane
+// levels read an entry with one load.
 struct SpringSumRun {
   const int* up_start;
   const int* lo_start;
   const int* lo_slot;
-  const double* F;       // x y z at 3 h; null: no springs
+  const double* F;       // x y z 0 at 4 h; null: no springs
   const double* G;       // null: no dashpots
   const double* R;       // null: no rows
   const double* e;       // null: no energy
@@ -115,6 +115,9 @@ struct Kernels {
   void (*spring_eval_cubic)(const SpringEvalRun& r);
   void (*spring_eval_exponential)(const SpringEvalRun& r);
   void (*spring_sum)(const SpringSumRun& r);
+  // Sum over k < n of 1 / sqrt(a[k]) in the force pass's lanes: its one square root and one
+  // division per spring and nothing else, the arithmetic no memory layout removes (harness bench).
+  double (*sqrt_div)(const double* a, std::size_t n);
 };
 
 // The kernels compiled for `isa` (which must be one the processor supports).

@@ -170,39 +170,31 @@ template <class D, SpringLawKind K>
 // operations, so the box holds the same numbers at every level.
 template <class D, SpringLawKind K>
 [[gnu::always_inline]] inline void eval_lanes(const SpringEvalRun& r, const LawConstants<D>& C, int h) {
-  D ax, ay, az, bx, by, bz;
-  D::gather_xyz(r.x, r.self + h, ax, ay, az);
-  D::gather_xyz(r.x, r.other + h, bx, by, bz);
-  const D dx = bx - ax, dy = by - ay, dz = bz - az;
+  typename D::P d;  // the springs' d = x_j - x_i, each lane's as a point (the boxes' layout)
+  D dx, dy, dz;
+  D::gather_diff(r.x, r.self + h, r.other + h, d, dx, dy, dz);
   const D l2 = (dx * dx + dy * dy) + dz * dz;
   const auto zero_length = le(l2, C.zero);  // l <= 0 exactly when l2 <= 0 (NaN: neither)
   const bool springs = r.F != nullptr, rows = r.R != nullptr, energy = r.e != nullptr;
   const D l = sqrt(l2);
   const D rl = C.one / l;  // the pass's one division: 1 / l
+  const std::ptrdiff_t q = 4 * static_cast<std::ptrdiff_t>(h);  // the boxes' entry: four doubles
   if (springs || rows || energy) {
     D c = C.zero, t = C.zero, e = C.zero;
     law_lanes<D, K>(C, D::load(r.stiff + h), D::load(r.rest + h), D::load(r.inv_rest + h), l, rl, rows, energy, c, t,
                     e);
-    if (springs)
-      store_xyz(r.F + 3 * static_cast<std::ptrdiff_t>(h), select(zero_length, C.zero, c * dx),
-                select(zero_length, C.zero, c * dy), select(zero_length, C.zero, c * dz));
-    if (rows) {
-      const auto ok = lt(C.zero, l2);
-      const D adx = abs(dx), ady = abs(dy), adz = abs(dz);
-      const D rr = C.two * t * ((adx + ady) + adz);
-      store_xyz(r.R + 3 * static_cast<std::ptrdiff_t>(h), select(ok, rr * adx, C.zero), select(ok, rr * ady, C.zero),
-                select(ok, rr * adz, C.zero));
-    }
+    // F = c d, 0 for a spring of zero length: there d is (+-0 or below 1e-154 in each component), so
+    // 0 d is +-0, which a sum adds as nothing (kernels.hpp), as it does the 0 it stands for.
+    if (springs) store_points(r.F + q, d, select(zero_length, C.zero, c));
+    if (rows) store_points_abs(r.R + q, d, C.two * t * ((abs(dx) + abs(dy)) + abs(dz)), lt(C.zero, l2));
     if (energy) store(r.e + h, e);
   }
   if (r.G) {
-    D ux, uy, uz, wx, wy, wz;
-    D::gather_xyz(r.v, r.self + h, ux, uy, uz);
-    D::gather_xyz(r.v, r.other + h, wx, wy, wz);
-    ux = wx - ux, uy = wy - uy, uz = wz - uz;
+    typename D::P du;
+    D ux, uy, uz;
+    D::gather_diff(r.v, r.self + h, r.other + h, du, ux, uy, uz);
     const D s = C.damping * ((ux * dx + uy * dy) + uz * dz) * (rl * rl);
-    store_xyz(r.G + 3 * static_cast<std::ptrdiff_t>(h), select(zero_length, C.zero, s * dx),
-              select(zero_length, C.zero, s * dy), select(zero_length, C.zero, s * dz));
+    store_points(r.G + q, d, select(zero_length, C.zero, s));
   }
 }
 
@@ -225,10 +217,10 @@ void spring_eval(const SpringEvalRun& r) {
 // Both are the partial sums of kernels.hpp, in its order. What a pass does not want (springs,
 // dashpots, rows, energy) is compiled out (one variant per combination).
 
-// One half-edge's entry of the box B (three doubles at 3 k) as four lanes.
+// One half-edge's entry of the box B (x y z 0 at 4 k) as four lanes.
 template <class D>
 [[gnu::always_inline]] inline D entry(const double* B, int k) {
-  return D::load(B + 3 * static_cast<std::ptrdiff_t>(k));
+  return D::load(B + 4 * static_cast<std::ptrdiff_t>(k));
 }
 
 // The node's four partials of a quantity in registers (four lanes).
@@ -318,14 +310,14 @@ void sum_nodes(const SpringSumRun& r) {
       for (int h = r.up_start[i], q = 0; h < r.up_start[i + 1]; ++h, ++q) {
         const int l = q & 3;
         for (int k = 0; k < 3; ++k) {
-          if (SP) p[k][l] += r.F[3 * static_cast<std::ptrdiff_t>(h) + k];
-          if (DP) p[3 + k][l] += r.G[3 * static_cast<std::ptrdiff_t>(h) + k];
-          if (RO) p[6 + k][l] += r.R[3 * static_cast<std::ptrdiff_t>(h) + k];
+          if (SP) p[k][l] += r.F[4 * static_cast<std::ptrdiff_t>(h) + k];
+          if (DP) p[3 + k][l] += r.G[4 * static_cast<std::ptrdiff_t>(h) + k];
+          if (RO) p[6 + k][l] += r.R[4 * static_cast<std::ptrdiff_t>(h) + k];
         }
       }
       for (int h = r.lo_start[i], q = 0; h < r.lo_start[i + 1]; ++h, ++q) {
         const int l = q & 3;
-        const std::ptrdiff_t s = 3 * static_cast<std::ptrdiff_t>(r.lo_slot[h]);
+        const std::ptrdiff_t s = 4 * static_cast<std::ptrdiff_t>(r.lo_slot[h]);
         for (int k = 0; k < 3; ++k) {
           if (SP) p[k][l] += 0.0 - r.F[s + k];
           if (DP) p[3 + k][l] += 0.0 - r.G[s + k];
@@ -377,6 +369,24 @@ void spring_sum(const SpringSumRun& r) {
   }
 }
 
+// ---- The force pass's arithmetic floor (harness bench): sum of 1 / sqrt(a[k]), the eval's one
+// square root and one division per spring in its lanes (EvalLanes), nothing else per element.
+template <class D>
+double sqrt_div(const double* a, std::size_t n) {
+  constexpr int W = D::W;
+  const D one = D::set1(1.0);
+  D acc = D::set1(0.0);
+  std::size_t k = 0;
+  if constexpr (W > 1)
+    for (; k + W <= n; k += W) acc = acc + one / sqrt(D::load(a + k));
+  double lanes[W];
+  store(lanes, acc);
+  double s = 0.0;
+  for (int j = 0; j < W; ++j) s += lanes[j];
+  for (; k < n; ++k) s += 1.0 / __builtin_sqrt(a[k]);
+  return s;
+}
+
 }  // namespace
 
 extern const Kernels table;
@@ -388,6 +398,7 @@ const Kernels table = {
     spring_eval<EvalLanes, SpringLawKind::cubic>,
     spring_eval<EvalLanes, SpringLawKind::exponential>,
     spring_sum<SpringLanes>,
+    sqrt_div<EvalLanes>,
 };
 
 }  // namespace harness::simd::HARNESS_SIMD_NS

@@ -5,9 +5,12 @@
 // A double lane type D has W lanes, a mask type D::M, and:
 //   D::load(p), D::set1(a), store(p, a);
 //   D::load_xyz(q, px, py, pz): W consecutive points of q (three doubles each) as x, y, z lanes;
-//   store_xyz(q, px, py, pz): the inverse, lane j to q[3j], q[3j + 1], q[3j + 2];
-//   D::gather_xyz(x, idx, px, py, pz): lane j the coordinates of point idx[j] of x;
-//   D::gather(base, idx): lane j = base[idx[j]];
+//   D::gather_diff(x, ia, ib, d, dx, dy, dz): lane j the difference x[ib[j]] - x[ia[j]] of two
+//   points, both as a point form d (D::P: each lane's x y z together, as a four-lane register
+//   holds a point) and as x, y, z lanes;
+//   store_points(q, d, c): q[4j + a] = c_j d_j,a (a = 0, 1, 2) per lane j, q[4j + 3] a fourth
+//   double no sum adds into a result (0, or NaN for c_j infinite or NaN);
+//   store_points_abs(q, d, c, m): q[4j + a] = m_j ? c_j |d_j,a| : 0, q[4j + 3] likewise;
 //   + - * /, sqrt, abs (clears the sign bit), floor;
 //   le, ge, lt, gt (ordered: false for NaN) giving a mask, mask & mask, ~mask, bits(mask) (bit j: lane j);
 //   select(m, a, b) (lane j: m ? a : b); min(a, b) = a < b ? a : b and max(a, b) = a > b ? a : b
@@ -43,10 +46,15 @@ struct D1 {
   static D1 load(const double* p) { return {*p}; }
   static D1 set1(double a) { return {a}; }
   static void load_xyz(const double* q, D1& px, D1& py, D1& pz) { px = {q[0]}, py = {q[1]}, pz = {q[2]}; }
-  static void gather_xyz(const double* x, const int* idx, D1& px, D1& py, D1& pz) {
-    load_xyz(x + 3 * static_cast<std::ptrdiff_t>(idx[0]), px, py, pz);
+  struct P {
+    double v[3];
+  };
+  static void gather_diff(const double* x, const int* ia, const int* ib, P& d, D1& dx, D1& dy, D1& dz) {
+    const double* a = x + 3 * static_cast<std::ptrdiff_t>(ia[0]);
+    const double* b = x + 3 * static_cast<std::ptrdiff_t>(ib[0]);
+    d.v[0] = b[0] - a[0], d.v[1] = b[1] - a[1], d.v[2] = b[2] - a[2];
+    dx = {d.v[0]}, dy = {d.v[1]}, dz = {d.v[2]};
   }
-  static D1 gather(const double* base, const int* idx) { return {base[idx[0]]}; }
 };
 inline D1 operator+(D1 a, D1 b) { return {a.v + b.v}; }
 inline D1 operator-(D1 a, D1 b) { return {a.v - b.v}; }
@@ -77,7 +85,13 @@ inline D1 select(M1 m, D1 a, D1 b) { return m.v ? a : b; }
 inline D1 min(D1 a, D1 b) { return {a.v < b.v ? a.v : b.v}; }
 inline D1 max(D1 a, D1 b) { return {a.v > b.v ? a.v : b.v}; }
 inline void store(double* p, D1 a) { *p = a.v; }
-inline void store_xyz(double* q, D1 px, D1 py, D1 pz) { q[0] = px.v, q[1] = py.v, q[2] = pz.v; }
+inline void store_points(double* q, const D1::P& d, D1 c) {
+  q[0] = c.v * d.v[0], q[1] = c.v * d.v[1], q[2] = c.v * d.v[2], q[3] = 0.0;
+}
+inline void store_points_abs(double* q, const D1::P& d, D1 c, M1 m) {
+  for (int a = 0; a < 3; ++a) q[a] = m.v ? c.v * __builtin_fabs(d.v[a]) : 0.0;
+  q[3] = 0.0;
+}
 inline void store_i32(int* p, D1 a) { *p = static_cast<int>(a.v); }
 
 struct I1 {
@@ -114,19 +128,20 @@ struct D4 {
     py = {_mm256_shuffle_pd(r0, r2, 0b0101)};
     pz = {_mm256_shuffle_pd(r1, r2, 0b1010)};
   }
-  static void gather_xyz(const double* x, const int* idx, D4& px, D4& py, D4& pz) {
-    // Each point as one masked load (x y z 0: nothing read past it), then a 4 x 4 transpose.
+  struct P {
+    __m256d p[4];  // lane j's x y z 0
+  };
+  static void gather_diff(const double* x, const int* ia, const int* ib, P& d, D4& dx, D4& dy, D4& dz) {
     const __m256i m = _mm256_setr_epi64x(-1, -1, -1, 0);
-    auto point = [&](int j) { return _mm256_maskload_pd(x + 3 * static_cast<std::ptrdiff_t>(idx[j]), m); };
-    const __m256d P0 = point(0), P1 = point(1), P2 = point(2), P3 = point(3);
-    const __m256d L01 = _mm256_unpacklo_pd(P0, P1), L23 = _mm256_unpacklo_pd(P2, P3);  // x x z z
-    const __m256d H01 = _mm256_unpackhi_pd(P0, P1), H23 = _mm256_unpackhi_pd(P2, P3);  // y y 0 0
-    px = {_mm256_permute2f128_pd(L01, L23, 0x20)};
-    py = {_mm256_permute2f128_pd(H01, H23, 0x20)};
-    pz = {_mm256_permute2f128_pd(L01, L23, 0x31)};
-  }
-  static D4 gather(const double* base, const int* idx) {
-    return {_mm256_set_pd(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]])};
+    auto point = [&](const int* idx, int j) {
+      return _mm256_maskload_pd(x + 3 * static_cast<std::ptrdiff_t>(idx[j]), m);
+    };
+    for (int j = 0; j < 4; ++j) d.p[j] = _mm256_sub_pd(point(ib, j), point(ia, j));
+    const __m256d L01 = _mm256_unpacklo_pd(d.p[0], d.p[1]), L23 = _mm256_unpacklo_pd(d.p[2], d.p[3]);
+    const __m256d H01 = _mm256_unpackhi_pd(d.p[0], d.p[1]), H23 = _mm256_unpackhi_pd(d.p[2], d.p[3]);
+    dx = {_mm256_permute2f128_pd(L01, L23, 0x20)};
+    dy = {_mm256_permute2f128_pd(H01, H23, 0x20)};
+    dz = {_mm256_permute2f128_pd(L01, L23, 0x31)};
   }
 };
 inline D4 operator+(D4 a, D4 b) { return {_mm256_add_pd(a.v, b.v)}; }
@@ -145,14 +160,24 @@ inline D4 select(M4 m, D4 a, D4 b) { return {_mm256_blendv_pd(b.v, a.v, m.v)}; }
 inline D4 min(D4 a, D4 b) { return {_mm256_min_pd(a.v, b.v)}; }
 inline D4 max(D4 a, D4 b) { return {_mm256_max_pd(a.v, b.v)}; }
 inline void store(double* p, D4 a) { _mm256_storeu_pd(p, a.v); }
-inline void store_xyz(double* q, D4 px, D4 py, D4 pz) {
-  // load_xyz backwards: r0 = x0 y0 | x2 y2, r1 = z0 x1 | z2 x3, r2 = y1 z1 | y3 z3, then halves.
-  const __m256d r0 = _mm256_shuffle_pd(px.v, py.v, 0b0000);
-  const __m256d r1 = _mm256_shuffle_pd(pz.v, px.v, 0b1010);
-  const __m256d r2 = _mm256_shuffle_pd(py.v, pz.v, 0b1111);
-  _mm256_storeu_pd(q, _mm256_permute2f128_pd(r0, r1, 0x20));
-  _mm256_storeu_pd(q + 4, _mm256_permute2f128_pd(r2, r0, 0x30));
-  _mm256_storeu_pd(q + 8, _mm256_permute2f128_pd(r1, r2, 0x31));
+// Lane j of c in all four lanes.
+template <int j>
+inline __m256d lane_of(__m256d c) {
+  const __m256d h = _mm256_permute2f128_pd(c, c, j < 2 ? 0x00 : 0x11);
+  return _mm256_permute_pd(h, (j & 1) ? 0xF : 0x0);
+}
+inline void store_points(double* q, const D4::P& d, D4 c) {
+  _mm256_storeu_pd(q, _mm256_mul_pd(lane_of<0>(c.v), d.p[0]));
+  _mm256_storeu_pd(q + 4, _mm256_mul_pd(lane_of<1>(c.v), d.p[1]));
+  _mm256_storeu_pd(q + 8, _mm256_mul_pd(lane_of<2>(c.v), d.p[2]));
+  _mm256_storeu_pd(q + 12, _mm256_mul_pd(lane_of<3>(c.v), d.p[3]));
+}
+inline void store_points_abs(double* q, const D4::P& d, D4 c, M4 m) {
+  const __m256d z = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
+  _mm256_storeu_pd(q, _mm256_blendv_pd(z, _mm256_mul_pd(lane_of<0>(c.v), _mm256_andnot_pd(sign, d.p[0])), lane_of<0>(m.v)));
+  _mm256_storeu_pd(q + 4, _mm256_blendv_pd(z, _mm256_mul_pd(lane_of<1>(c.v), _mm256_andnot_pd(sign, d.p[1])), lane_of<1>(m.v)));
+  _mm256_storeu_pd(q + 8, _mm256_blendv_pd(z, _mm256_mul_pd(lane_of<2>(c.v), _mm256_andnot_pd(sign, d.p[2])), lane_of<2>(m.v)));
+  _mm256_storeu_pd(q + 12, _mm256_blendv_pd(z, _mm256_mul_pd(lane_of<3>(c.v), _mm256_andnot_pd(sign, d.p[3])), lane_of<3>(m.v)));
 }
 inline void store_i32(int* p, D4 a) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm256_cvttpd_epi32(a.v)); }
 
@@ -204,24 +229,23 @@ struct D8 {
     py = {_mm512_permutex2var_pd(_mm512_permutex2var_pd(A, ay1, B), ay2, C)};
     pz = {_mm512_permutex2var_pd(_mm512_permutex2var_pd(A, az1, B), az2, C)};
   }
-  static void gather_xyz(const double* x, const int* idx, D8& px, D8& py, D8& pz) {
-    // Each point as one masked four-lane load (x y z 0: nothing read past it), point k and k + 4
-    // in one register Zk = x y z 0 | x' y' z' 0, then unpacked and permuted into x, y, z lanes.
-    auto point = [&](int j) { return _mm256_maskz_loadu_pd(0x7, x + 3 * static_cast<std::ptrdiff_t>(idx[j])); };
-    const __m512d Z0 = _mm512_insertf64x4(_mm512_castpd256_pd512(point(0)), point(4), 1);
-    const __m512d Z1 = _mm512_insertf64x4(_mm512_castpd256_pd512(point(1)), point(5), 1);
-    const __m512d Z2 = _mm512_insertf64x4(_mm512_castpd256_pd512(point(2)), point(6), 1);
-    const __m512d Z3 = _mm512_insertf64x4(_mm512_castpd256_pd512(point(3)), point(7), 1);
-    const __m512d L01 = _mm512_unpacklo_pd(Z0, Z1), L23 = _mm512_unpacklo_pd(Z2, Z3);  // x x z z | x x z z
-    const __m512d H01 = _mm512_unpackhi_pd(Z0, Z1), H23 = _mm512_unpackhi_pd(Z2, Z3);  // y y 0 0 | y y 0 0
+  struct P {
+    __m512d z[4];  // z[k]: lane k's x y z 0 | lane k + 4's x y z 0
+  };
+  static void gather_diff(const double* x, const int* ia, const int* ib, P& d, D8& dx, D8& dy, D8& dz) {
+    auto point = [&](const int* idx, int j) {
+      return _mm256_maskz_loadu_pd(0x7, x + 3 * static_cast<std::ptrdiff_t>(idx[j]));
+    };
+    auto pair = [&](const int* idx, int k) {
+      return _mm512_insertf64x4(_mm512_castpd256_pd512(point(idx, k)), point(idx, k + 4), 1);
+    };
+    for (int k = 0; k < 4; ++k) d.z[k] = _mm512_sub_pd(pair(ib, k), pair(ia, k));
+    const __m512d L01 = _mm512_unpacklo_pd(d.z[0], d.z[1]), L23 = _mm512_unpacklo_pd(d.z[2], d.z[3]);
+    const __m512d H01 = _mm512_unpackhi_pd(d.z[0], d.z[1]), H23 = _mm512_unpackhi_pd(d.z[2], d.z[3]);
     const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), hi = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
-    px = {_mm512_permutex2var_pd(L01, lo, L23)};
-    py = {_mm512_permutex2var_pd(H01, lo, H23)};
-    pz = {_mm512_permutex2var_pd(L01, hi, L23)};
-  }
-  static D8 gather(const double* base, const int* idx) {
-    return {_mm512_set_pd(base[idx[7]], base[idx[6]], base[idx[5]], base[idx[4]], base[idx[3]], base[idx[2]],
-                          base[idx[1]], base[idx[0]])};
+    dx = {_mm512_permutex2var_pd(L01, lo, L23)};
+    dy = {_mm512_permutex2var_pd(H01, lo, H23)};
+    dz = {_mm512_permutex2var_pd(L01, hi, L23)};
   }
 };
 inline D8 operator+(D8 a, D8 b) { return {_mm512_add_pd(a.v, b.v)}; }
@@ -240,14 +264,24 @@ inline D8 select(M8 m, D8 a, D8 b) { return {_mm512_mask_blend_pd(m.v, b.v, a.v)
 inline D8 min(D8 a, D8 b) { return {_mm512_min_pd(a.v, b.v)}; }
 inline D8 max(D8 a, D8 b) { return {_mm512_max_pd(a.v, b.v)}; }
 inline void store(double* p, D8 a) { _mm512_storeu_pd(p, a.v); }
-inline void store_xyz(double* q, D8 px, D8 py, D8 pz) {
-  // load_xyz backwards: each of the three stores x and y lanes first (lane k: x, 8 + k: y), then z.
-  const __m512i a1 = _mm512_setr_epi64(0, 8, 0, 1, 9, 0, 2, 10), a2 = _mm512_setr_epi64(0, 1, 8, 3, 4, 9, 6, 7);
-  const __m512i b1 = _mm512_setr_epi64(0, 3, 11, 0, 4, 12, 0, 5), b2 = _mm512_setr_epi64(10, 1, 2, 11, 4, 5, 12, 7);
-  const __m512i c1 = _mm512_setr_epi64(13, 0, 6, 14, 0, 7, 15, 0), c2 = _mm512_setr_epi64(0, 13, 2, 3, 14, 5, 6, 15);
-  _mm512_storeu_pd(q, _mm512_permutex2var_pd(_mm512_permutex2var_pd(px.v, a1, py.v), a2, pz.v));
-  _mm512_storeu_pd(q + 8, _mm512_permutex2var_pd(_mm512_permutex2var_pd(px.v, b1, py.v), b2, pz.v));
-  _mm512_storeu_pd(q + 16, _mm512_permutex2var_pd(_mm512_permutex2var_pd(px.v, c1, py.v), c2, pz.v));
+// Lanes k and k + 4 of c, each four times (the layout of D8::P's z[k]).
+inline __m512d lanes_of(__m512d c, int k) {
+  return _mm512_permutexvar_pd(_mm512_setr_epi64(k, k, k, k, k + 4, k + 4, k + 4, k + 4), c);
+}
+inline void store_points(double* q, const D8::P& d, D8 c) {
+  for (int k = 0; k < 4; ++k) {
+    const __m512d r = _mm512_mul_pd(lanes_of(c.v, k), d.z[k]);
+    _mm256_storeu_pd(q + 4 * k, _mm512_castpd512_pd256(r));
+    _mm256_storeu_pd(q + 4 * (k + 4), _mm512_extractf64x4_pd(r, 1));
+  }
+}
+inline void store_points_abs(double* q, const D8::P& d, D8 c, M8 m) {
+  for (int k = 0; k < 4; ++k) {
+    const __mmask8 mk = static_cast<__mmask8>(((m.v >> k) & 1u ? 0x0Fu : 0u) | ((m.v >> (k + 4)) & 1u ? 0xF0u : 0u));
+    const __m512d r = _mm512_maskz_mul_pd(mk, lanes_of(c.v, k), _mm512_abs_pd(d.z[k]));
+    _mm256_storeu_pd(q + 4 * k, _mm512_castpd512_pd256(r));
+    _mm256_storeu_pd(q + 4 * (k + 4), _mm512_extractf64x4_pd(r, 1));
+  }
 }
 inline void store_i32(int* p, D8 a) {
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), _mm512_cvttpd_epi32(a.v));
@@ -264,10 +298,8 @@ inline I16 max_s(I16 a, I16 b) { return {_mm512_max_epi32(a.v, b.v)}; }
 inline void store(int* p, I16 a) { _mm512_storeu_si512(p, a.v); }
 #endif
 
-// ---- The lanes each kernel runs with at this level: the widest that pays. The spring and
-// dashpot gathers keep four lanes with AVX-512: a node has few half-edges (17 on average in
-// `harness bench`'s bodies), and eight lanes leave more of them to the one-lane remainder: the
-// step is slower.
+// ---- The lanes each kernel runs with at this level: the widest that pays. The sums of the force
+// pass keep four lanes with AVX-512: a register holds one box entry (x y z 0).
 #if defined(__AVX512F__)
 using VoxelLanes = D8;
 using BoundsLanes = D8;

@@ -234,6 +234,12 @@ void check_forces(const World& w, const char* what) {
   Points f0(w.num_nodes(), Vec3(0.25, -1.0, 0.5)), d0 = f0;
   scatter_springs(w, f0);
   scatter_damping(w, d0);
+  // The guard's rows and the springs' energy of the same pass: the scalar level's, one thread.
+  set_isa(Isa::scalar);
+  set_threads(1);
+  std::vector<Vec3> r0(w.x.size(), Vec3(1.0, 2.0, 3.0));
+  add_spring_stiffness_rows(w, r0);
+  const double e0 = spring_potential(w);
   for (Isa i : supported()) {
     set_isa(i);
     for (int t : {1, 2, 3}) {
@@ -242,9 +248,14 @@ void check_forces(const World& w, const char* what) {
       Points f(w.num_nodes(), Vec3(0.25, -1.0, 0.5)), d = f;
       add_spring_forces(w, f);
       add_damping_forces(w, d);
+      std::vector<Vec3> r(w.x.size(), Vec3(1.0, 2.0, 3.0));
+      add_spring_stiffness_rows(w, r);
+      const double e = spring_potential(w);
       INFO(what << ": " << to_string(i) << ", threads " << t);
       CHECK(same_bits(f, f0));
       CHECK(same_bits(d, d0));
+      CHECK(std::memcmp(r.data(), r0.data(), r.size() * sizeof(Vec3)) == 0);
+      CHECK(std::memcmp(&e, &e0, sizeof e) == 0);
     }
   }
 }
@@ -316,5 +327,20 @@ TEST_CASE("the bundled scenes' state hashes are the same at every level", "[cpu]
         CHECK(hash() == h0);
       }
     }
+  }
+}
+
+TEST_CASE("the arithmetic floor kernel sums 1 / sqrt at every level", "[cpu]") {
+  Restore restore;
+  // 4^-k for k = 0..36 (1 / sqrt = 2^k, exact) and a tail that is not a multiple of any width.
+  std::vector<double> a;
+  double want = 0.0;
+  for (int k = 0; k <= 36; ++k) a.push_back(std::ldexp(1.0, -2 * k)), want += std::ldexp(1.0, k);
+  for (Isa i : supported()) {
+    INFO(to_string(i));
+    const double got = simd::kernels(i).sqrt_div(a.data(), a.size());
+    CHECK(got == want);  // every term and partial sum is an integer below 2^53: exact
+    CHECK(simd::kernels(i).sqrt_div(a.data(), 0) == 0.0);
+    CHECK(simd::kernels(i).sqrt_div(a.data() + 1, 3) == 2.0 + 4.0 + 8.0);
   }
 }

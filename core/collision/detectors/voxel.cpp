@@ -93,9 +93,16 @@ int VoxelDetector::nearest_hosts(const World& w, const Contact& c, int k, int* o
   if (k <= 0 || c.key < 0 || c.key >= grid_.geometry().num_voxels()) return 0;
   const Vec3& p = w.x[c.guest];
   int n = 0;
-  if (k == 1) {
-    for (int node : grid_.nodes(c.key)) offer(w, p, node, 1, out, n);
-    return n;
+  if (k == 1) {  // offer's rule with the best distance kept (each node's distance computed once)
+    int best = -1;
+    double e = 0.0;
+    for (int node : grid_.nodes(c.key)) {
+      const double d = (w.x[node] - p).squaredNorm();
+      if (best < 0 || d < e || (d == e && node < best)) best = node, e = d;
+    }
+    if (best < 0) return 0;
+    out[0] = best;
+    return 1;
   }
   const GridGeometry& g = grid_.geometry();
   const Vec3i ijk = voxel_ijk(g, c.key);
