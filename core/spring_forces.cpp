@@ -16,6 +16,9 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "the kernels take points as th
 namespace {
 constexpr int kPad = 4;                // padding entries past the index arrays and the box
 constexpr int kBlock = 512;            // nodes evaluated, then summed, at a time (in cache)
+// Half-edges per thread below which the pass stays on one thread (a parallel region costs a few
+// microseconds: about 10 us of work per thread at 1 ns per half-edge).
+constexpr std::size_t kHalfEdgesPerThread = 8192;
 }  // namespace
 
 void SpringGather::build(const World& w) {
@@ -35,10 +38,9 @@ void SpringGather::build(const World& w) {
     for (int end = 0; end < 2; ++end) ++(upper_at(k, end) ? up_start : lo_start)[s.ends[k][end] + 1];
   for (int i = 0; i < n; ++i) up_start[i + 1] += up_start[i], lo_start[i + 1] += lo_start[i];
   const std::size_t U = static_cast<std::size_t>(up_start[n]), L = static_cast<std::size_t>(lo_start[n]);
-  up_self.assign(U + kPad, 0), up_other.assign(U + kPad, 0), up_spring.assign(U, 0);
+  up_self.assign(U + kPad, 0), up_other.assign(U + kPad, 0), up_spring.assign(U + kPad, 0);
   up_rest.assign(U + kPad, 1.0), up_inv_rest.assign(U + kPad, 1.0), up_stiff.assign(U + kPad, 0.0);
   lo_slot.assign(L + kPad, 0);
-  lo_min.assign(static_cast<std::size_t>(n), n);
   std::vector<int> cu(up_start.begin(), up_start.end() - 1), cl(lo_start.begin(), lo_start.end() - 1);
   std::vector<int> slot_of(s.size(), -1);
   for (std::size_t k = 0; k < s.size(); ++k)  // spring order: each list is sorted by k
@@ -55,11 +57,11 @@ void SpringGather::build(const World& w) {
       if (upper_at(k, end)) continue;
       const int h = cl[s.ends[k][end]]++;
       lo_slot[h] = slot_of[k];
-      lo_min[s.ends[k][end]] = std::min(lo_min[s.ends[k][end]], s.ends[k][1 - end]);
     }
   // Four doubles per upper half-edge (x y z 0), the entries from a 32-byte boundary (box()).
   F.assign(4 * (U + kPad) + 4, 0.0), G.assign(4 * (U + kPad) + 4, 0.0), R.assign(4 * (U + kPad) + 4, 0.0);
   e.assign(U + kPad, 0.0);
+  splits.clear();
   // Runs: each body's upper half-edges; mixed when a spring's upper end lies outside its body.
   runs.clear();
   mixed = false;
@@ -79,22 +81,61 @@ double* SpringGather::box(std::vector<double>& b) {
   return b.data() + ((32 - a % 32) % 32) / sizeof(double);
 }
 
-void SpringGather::part(int T, int t, int& i0, int& i1) const {
-  const long long total = static_cast<long long>(up_start[nodes]) + lo_start[nodes];
-  auto at = [&](int q) {
-    if (q <= 0) return 0;
-    if (q >= T) return nodes;
-    const long long target = total * q / T;
-    int lo = 0, hi = nodes;  // first node whose prefix of half-edges reaches the target
+const SpringGather::Split& SpringGather::split(int T) {
+  for (const Split& sp : splits)
+    if (sp.T == T) return sp;
+  Split sp;
+  sp.T = T;
+  const int n = nodes;
+  auto cost = [&](int i) { return kUpWeight * up_start[i] + lo_start[i]; };
+  sp.bounds.assign(static_cast<std::size_t>(T) + 1, n);
+  sp.bounds[0] = 0;
+  for (int q = 1; q < T; ++q) {
+    const long long target = cost(n) * q / T;
+    int lo = 0, hi = n;  // first node whose prefix cost reaches the target
     while (lo < hi) {
       const int mid = (lo + hi) / 2;
-      if (static_cast<long long>(up_start[mid]) + lo_start[mid] < target) lo = mid + 1;
+      if (cost(mid) < target) lo = mid + 1;
       else hi = mid;
     }
-    return lo;
-  };
-  i0 = at(t);
-  i1 = at(t + 1);
+    sp.bounds[q] = std::max(lo, sp.bounds[q - 1]);
+  }
+  // The halo, part by part, appended in place of the arrays' trailing padding, which follows it.
+  const std::size_t end = up_self.size() - kPad;
+  for (auto* a : {&up_self, &up_other, &up_spring}) a->resize(end);
+  for (auto* a : {&up_rest, &up_inv_rest, &up_stiff}) a->resize(end);
+  sp.lo_slot = lo_slot;
+  sp.halo_start.push_back(0);
+  std::vector<std::pair<int, int>> copies;  // (upper half-edge, lower half-edge) of a part's halo
+  for (int t = 0; t < T; ++t) {
+    const int i0 = sp.bounds[t], i1 = sp.bounds[t + 1];
+    copies.clear();
+    for (int l = lo_start[i0]; l < lo_start[i1]; ++l)
+      if (up_self[lo_slot[l]] < i0) copies.emplace_back(lo_slot[l], l);
+    std::sort(copies.begin(), copies.end());  // in upper order: runs of one body
+    for (const auto& [h, l] : copies) {
+      const int c = static_cast<int>(up_self.size());
+      up_self.push_back(up_self[h]), up_other.push_back(up_other[h]), up_spring.push_back(up_spring[h]);
+      up_rest.push_back(up_rest[h]), up_inv_rest.push_back(up_inv_rest[h]), up_stiff.push_back(up_stiff[h]);
+      sp.lo_slot[l] = c;
+      int body = -1;  // the body of the run holding h (none in a mixed world: laws per spring)
+      for (const Run& r : runs)
+        if (r.begin <= h && h < r.end) body = r.body;
+      if (sp.halo.size() > static_cast<std::size_t>(sp.halo_start.back()) && sp.halo.back().body == body &&
+          sp.halo.back().end == c)
+        ++sp.halo.back().end;
+      else
+        sp.halo.push_back({c, c + 1, body});
+    }
+    sp.halo_start.push_back(static_cast<int>(sp.halo.size()));
+  }
+  const std::size_t size = up_self.size() + kPad;
+  up_self.resize(size, 0), up_other.resize(size, 0), up_spring.resize(size, 0);
+  up_rest.resize(size, 1.0), up_inv_rest.resize(size, 1.0), up_stiff.resize(size, 0.0);
+  F.assign(4 * size + 4, 0.0), G.assign(4 * size + 4, 0.0), R.assign(4 * size + 4, 0.0);
+  e.assign(size, 0.0);
+  splits.push_back(std::move(sp));
+  return splits.back();
 }
 
 namespace {
@@ -166,7 +207,9 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
   const bool rows = out.rows != nullptr, energy = out.energy != nullptr;
   const int U = g.up_start[g.nodes];
   const std::size_t half_edges = static_cast<std::size_t>(U) + g.lo_start[g.nodes];
-  const int T = threads_for(half_edges, 32768);
+  const int T = threads_for(half_edges, kHalfEdgesPerThread);
+  // (before any pointer into the arrays is taken: a new split grows them)
+  const SpringGather::Split* split = T > 1 ? &g.split(T) : nullptr;
   const simd::Kernels& kern = simd::kernels();
   simd::SpringEvalRun ev{};
   ev.self = g.up_self.data(), ev.other = g.up_other.data(), ev.rest = g.up_rest.data();
@@ -177,77 +220,57 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
   ev.R = rows ? SpringGather::box(g.R) : nullptr;
   ev.e = energy ? g.e.data() : nullptr;
   simd::SpringSumRun su{};
-  su.up_start = g.up_start.data(), su.lo_start = g.lo_start.data(), su.lo_slot = g.lo_slot.data();
+  su.up_start = g.up_start.data(), su.lo_start = g.lo_start.data();
+  su.lo_slot = split ? split->lo_slot.data() : g.lo_slot.data();
   su.F = ev.F, su.G = ev.G, su.R = ev.R;
   su.e = ev.e;
   su.f = coords(out.f);
   su.f_spring = coords(out.f_spring), su.f_dashpot = coords(out.f_dashpot);
   su.energy = energy ? out.energy->data() : nullptr;
   su.rows = rows ? (*out.rows)[0].data() : nullptr;
-  // The upper half-edges [h0, h1): by the kernel of each body's law.
+  // The upper half-edges [h0, h1) of one body, by the kernel of its law.
+  auto eval_run = [&](int h0, int h1, int body) {
+    simd::SpringEvalRun r = ev;
+    const BodyLaw& law = w.body_law[body];
+    r.beta = law.beta;
+    r.damping = w.bodies[body].material.damping;
+    r.h0 = h0, r.h1 = h1;
+    switch (law.kind) {
+      case SpringLawKind::linear: kern.spring_eval_linear(r); break;
+      case SpringLawKind::cubic: kern.spring_eval_cubic(r); break;
+      case SpringLawKind::exponential: kern.spring_eval_exponential(r); break;
+    }
+  };
+  // Every upper half-edge of [h0, h1) (body by body).
   auto eval = [&](int h0, int h1) {
     if (g.mixed) return mixed_eval(g, w, springs, dashpots, rows, energy, h0, h1);
     for (const SpringGather::Run& run : g.runs) {
       const int a = std::max(h0, run.begin), b = std::min(h1, run.end);
-      if (a >= b) continue;
-      simd::SpringEvalRun r = ev;
-      const BodyLaw& law = w.body_law[run.body];
-      r.beta = law.beta;
-      r.damping = w.bodies[run.body].material.damping;
-      r.h0 = a, r.h1 = b;
-      switch (law.kind) {
-        case SpringLawKind::linear: kern.spring_eval_linear(r); break;
-        case SpringLawKind::cubic: kern.spring_eval_cubic(r); break;
-        case SpringLawKind::exponential: kern.spring_eval_exponential(r); break;
-      }
+      if (a < b) eval_run(a, b, run.body);
     }
   };
-  // Sums of the nodes of [i0, i1) whose lower partners are all at or after `ready` (deferred:
-  // false) or those with one before it (true).
-  auto sum = [&](int i0, int i1, int ready, bool deferred) {
-    if (ready == 0 && !deferred) {  // the first part: no node has a partner before it
+  // The nodes [i0, i1) of a part, in blocks of kBlock nodes: their springs evaluated, then their
+  // nodes summed while the box entries are still in cache (a lower half-edge's upper end is an
+  // earlier node: of this block, of an earlier one or of the part's halo, evaluated already).
+  auto part = [&](int i0, int i1) {
+    for (int b0 = i0; b0 < i1; b0 += kBlock) {
+      const int b1 = std::min(i1, b0 + kBlock);
+      eval(g.up_start[b0], g.up_start[b1]);
       simd::SpringSumRun r = su;
-      r.i0 = i0, r.i1 = i1;
-      return kern.spring_sum(r);
-    }
-    for (int i = i0; i < i1;) {
-      if ((g.lo_min[i] < ready) != deferred) {
-        ++i;
-        continue;
-      }
-      int e = i + 1;
-      while (e < i1 && (g.lo_min[e] < ready) == deferred) ++e;
-      simd::SpringSumRun r = su;
-      r.i0 = i, r.i1 = e;
+      r.i0 = b0, r.i1 = b1;
       kern.spring_sum(r);
-      i = e;
     }
   };
-  // Parts of contiguous nodes, handed out dynamically (several per thread: a thread the system
-  // deschedules delays one small part). Within a part, blocks of kBlock nodes: their springs
-  // evaluated, then their nodes summed while the box entries are still in cache; a node with a
-  // lower partner in an earlier part (whose thread may not have evaluated it yet) is summed after
-  // every part is done. The numbers do not depend on the partition or the order.
-  const int P = T == 1 ? 1 : 4 * T;
-#pragma omp parallel num_threads(T) if(T > 1)
-  {
-#pragma omp for schedule(dynamic, 1)
-    for (int t = 0; t < P; ++t) {
-      int i0, i1;
-      g.part(P, t, i0, i1);
-      for (int b0 = i0; b0 < i1; b0 += kBlock) {
-        const int b1 = std::min(i1, b0 + kBlock);
-        eval(g.up_start[b0], g.up_start[b1]);
-        sum(b0, b1, i0, false);
-      }
+  if (!split) return part(0, g.nodes);
+  // One part per thread, each with its halo first; the numbers do not depend on the partition.
+#pragma omp parallel for num_threads(T) schedule(static, 1)
+  for (int t = 0; t < T; ++t) {
+    for (int q = split->halo_start[t]; q < split->halo_start[t + 1]; ++q) {
+      const SpringGather::Run& run = split->halo[q];
+      if (g.mixed) mixed_eval(g, w, springs, dashpots, rows, energy, run.begin, run.end);
+      else eval_run(run.begin, run.end, run.body);
     }
-    // (the implicit barrier of the loop above: every spring is evaluated)
-#pragma omp for schedule(dynamic, 1)
-    for (int t = 1; t < P; ++t) {
-      int i0, i1;
-      g.part(P, t, i0, i1);
-      sum(i0, i1, i0, true);
-    }
+    part(split->bounds[t], split->bounds[t + 1]);
   }
 }
 

@@ -31,9 +31,6 @@ struct SpringGather {
   std::vector<int> up_start, up_self, up_other;  // CSR, per node
   std::vector<double> up_rest, up_inv_rest, up_stiff;
   std::vector<int> lo_start, lo_slot;             // lo_slot: the same spring's upper half-edge
-  // Per node: its lowest lower partner (nodes: none): a node whose partner lies in an earlier part
-  // of the pass is summed after every part has evaluated its springs.
-  std::vector<int> lo_min;
   // The box, per upper half-edge h: the force on its node c d (F), the dashpot's s d (G), the
   // Gershgorin rows (R), each x y z 0 at 4 h from box(F) (one aligned four-lane load in the
   // sums), and the energy (e).
@@ -48,10 +45,28 @@ struct SpringGather {
   std::vector<Run> runs;
   bool mixed = false;  // a spring's ends lie in different bodies (hand-built worlds): laws per spring
 
+  // The pass over T > 1 threads: part t takes the nodes [bounds[t], bounds[t + 1]) (about equal
+  // work: an upper half-edge, evaluated and summed, weighs kUpWeight lower ones, summed) and
+  // evaluates, besides its nodes' upper half-edges, its own copy (the halo) of every spring whose
+  // upper end lies in an earlier part and whose lower end is one of its nodes: its lower
+  // half-edges read that copy (lo_slot redirected), so that no part waits for another and no
+  // node's sum is deferred. A copy is the same spring evaluated by the same operations: the same
+  // bits. The halo's entries are appended to the up_ arrays and the box, past U and its padding
+  // (each split's after the last), and evaluated by runs of one body.
+  struct Split {
+    int T = 0;
+    std::vector<int> bounds;      // T + 1 node bounds
+    std::vector<int> lo_slot;     // lo_slot, the halo's lower half-edges redirected to their copy
+    std::vector<Run> halo;        // runs of halo entries of one body, part by part
+    std::vector<int> halo_start;  // T + 1: part t's runs [halo_start[t], halo_start[t + 1])
+  };
+  std::vector<Split> splits;      // one per thread count used so far
+  static constexpr long long kUpWeight = 4;
+
   bool matches(const World& w) const { return nodes == w.num_nodes() && springs == w.springs.size(); }
   void build(const World& w);
-  // Node range of part t of T with about equal numbers of half-edges (only shares the work).
-  void part(int T, int t, int& i0, int& i1) const;
+  // The split for T > 1 threads, made on first use (it may grow the up_ arrays and the box).
+  const Split& split(int T);
 };
 
 // What a force pass computes besides the forces.
