@@ -168,28 +168,26 @@ template <class D, SpringLawKind K>
 // ---- The evaluation half (SpringEvalRun): W upper half-edges per iteration, the last ones (all
 // of them at the scalar level) one at a time with the one-lane type: every lane does the same
 // operations, so the box holds the same numbers at every level.
-template <class D, SpringLawKind K>
+template <class D, SpringLawKind K, bool SP, bool RO, bool EN, bool DP>
 [[gnu::always_inline]] inline void eval_lanes(const SpringEvalRun& r, const LawConstants<D>& C, int h) {
   typename D::P d;  // the springs' d = x_j - x_i, each lane's as a point (the boxes' layout)
   D dx, dy, dz;
   D::gather_diff(r.x, r.self + h, r.other + h, d, dx, dy, dz);
   const D l2 = (dx * dx + dy * dy) + dz * dz;
   const auto zero_length = le(l2, C.zero);  // l <= 0 exactly when l2 <= 0 (NaN: neither)
-  const bool springs = r.F != nullptr, rows = r.R != nullptr, energy = r.e != nullptr;
   const D l = sqrt(l2);
   const D rl = C.one / l;  // the pass's one division: 1 / l
   const std::ptrdiff_t q = 4 * static_cast<std::ptrdiff_t>(h);  // the boxes' entry: four doubles
-  if (springs || rows || energy) {
+  if constexpr (SP || RO || EN) {
     D c = C.zero, t = C.zero, e = C.zero;
-    law_lanes<D, K>(C, D::load(r.stiff + h), D::load(r.rest + h), D::load(r.inv_rest + h), l, rl, rows, energy, c, t,
-                    e);
+    law_lanes<D, K>(C, D::load(r.stiff + h), D::load(r.rest + h), D::load(r.inv_rest + h), l, rl, RO, EN, c, t, e);
     // F = c d, 0 for a spring of zero length: there d is (+-0 or below 1e-154 in each component), so
     // 0 d is +-0, which a sum adds as nothing (kernels.hpp), as it does the 0 it stands for.
-    if (springs) store_points(r.F + q, d, select(zero_length, C.zero, c));
-    if (rows) store_points_abs(r.R + q, d, C.two * t * ((abs(dx) + abs(dy)) + abs(dz)), lt(C.zero, l2));
-    if (energy) store(r.e + h, e);
+    if constexpr (SP) store_points(r.F + q, d, select(zero_length, C.zero, c));
+    if constexpr (RO) store_points_abs(r.R + q, d, C.two * t * ((abs(dx) + abs(dy)) + abs(dz)), lt(C.zero, l2));
+    if constexpr (EN) store(r.e + h, e);
   }
-  if (r.G) {
+  if constexpr (DP) {
     typename D::P du;
     D ux, uy, uz;
     D::gather_diff(r.v, r.self + h, r.other + h, du, ux, uy, uz);
@@ -198,15 +196,40 @@ template <class D, SpringLawKind K>
   }
 }
 
-template <class D, SpringLawKind K>
-void spring_eval(const SpringEvalRun& r) {
+// One variant per combination of outputs (springs, rows, energy, dashpots): what a pass does not
+// want is compiled out, and no flag is tested per iteration.
+template <class D, SpringLawKind K, bool SP, bool RO, bool EN, bool DP>
+void spring_eval_variant(const SpringEvalRun& r) {
   int h = r.h0;
   if constexpr (D::W > 1) {
     const LawConstants<D> C(r.beta, r.damping);
-    for (; h + D::W <= r.h1; h += D::W) eval_lanes<D, K>(r, C, h);
+    for (; h + D::W <= r.h1; h += D::W) eval_lanes<D, K, SP, RO, EN, DP>(r, C, h);
   }
   const LawConstants<D1> C1(r.beta, r.damping);
-  for (; h < r.h1; ++h) eval_lanes<D1, K>(r, C1, h);
+  for (; h < r.h1; ++h) eval_lanes<D1, K, SP, RO, EN, DP>(r, C1, h);
+}
+
+template <class D, SpringLawKind K>
+void spring_eval(const SpringEvalRun& r) {
+  const int key = (r.F ? 8 : 0) | (r.R ? 4 : 0) | (r.e ? 2 : 0) | (r.G ? 1 : 0);
+  switch (key) {
+    case 0: return;
+    case 1: return spring_eval_variant<D, K, false, false, false, true>(r);
+    case 2: return spring_eval_variant<D, K, false, false, true, false>(r);
+    case 3: return spring_eval_variant<D, K, false, false, true, true>(r);
+    case 4: return spring_eval_variant<D, K, false, true, false, false>(r);
+    case 5: return spring_eval_variant<D, K, false, true, false, true>(r);
+    case 6: return spring_eval_variant<D, K, false, true, true, false>(r);
+    case 7: return spring_eval_variant<D, K, false, true, true, true>(r);
+    case 8: return spring_eval_variant<D, K, true, false, false, false>(r);
+    case 9: return spring_eval_variant<D, K, true, false, false, true>(r);
+    case 10: return spring_eval_variant<D, K, true, false, true, false>(r);
+    case 11: return spring_eval_variant<D, K, true, false, true, true>(r);
+    case 12: return spring_eval_variant<D, K, true, true, false, false>(r);
+    case 13: return spring_eval_variant<D, K, true, true, false, true>(r);
+    case 14: return spring_eval_variant<D, K, true, true, true, false>(r);
+    default: return spring_eval_variant<D, K, true, true, true, true>(r);
+  }
 }
 
 // ---- The summing half (SpringSumRun). The four-lane levels keep a node's partial sum q of each
