@@ -7,21 +7,13 @@
 
 namespace harness {
 
-namespace {
-bool finite(const Vec3& a) { return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z()); }
-}  // namespace
-
-Vec3 unit_or_zero(const Vec3& a) {
-  const double n = a.norm();
-  if (!(n > 0.0) || !std::isfinite(n)) {
-    // |a| may overflow for huge finite components: rescale before giving up.
-    const double s = a.cwiseAbs().maxCoeff();
-    if (!(s > 0.0) || !std::isfinite(s)) return Vec3::Zero();
-    const Vec3 b = a / s;
-    return b / b.norm();
-  }
-  const Vec3 u = a / n;
-  return finite(u) ? u : Vec3::Zero();
+// unit_or_zero where |a| is zero, NaN or infinite: |a| may overflow for huge finite components,
+// so rescale before giving up.
+Vec3 unit_or_zero_rescaled(const Vec3& a) {
+  const double s = a.cwiseAbs().maxCoeff();
+  if (!(s > 0.0) || !std::isfinite(s)) return Vec3::Zero();
+  const Vec3 b = a / s;
+  return b / b.norm();
 }
 
 Vec3 host_center_of(const World& w, int host) {

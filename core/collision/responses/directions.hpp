@@ -38,10 +38,19 @@
 #include "core/collision/responses/collision_eliminator.hpp"
 #include "core/world.hpp"
 
+#include <cmath>
+
 namespace harness {
 
 // a / |a| when that is a finite unit vector (|a| rescaled first when it overflows), else zero.
-Vec3 unit_or_zero(const Vec3& a);
+// Inline: the eliminators call it once per contact.
+Vec3 unit_or_zero_rescaled(const Vec3& a);
+inline Vec3 unit_or_zero(const Vec3& a) {
+  const double n = a.norm();
+  if (!(n > 0.0) || !std::isfinite(n)) return unit_or_zero_rescaled(a);
+  const Vec3 u = a / n;
+  return std::isfinite(u.x()) && std::isfinite(u.y()) && std::isfinite(u.z()) ? u : Vec3::Zero();
+}
 // Centre of the host's current bounding box.
 Vec3 host_center_of(const World& w, int host);
 

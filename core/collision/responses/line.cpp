@@ -24,17 +24,23 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
     bool any = false;  // local: the flags share a cache line
     for (std::size_t i = b; i < e; ++i) {
       const Contact& c = contacts[i];
-      Push& p = out[i];
-      p = Push{};
+      Push p;  // made here, stored once
       p.guest = c.guest;
       int h = -1;
-      if (det.nearest_hosts(w, c, 1, &h) < 1) continue;
-      p.count = 1;
-      p.hosts[0] = h;
-      p.weight[0] = 1.0;
-      if (det.contact_direction(w, c, p.n)) continue;  // exact detectors: their outward direction
-      p.n = unit_or_zero(w.x[c.guest] - w.x[h]);
-      any = any || p.n.squaredNorm() == 0.0 || spec.orient == Orient::outward;
+      if (det.nearest_hosts(w, c, 1, &h) >= 1) {
+        p.count = 1;
+        p.hosts[0] = h;
+        p.weight[0] = 1.0;
+        Vec3 dir;
+        if (det.contact_direction(w, c, dir)) {  // exact detectors: their outward direction
+          p.n = dir;
+        } else {
+          dir = unit_or_zero(w.x[c.guest] - w.x[h]);
+          p.n = dir;
+          any = any || dir.squaredNorm() == 0.0 || spec.orient == Orient::outward;
+        }
+      }
+      out[i] = p;
     }
     degenerate[part] = any;
   }
