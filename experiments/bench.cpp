@@ -10,6 +10,7 @@
 #include "core/run/recorder.hpp"
 #include "core/simd/kernels.hpp"
 #include "core/simulation.hpp"
+#include "core/spring_forces.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
 #include "reference/reference.hpp"
@@ -237,13 +238,34 @@ __attribute__((noinline)) double arith_floor(const World& w) {
   return total;
 }
 
+// The force pass's floor: both ends of every spring read as the pass reads them (the node-sorted
+// upper half-edges), one square root and one division each; the half-edges split over the threads.
+__attribute__((noinline)) double pass_floor(const World& w, const SpringGather& g) {
+  const std::size_t ns = static_cast<std::size_t>(g.up_start[g.nodes]);
+  const double* x = w.x.data()->data();
+  const int T = threads_for(w.x.size());
+  const simd::Kernels& k = simd::kernels();
+  double total = 0.0;
+#pragma omp parallel num_threads(T) reduction(+ : total)
+  {
+    int t = 0;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+#endif
+    std::size_t b, e;
+    split_range(ns, T, t, b, e);
+    total += k.pass_floor(x, g.up_self.data() + b, g.up_other.data() + b, e - b);
+  }
+  return total;
+}
+
 }  // namespace
 
 const std::vector<std::string>& bench_methods() {
   static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "voxel_exact_detect",
                                                  "voxel_exact_detect_eliminate", "hash_detect",
                                                  "hash_detect_cell_x0.5", "hash_detect_cell_x2", "hash_detect_cell_x4",
-                                                 "stream_positions", "step", "step_audited", "stream_step", "arith_floor", "fcl", "cgal",
+                                                 "stream_positions", "step", "step_audited", "stream_step", "arith_floor", "pass_floor", "fcl", "cgal",
                                                  "bullet_collide"};
   return names;
 }
@@ -284,6 +306,11 @@ class BenchSize {
     volatile double fsink = 0.0;
     measure("arith_floor", T, [&] { fsink = fsink + arith_floor(w); }, 8LL * static_cast<long long>(w.springs.size()),
             "one square root and one division per spring (force pass lanes)");
+    SpringGather gather;
+    gather.build(w);
+    measure("pass_floor", T, [&] { fsink = fsink + pass_floor(w, gather); },
+            8LL * static_cast<long long>(w.springs.size()) + node_bytes,
+            "both ends of every spring loaded as the force pass loads them, one square root and one division");
     if (wanted("step")) {
       // Steps move the bodies (the penalties push the guest out: fewer contacts, a faster step):
       // every repetition starts from the initial state (restored untimed), the one every other

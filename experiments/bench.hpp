@@ -37,6 +37,9 @@
 //   arith_floor             one square root and one division per spring, in the force pass's
 //                           SIMD lanes (simd::Kernels::sqrt_div): the arithmetic limit of a step
 //                           (correctly rounded IEEE operations, which no layout removes).
+//   pass_floor              both ends of every spring gathered as the force pass gathers them
+//                           (simd::Kernels::pass_floor), their distance's square root and one
+//                           division: what any force pass must do per spring, nothing stored.
 //   bullet_collide          Bullet's collision step on the same two bodies as soft bodies
 //                           (reference/bullet_engine.hpp, BulletCollisionBench): their node and
 //                           face trees refitted and the vertex-face (VF_SS) pass.

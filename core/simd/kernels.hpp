@@ -118,6 +118,10 @@ struct Kernels {
   // Sum over k < n of 1 / sqrt(a[k]) in the force pass's lanes: its one square root and one
   // division per spring and nothing else, the arithmetic no memory layout removes (harness bench).
   double (*sqrt_div)(const double* a, std::size_t n);
+  // Sum over k < n of 1 / |x[other[k]] - x[self[k]]| (points of three doubles), the ends loaded as
+  // the evaluation half loads them: what any force pass must do per spring (read both ends, one
+  // square root, one division) and nothing more (harness bench).
+  double (*pass_floor)(const double* x, const int* self, const int* other, std::size_t n);
 };
 
 // The kernels compiled for `isa` (which must be one the processor supports).

@@ -410,6 +410,34 @@ double sqrt_div(const double* a, std::size_t n) {
   return s;
 }
 
+// ---- The force pass's floor (harness bench): both ends of every spring gathered as eval_lanes
+// gathers them, their distance's square root and its reciprocal summed; nothing stored.
+template <class D>
+double pass_floor(const double* x, const int* self, const int* other, std::size_t n) {
+  constexpr int W = D::W;
+  const D one = D::set1(1.0);
+  D acc = D::set1(0.0);
+  std::size_t k = 0;
+  if constexpr (W > 1)
+    for (; k + W <= n; k += W) {
+      typename D::P d;
+      D dx, dy, dz;
+      D::gather_diff(x, self + k, other + k, d, dx, dy, dz);
+      acc = acc + one / sqrt((dx * dx + dy * dy) + dz * dz);
+    }
+  double lanes[W];
+  store(lanes, acc);
+  double s = 0.0;
+  for (int j = 0; j < W; ++j) s += lanes[j];
+  for (; k < n; ++k) {
+    const double* a = x + 3 * static_cast<std::ptrdiff_t>(self[k]);
+    const double* b = x + 3 * static_cast<std::ptrdiff_t>(other[k]);
+    const double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
+    s += 1.0 / __builtin_sqrt((dx * dx + dy * dy) + dz * dz);
+  }
+  return s;
+}
+
 }  // namespace
 
 extern const Kernels table;
@@ -422,6 +450,7 @@ const Kernels table = {
     spring_eval<EvalLanes, SpringLawKind::exponential>,
     spring_sum<SpringLanes>,
     sqrt_div<EvalLanes>,
+    pass_floor<EvalLanes>,
 };
 
 }  // namespace harness::simd::HARNESS_SIMD_NS

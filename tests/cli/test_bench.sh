@@ -12,7 +12,7 @@ bad() { echo "FAIL: $*"; fail=$((fail+1)); }
 
 "$H" bench --quick --sizes 1000 --min-time 0 --out "$T/bench.csv" 2>"$T/err" && ok || { bad "bench ran"; cat "$T/err"; }
 head -1 "$T/bench.csv" | grep -q '^method,nodes,threads,us_per_step,bytes' && ok || bad "bench columns"
-for m in voxel_detect voxel_detect_eliminate voxel_exact_detect voxel_exact_detect_eliminate stream_positions step step_audited stream_step arith_floor; do
+for m in voxel_detect voxel_detect_eliminate voxel_exact_detect voxel_exact_detect_eliminate stream_positions step step_audited stream_step arith_floor pass_floor; do
   for t in 1 2; do
     grep -q "^$m,1000,$t,[0-9.]*,[0-9]*," "$T/bench.csv" && ok || bad "row $m threads $t"
   done

@@ -344,3 +344,26 @@ TEST_CASE("the arithmetic floor kernel sums 1 / sqrt at every level", "[cpu]") {
     CHECK(simd::kernels(i).sqrt_div(a.data() + 1, 3) == 2.0 + 4.0 + 8.0);
   }
 }
+
+TEST_CASE("the force pass's floor kernel sums the reciprocal lengths at every level", "[cpu]") {
+  Restore restore;
+  // Springs of lengths 2^-k along the axes (1 / l = 2^k exact); n not a multiple of any width.
+  std::vector<double> x = {0.0, 0.0, 0.0};
+  std::vector<int> self, other;
+  double want = 0.0;
+  for (int k = 0; k <= 21; ++k) {
+    const int a = k % 3;
+    double p[3] = {0.0, 0.0, 0.0};
+    p[a] = (k % 2 ? -1.0 : 1.0) * std::ldexp(1.0, -k);
+    const int node = static_cast<int>(x.size() / 3);
+    x.insert(x.end(), p, p + 3);
+    self.push_back(k % 2 ? node : 0), other.push_back(k % 2 ? 0 : node);
+    want += std::ldexp(1.0, k);
+  }
+  for (Isa i : supported()) {
+    INFO(to_string(i));
+    CHECK(simd::kernels(i).pass_floor(x.data(), self.data(), other.data(), self.size()) == want);
+    CHECK(simd::kernels(i).pass_floor(x.data(), self.data(), other.data(), 0) == 0.0);
+    CHECK(simd::kernels(i).pass_floor(x.data(), self.data() + 1, other.data() + 1, 2) == 2.0 + 4.0);
+  }
+}
