@@ -196,6 +196,58 @@ template <class D, SpringLawKind K, bool SP, bool RO, bool EN, bool DP>
   }
 }
 
+// The same numbers for kV vectors of W half-edges at a time, in two loops: first every vector's
+// gathers, length, square root and division (its d kept as loaded), then every vector's law and
+// stores. A vector's whole chain (gathers, square root, division, the exponential law's expm1) is
+// longer than the processor's window holds of a loop that does it all at once; split, each loop's
+// iterations are short and independent, and several overlap. Each lane's operations are
+// eval_lanes's, in its order.
+template <class D>
+struct EvalBlock {
+  static constexpr int kV = 16;
+  typename D::P d[kV];
+  D l2[kV], l[kV], rl[kV], sa[kV], ud[kV];
+};
+
+template <class D, SpringLawKind K, bool SP, bool RO, bool EN, bool DP>
+[[gnu::always_inline]] inline void eval_block(const SpringEvalRun& r, const LawConstants<D>& C, int h,
+                                              EvalBlock<D>& b) {
+  constexpr int V = EvalBlock<D>::kV, W = D::W;
+  for (int k = 0; k < V; ++k) {
+    const int hk = h + k * W;
+    D dx, dy, dz;
+    D::gather_diff(r.x, r.self + hk, r.other + hk, b.d[k], dx, dy, dz);
+    const D l2 = (dx * dx + dy * dy) + dz * dz;
+    const D l = sqrt(l2);
+    b.l2[k] = l2, b.l[k] = l, b.rl[k] = C.one / l;
+    if constexpr (RO) b.sa[k] = (abs(dx) + abs(dy)) + abs(dz);
+    if constexpr (DP) {
+      typename D::P du;
+      D ux, uy, uz;
+      D::gather_diff(r.v, r.self + hk, r.other + hk, du, ux, uy, uz);
+      b.ud[k] = (ux * dx + uy * dy) + uz * dz;
+    }
+  }
+  for (int k = 0; k < V; ++k) {
+    const int hk = h + k * W;
+    const std::ptrdiff_t q = 4 * static_cast<std::ptrdiff_t>(hk);
+    const auto zero_length = le(b.l2[k], C.zero);
+    const D rl = b.rl[k];
+    if constexpr (SP || RO || EN) {
+      D c = C.zero, t = C.zero, e = C.zero;
+      law_lanes<D, K>(C, D::load(r.stiff + hk), D::load(r.rest + hk), D::load(r.inv_rest + hk), b.l[k], rl, RO, EN, c,
+                      t, e);
+      if constexpr (SP) store_points(r.F + q, b.d[k], select(zero_length, C.zero, c));
+      if constexpr (RO) store_points_abs(r.R + q, b.d[k], C.two * t * b.sa[k], lt(C.zero, b.l2[k]));
+      if constexpr (EN) store(r.e + hk, e);
+    }
+    if constexpr (DP) {
+      const D s = C.damping * b.ud[k] * (rl * rl);
+      store_points(r.G + q, b.d[k], select(zero_length, C.zero, s));
+    }
+  }
+}
+
 // One variant per combination of outputs (springs, rows, energy, dashpots): what a pass does not
 // want is compiled out, and no flag is tested per iteration.
 template <class D, SpringLawKind K, bool SP, bool RO, bool EN, bool DP>
@@ -203,6 +255,10 @@ void spring_eval_variant(const SpringEvalRun& r) {
   int h = r.h0;
   if constexpr (D::W > 1) {
     const LawConstants<D> C(r.beta, r.damping);
+    if constexpr (K == SpringLawKind::exponential) {
+      EvalBlock<D> b;
+      for (; h + EvalBlock<D>::kV * D::W <= r.h1; h += EvalBlock<D>::kV * D::W) eval_block<D, K, SP, RO, EN, DP>(r, C, h, b);
+    }
     for (; h + D::W <= r.h1; h += D::W) eval_lanes<D, K, SP, RO, EN, DP>(r, C, h);
   }
   const LawConstants<D1> C1(r.beta, r.damping);
