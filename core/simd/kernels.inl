@@ -126,13 +126,30 @@ struct LawConstants {
   }
 };
 
+// The exponential law's expm1(x) (springs.hpp's spring_expm1): the polynomial, or libm lane by
+// lane beyond its range (or NaN).
+template <class D>
+[[gnu::always_inline]] inline D expm1_lanes(const LawConstants<D>& C, const D& x) {
+  D em1 = expm1_halving(x, C.coef, C.eighth, C.two);
+  const unsigned in = bits(le(abs(x), C.direct));
+  if (in != (1u << D::W) - 1u) {
+    double xs[D::W], es[D::W];
+    store(xs, x), store(es, em1);
+    for (int j = 0; j < D::W; ++j)
+      if (!((in >> j) & 1u)) es[j] = __builtin_expm1(xs[j]);
+    em1 = D::load(es);
+  }
+  return em1;
+}
+
 // The law at the lanes' lengths (springs.hpp, each expression as the scalar one): c the tension
 // over length, t the tangent stiffness over l2 (want_t), e the energy (want_e), from s = l - L0,
-// r = 1 / l and q = 1 / L0. What is not wanted is not computed.
+// r = 1 / l and q = 1 / L0. What is not wanted is not computed. em1_given: the exponential law's
+// expm1(beta ((l - L0) q)) computed already (expm1_lanes), or null.
 template <class D, SpringLawKind K>
 [[gnu::always_inline]] inline void law_lanes(const LawConstants<D>& C, const D& k, const D& L0, const D& q,
                                              const D& l, const D& r, bool want_t, bool want_e, D& c, D& t,
-                                             D& e) {
+                                             D& e, const D* em1_given = nullptr) {
   const D s = l - L0;
   if constexpr (K == SpringLawKind::linear) {
     c = linear_law(k, s, r);
@@ -145,15 +162,7 @@ template <class D, SpringLawKind K>
   } else {
     const D eps = s * q;
     const D x = C.beta * eps;
-    D em1 = expm1_halving(x, C.coef, C.eighth, C.two);
-    const unsigned in = bits(le(abs(x), C.direct));
-    if (in != (1u << D::W) - 1u) {  // beyond the polynomial's range (or NaN): libm, lane by lane
-      double xs[D::W], es[D::W];
-      store(xs, x), store(es, em1);
-      for (int j = 0; j < D::W; ++j)
-        if (!((in >> j) & 1u)) es[j] = __builtin_expm1(xs[j]);
-      em1 = D::load(es);
-    }
+    const D em1 = em1_given ? *em1_given : expm1_lanes(C, x);
     c = select(lt(abs(x), C.tiny_x), exponential_near(k, s, x, C.one, C.half, r),
                exponential_far(k, L0, em1, C.inv_beta, r));
     if (want_t) t = abs(k * (C.one + em1)) * r * r;
@@ -206,7 +215,7 @@ template <class D>
 struct EvalBlock {
   static constexpr int kV = 16;
   typename D::P d[kV];
-  D l2[kV], l[kV], rl[kV], sa[kV], ud[kV];
+  D l2[kV], l[kV], rl[kV], sa[kV], ud[kV], em1[kV];
 };
 
 template <class D, SpringLawKind K, bool SP, bool RO, bool EN, bool DP>
@@ -228,6 +237,11 @@ template <class D, SpringLawKind K, bool SP, bool RO, bool EN, bool DP>
       b.ud[k] = (ux * dx + uy * dy) + uz * dz;
     }
   }
+  if constexpr (K == SpringLawKind::exponential && (SP || RO || EN))
+    for (int k = 0; k < V; ++k) {  // expm1's chain on its own (law_lanes's x, the same operations)
+      const int hk = h + k * W;
+      b.em1[k] = expm1_lanes(C, C.beta * ((b.l[k] - D::load(r.rest + hk)) * D::load(r.inv_rest + hk)));
+    }
   for (int k = 0; k < V; ++k) {
     const int hk = h + k * W;
     const std::ptrdiff_t q = 4 * static_cast<std::ptrdiff_t>(hk);
@@ -236,7 +250,7 @@ template <class D, SpringLawKind K, bool SP, bool RO, bool EN, bool DP>
     if constexpr (SP || RO || EN) {
       D c = C.zero, t = C.zero, e = C.zero;
       law_lanes<D, K>(C, D::load(r.stiff + hk), D::load(r.rest + hk), D::load(r.inv_rest + hk), b.l[k], rl, RO, EN, c,
-                      t, e);
+                      t, e, K == SpringLawKind::exponential ? &b.em1[k] : nullptr);
       if constexpr (SP) store_points(r.F + q, b.d[k], select(zero_length, C.zero, c));
       if constexpr (RO) store_points_abs(r.R + q, b.d[k], C.two * t * b.sa[k], lt(C.zero, b.l2[k]));
       if constexpr (EN) store(r.e + hk, e);
