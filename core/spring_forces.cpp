@@ -9,6 +9,10 @@
 #include <cmath>
 #include <cstdint>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace harness {
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "the kernels take points as three packed doubles");
@@ -81,15 +85,13 @@ double* SpringGather::box(std::vector<double>& b) {
   return b.data() + ((32 - a % 32) % 32) / sizeof(double);
 }
 
-const SpringGather::Split& SpringGather::split(int T) {
-  for (const Split& sp : splits)
-    if (sp.T == T) return sp;
-  Split sp;
-  sp.T = T;
-  const int n = nodes;
-  auto cost = [&](int i) { return kUpWeight * up_start[i] + lo_start[i]; };
-  sp.bounds.assign(static_cast<std::size_t>(T) + 1, n);
-  sp.bounds[0] = 0;
+namespace {
+
+// Node bounds of T parts of about equal cost(n) (cost: a node's prefix of work, nondecreasing).
+template <class Cost>
+std::vector<int> balanced_bounds(int n, int T, Cost&& cost) {
+  std::vector<int> bounds(static_cast<std::size_t>(T) + 1, n);
+  bounds[0] = 0;
   for (int q = 1; q < T; ++q) {
     const long long target = cost(n) * q / T;
     int lo = 0, hi = n;  // first node whose prefix cost reaches the target
@@ -98,22 +100,44 @@ const SpringGather::Split& SpringGather::split(int T) {
       if (cost(mid) < target) lo = mid + 1;
       else hi = mid;
     }
-    sp.bounds[q] = std::max(lo, sp.bounds[q - 1]);
+    bounds[q] = std::max(lo, bounds[q - 1]);
   }
-  // The halo, part by part, appended in place of the arrays' trailing padding, which follows it.
+  return bounds;
+}
+
+}  // namespace
+
+const SpringGather::Split& SpringGather::split(int T) {
+  for (const Split& sp : splits)
+    if (sp.T == T) return sp;
+  Split sp;
+  sp.T = T;
+  const int n = nodes;
+  sp.bounds = balanced_bounds(n, T, [&](int i) { return kUpWeight * up_start[i] + lo_start[i]; });
+  // The halo's springs, part by part: (upper half-edge, lower half-edge) in upper order.
+  std::vector<std::vector<std::pair<int, int>>> copies(static_cast<std::size_t>(T));
+  std::size_t total = 0;
+  for (int t = 0; t < T; ++t) {
+    const int i0 = sp.bounds[t], i1 = sp.bounds[t + 1];
+    for (int l = lo_start[i0]; l < lo_start[i1]; ++l)
+      if (up_self[lo_slot[l]] < i0) copies[t].emplace_back(lo_slot[l], l);
+    std::sort(copies[t].begin(), copies[t].end());  // runs of one body
+    total += copies[t].size();
+  }
+  if (static_cast<double>(total) > kHaloShare * static_cast<double>(springs)) {
+    sp.two_phase = true;
+    sp.bounds = balanced_bounds(n, T, [&](int i) { return static_cast<long long>(up_start[i]) + lo_start[i]; });
+    splits.push_back(std::move(sp));
+    return splits.back();
+  }
+  // The halo, appended in place of the arrays' trailing padding, which follows it.
   const std::size_t end = up_self.size() - kPad;
   for (auto* a : {&up_self, &up_other, &up_spring}) a->resize(end);
   for (auto* a : {&up_rest, &up_inv_rest, &up_stiff}) a->resize(end);
   sp.lo_slot = lo_slot;
   sp.halo_start.push_back(0);
-  std::vector<std::pair<int, int>> copies;  // (upper half-edge, lower half-edge) of a part's halo
   for (int t = 0; t < T; ++t) {
-    const int i0 = sp.bounds[t], i1 = sp.bounds[t + 1];
-    copies.clear();
-    for (int l = lo_start[i0]; l < lo_start[i1]; ++l)
-      if (up_self[lo_slot[l]] < i0) copies.emplace_back(lo_slot[l], l);
-    std::sort(copies.begin(), copies.end());  // in upper order: runs of one body
-    for (const auto& [h, l] : copies) {
+    for (const auto& [h, l] : copies[t]) {
       const int c = static_cast<int>(up_self.size());
       up_self.push_back(up_self[h]), up_other.push_back(up_other[h]), up_spring.push_back(up_spring[h]);
       up_rest.push_back(up_rest[h]), up_inv_rest.push_back(up_inv_rest[h]), up_stiff.push_back(up_stiff[h]);
@@ -221,7 +245,7 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
   ev.e = energy ? g.e.data() : nullptr;
   simd::SpringSumRun su{};
   su.up_start = g.up_start.data(), su.lo_start = g.lo_start.data();
-  su.lo_slot = split ? split->lo_slot.data() : g.lo_slot.data();
+  su.lo_slot = split && !split->two_phase ? split->lo_slot.data() : g.lo_slot.data();
   su.F = ev.F, su.G = ev.G, su.R = ev.R;
   su.e = ev.e;
   su.f = coords(out.f);
@@ -262,6 +286,30 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
     }
   };
   if (!split) return part(0, g.nodes);
+  if (split->two_phase) {  // equal ranges of upper half-edges, then equal ranges of nodes
+    auto eval_part = [&](int t) {
+      std::size_t h0, h1;
+      split_range(static_cast<std::size_t>(U), T, t, h0, h1);
+      eval(static_cast<int>(h0), static_cast<int>(h1));
+    };
+    auto sum_part = [&](int t) {
+      simd::SpringSumRun r = su;
+      r.i0 = split->bounds[t], r.i1 = split->bounds[t + 1];
+      kern.spring_sum(r);
+    };
+    // Each thread takes every k-th part from its own (the team may be smaller than T).
+#pragma omp parallel num_threads(T)
+    {
+      int me = 0, k = 1;
+#ifdef _OPENMP
+      me = omp_get_thread_num(), k = omp_get_num_threads();
+#endif
+      for (int t = me; t < T; t += k) eval_part(t);
+#pragma omp barrier
+      for (int t = me; t < T; t += k) sum_part(t);
+    }
+    return;
+  }
   // One part per thread, each with its halo first; the numbers do not depend on the partition.
 #pragma omp parallel for num_threads(T) schedule(static, 1)
   for (int t = 0; t < T; ++t) {

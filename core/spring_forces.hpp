@@ -45,23 +45,30 @@ struct SpringGather {
   std::vector<Run> runs;
   bool mixed = false;  // a spring's ends lie in different bodies (hand-built worlds): laws per spring
 
-  // The pass over T > 1 threads: part t takes the nodes [bounds[t], bounds[t + 1]) (about equal
-  // work: an upper half-edge, evaluated and summed, weighs kUpWeight lower ones, summed) and
-  // evaluates, besides its nodes' upper half-edges, its own copy (the halo) of every spring whose
-  // upper end lies in an earlier part and whose lower end is one of its nodes: its lower
-  // half-edges read that copy (lo_slot redirected), so that no part waits for another and no
-  // node's sum is deferred. A copy is the same spring evaluated by the same operations: the same
-  // bits. The halo's entries are appended to the up_ arrays and the box, past U and its padding
-  // (each split's after the last), and evaluated by runs of one body.
+  // The pass over T > 1 threads, in one of two ways.
+  // Halo: part t takes the nodes [bounds[t], bounds[t + 1]) (about equal work: an upper half-edge,
+  // evaluated and summed, weighs kUpWeight lower ones, summed) and evaluates, besides its nodes'
+  // upper half-edges, its own copy (the halo) of every spring whose upper end lies in an earlier
+  // part and whose lower end is one of its nodes: its lower half-edges read that copy (lo_slot
+  // redirected), so that no part waits for another and no node's sum is deferred. A copy is the
+  // same spring evaluated by the same operations: the same bits. The halo's entries are appended
+  // to the up_ arrays and the box, past U and its padding (each split's after the last), and
+  // evaluated by runs of one body.
+  // Two phases, where the halo would copy more than a kHaloShare of the springs (a node order
+  // whose springs reach far: surface nodes first, then the interior): the threads evaluate equal
+  // ranges of upper half-edges, wait for each other once, then sum the nodes [bounds[t],
+  // bounds[t + 1]) (equal numbers of half-edges).
   struct Split {
     int T = 0;
+    bool two_phase = false;
     std::vector<int> bounds;      // T + 1 node bounds
-    std::vector<int> lo_slot;     // lo_slot, the halo's lower half-edges redirected to their copy
-    std::vector<Run> halo;        // runs of halo entries of one body, part by part
-    std::vector<int> halo_start;  // T + 1: part t's runs [halo_start[t], halo_start[t + 1])
+    std::vector<int> lo_slot;     // halo: lo_slot, the halo's lower half-edges redirected to their copy
+    std::vector<Run> halo;        // halo: runs of halo entries of one body, part by part
+    std::vector<int> halo_start;  // halo: T + 1, part t's runs [halo_start[t], halo_start[t + 1])
   };
   std::vector<Split> splits;      // one per thread count used so far
   static constexpr long long kUpWeight = 4;
+  static constexpr double kHaloShare = 0.125;
 
   bool matches(const World& w) const { return nodes == w.num_nodes() && springs == w.springs.size(); }
   void build(const World& w);
