@@ -23,12 +23,14 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : s
     engine_v_prev_.assign(world_.x.size(), Vec3::Zero());
   }
   stats_.stability = guard_->stats();
-  const Effect* contact = nullptr;
+  Effect* contact = nullptr;
   for (const auto& e : effects_) {
     external_ = external_ || e->category() == EffectCategory::external;
     corrects_ = corrects_ || e->corrects_positions();
     if (e->category() == EffectCategory::contact) contact = e.get();
   }
+  if (contact && contact->detects_ahead() && options.overlap != SimulationOptions::Overlap::never) ahead_ = contact;
+  overlap_ = options.overlap;
   if (external_) f_ext_.assign(world_.x.size(), Vec3::Zero());  // sized once: no allocation per step
   if (options.audit) {
     AuditSetup a;
@@ -178,7 +180,33 @@ void Simulation::add_forces(StepContext& s) {
     for (int i = 0; i < n; ++i) w.f[i] += f_ext_[i];
     joined = true;
   };
+  // Two threads or more: the contact's detection (from the positions alone) on one thread while
+  // the first effect (the springs) computes its forces on the others; that thread joins them when
+  // it is done. The forces, their order and the contacts are those of one thread; only the time
+  // differs: the shared pass is handed out in chunks (less local than the pass's own split), so
+  // the overlap is taken when the last step's detection took at least kOverlapShare of the time
+  // the first effect's forces took alone (measured on the steps it runs alone).
+  Effect* first = effects_.empty() ? nullptr : effects_.front().get();
+  const bool can_overlap = ahead_ && first != ahead_ && threads() > 1;
+  const Effect* done = nullptr;
+  const bool worth = overlap_ == SimulationOptions::Overlap::always ||
+                     (alone_us_ > 0.0 && last_.detect_us >= kOverlapShare * alone_us_);
+  if (can_overlap && worth && first->shareable(w)) {
+#pragma omp parallel num_threads(threads())
+    {
+#pragma omp single nowait
+      ahead_->detect_ahead(w);
+      first->add_forces_shared(w, s);
+    }
+    done = first;
+  } else if (can_overlap) {
+    const auto t0 = Clock::now();
+    first->add_forces(w, s);
+    alone_us_ = us_since(t0);
+    done = first;
+  }
   for (const auto& e : effects_) {
+    if (e.get() == done) continue;
     if (e->category() != EffectCategory::elastic) check_guard();
     if (e->category() == EffectCategory::external) {
       std::swap(w.f, f_ext_);

@@ -32,10 +32,16 @@ struct SimulationOptions {
   // contact effect is then not built (the engine handles the pairs) and the energy audit keeps
   // only the kinetic and elastic energies (no work booked) and the force residual.
   EngineMaker engine = nullptr;
+  // With two threads or more, contact detection overlapping the springs' pass (add_forces):
+  // automatic (when the last detection took at least kOverlapShare of the pass alone), always, or
+  // never. Only the time depends on it, never the bits (tests run it always).
+  enum class Overlap { automatic, always, never };
+  Overlap overlap = Overlap::automatic;
 };
 
 // Wall time of the last step, microseconds (steady_clock). physics: everything but the contact
-// pairs' detection and elimination.
+// pairs' detection and elimination (the step's time minus theirs: where detection overlaps the
+// springs' pass on two threads, the overlap is counted once, in detect).
 struct StepTimes {
   double step_us = 0.0, physics_us = 0.0, detect_us = 0.0, eliminate_us = 0.0;
 };
@@ -103,6 +109,10 @@ class Simulation {
   Kinematics kinematics_;
   std::vector<Pair> pairs_;
   Effects effects_;
+  Effect* ahead_ = nullptr;  // the contact effect, when it can detect ahead (add_forces)
+  double alone_us_ = 0.0;    // the first effect's forces when they last ran alone, us (add_forces)
+  SimulationOptions::Overlap overlap_ = SimulationOptions::Overlap::automatic;
+  static constexpr double kOverlapShare = 0.4;
   std::unique_ptr<StabilityGuard> guard_;
   std::unique_ptr<StepEngine> engine_;
   Points engine_v_prev_;  // velocities before the engine's step (its residual)

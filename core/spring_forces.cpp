@@ -66,6 +66,7 @@ void SpringGather::build(const World& w) {
   F.assign(4 * (U + kPad) + 4, 0.0), G.assign(4 * (U + kPad) + 4, 0.0), R.assign(4 * (U + kPad) + 4, 0.0);
   e.assign(U + kPad, 0.0);
   splits.clear();
+  chunk_bounds.clear();
   // Runs: each body's upper half-edges; mixed when a spring's upper end lies outside its body.
   runs.clear();
   mixed = false;
@@ -224,79 +225,96 @@ void mixed_eval(SpringGather& g, const World& w, bool springs, bool dashpots, bo
 
 }  // namespace
 
+namespace {
+
+// One force pass's set-up (the kernels' runs over the gather's arrays and the outputs) and its
+// pieces: the evaluation of a range of upper half-edges, the sums of a range of nodes.
+class Pass {
+ public:
+  // `lo_slot`: the lower half-edges' slots the sums read (a halo split's redirected ones).
+  Pass(SpringGather& g, const World& w, bool springs, bool dashpots, const SpringPassOut& out, const int* lo_slot)
+      : g_(g), w_(w), kern_(simd::kernels()) {
+    springs_ = springs && out.f;
+    dashpots_ = dashpots && out.f;
+    rows_ = out.rows != nullptr, energy_ = out.energy != nullptr;
+    ev_.self = g.up_self.data(), ev_.other = g.up_other.data(), ev_.rest = g.up_rest.data();
+    ev_.inv_rest = g.up_inv_rest.data(), ev_.stiff = g.up_stiff.data();
+    ev_.x = coords(w.x), ev_.v = coords(w.v);
+    ev_.F = springs_ ? SpringGather::box(g.F) : nullptr;
+    ev_.G = dashpots_ ? SpringGather::box(g.G) : nullptr;
+    ev_.R = rows_ ? SpringGather::box(g.R) : nullptr;
+    ev_.e = energy_ ? g.e.data() : nullptr;
+    su_.up_start = g.up_start.data(), su_.lo_start = g.lo_start.data();
+    su_.lo_slot = lo_slot;
+    su_.F = ev_.F, su_.G = ev_.G, su_.R = ev_.R;
+    su_.e = ev_.e;
+    su_.f = coords(out.f);
+    su_.f_spring = coords(out.f_spring), su_.f_dashpot = coords(out.f_dashpot);
+    su_.energy = energy_ ? out.energy->data() : nullptr;
+    su_.rows = rows_ ? (*out.rows)[0].data() : nullptr;
+  }
+
+  // The upper half-edges [h0, h1) of one body (none: a mixed world's, spring by spring).
+  void eval_run(int h0, int h1, int body) const {
+    if (g_.mixed || body < 0) return mixed_eval(g_, w_, springs_, dashpots_, rows_, energy_, h0, h1);
+    simd::SpringEvalRun r = ev_;
+    const BodyLaw& law = w_.body_law[body];
+    r.beta = law.beta;
+    r.damping = w_.bodies[body].material.damping;
+    r.h0 = h0, r.h1 = h1;
+    switch (law.kind) {
+      case SpringLawKind::linear: kern_.spring_eval_linear(r); break;
+      case SpringLawKind::cubic: kern_.spring_eval_cubic(r); break;
+      case SpringLawKind::exponential: kern_.spring_eval_exponential(r); break;
+    }
+  }
+  // Every upper half-edge of [h0, h1) (body by body).
+  void eval(int h0, int h1) const {
+    if (g_.mixed) return mixed_eval(g_, w_, springs_, dashpots_, rows_, energy_, h0, h1);
+    for (const SpringGather::Run& run : g_.runs) {
+      const int a = std::max(h0, run.begin), b = std::min(h1, run.end);
+      if (a < b) eval_run(a, b, run.body);
+    }
+  }
+  // The sums of the nodes [i0, i1) (every half-edge they read evaluated already).
+  void sum(int i0, int i1) const {
+    simd::SpringSumRun r = su_;
+    r.i0 = i0, r.i1 = i1;
+    kern_.spring_sum(r);
+  }
+  // The nodes [i0, i1) of a part, in blocks of kBlock nodes: their springs evaluated, then their
+  // nodes summed while the box entries are still in cache (a lower half-edge's upper end is an
+  // earlier node: of this block, of an earlier one or of the part's halo, evaluated already).
+  void part(int i0, int i1) const {
+    for (int b0 = i0; b0 < i1; b0 += kBlock) {
+      const int b1 = std::min(i1, b0 + kBlock);
+      eval(g_.up_start[b0], g_.up_start[b1]);
+      sum(b0, b1);
+    }
+  }
+
+ private:
+  SpringGather& g_;
+  const World& w_;
+  const simd::Kernels& kern_;
+  bool springs_ = false, dashpots_ = false, rows_ = false, energy_ = false;
+  simd::SpringEvalRun ev_{};
+  simd::SpringSumRun su_{};
+};
+
+}  // namespace
+
 void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, const SpringPassOut& out) {
   if (!g.matches(w)) g.build(w);
-  springs = springs && out.f;
-  dashpots = dashpots && out.f;
-  const bool rows = out.rows != nullptr, energy = out.energy != nullptr;
   const int U = g.up_start[g.nodes];
   const std::size_t half_edges = static_cast<std::size_t>(U) + g.lo_start[g.nodes];
   const int T = threads_for(half_edges, kHalfEdgesPerThread);
   // (before any pointer into the arrays is taken: a new split grows them)
   const SpringGather::Split* split = T > 1 ? &g.split(T) : nullptr;
-  const simd::Kernels& kern = simd::kernels();
-  simd::SpringEvalRun ev{};
-  ev.self = g.up_self.data(), ev.other = g.up_other.data(), ev.rest = g.up_rest.data();
-  ev.inv_rest = g.up_inv_rest.data(), ev.stiff = g.up_stiff.data();
-  ev.x = coords(w.x), ev.v = coords(w.v);
-  ev.F = springs ? SpringGather::box(g.F) : nullptr;
-  ev.G = dashpots ? SpringGather::box(g.G) : nullptr;
-  ev.R = rows ? SpringGather::box(g.R) : nullptr;
-  ev.e = energy ? g.e.data() : nullptr;
-  simd::SpringSumRun su{};
-  su.up_start = g.up_start.data(), su.lo_start = g.lo_start.data();
-  su.lo_slot = split && !split->two_phase ? split->lo_slot.data() : g.lo_slot.data();
-  su.F = ev.F, su.G = ev.G, su.R = ev.R;
-  su.e = ev.e;
-  su.f = coords(out.f);
-  su.f_spring = coords(out.f_spring), su.f_dashpot = coords(out.f_dashpot);
-  su.energy = energy ? out.energy->data() : nullptr;
-  su.rows = rows ? (*out.rows)[0].data() : nullptr;
-  // The upper half-edges [h0, h1) of one body, by the kernel of its law.
-  auto eval_run = [&](int h0, int h1, int body) {
-    simd::SpringEvalRun r = ev;
-    const BodyLaw& law = w.body_law[body];
-    r.beta = law.beta;
-    r.damping = w.bodies[body].material.damping;
-    r.h0 = h0, r.h1 = h1;
-    switch (law.kind) {
-      case SpringLawKind::linear: kern.spring_eval_linear(r); break;
-      case SpringLawKind::cubic: kern.spring_eval_cubic(r); break;
-      case SpringLawKind::exponential: kern.spring_eval_exponential(r); break;
-    }
-  };
-  // Every upper half-edge of [h0, h1) (body by body).
-  auto eval = [&](int h0, int h1) {
-    if (g.mixed) return mixed_eval(g, w, springs, dashpots, rows, energy, h0, h1);
-    for (const SpringGather::Run& run : g.runs) {
-      const int a = std::max(h0, run.begin), b = std::min(h1, run.end);
-      if (a < b) eval_run(a, b, run.body);
-    }
-  };
-  // The nodes [i0, i1) of a part, in blocks of kBlock nodes: their springs evaluated, then their
-  // nodes summed while the box entries are still in cache (a lower half-edge's upper end is an
-  // earlier node: of this block, of an earlier one or of the part's halo, evaluated already).
-  auto part = [&](int i0, int i1) {
-    for (int b0 = i0; b0 < i1; b0 += kBlock) {
-      const int b1 = std::min(i1, b0 + kBlock);
-      eval(g.up_start[b0], g.up_start[b1]);
-      simd::SpringSumRun r = su;
-      r.i0 = b0, r.i1 = b1;
-      kern.spring_sum(r);
-    }
-  };
-  if (!split) return part(0, g.nodes);
+  const Pass pass(g, w, springs, dashpots, out,
+                  split && !split->two_phase ? split->lo_slot.data() : g.lo_slot.data());
+  if (!split) return pass.part(0, g.nodes);
   if (split->two_phase) {  // equal ranges of upper half-edges, then equal ranges of nodes
-    auto eval_part = [&](int t) {
-      std::size_t h0, h1;
-      split_range(static_cast<std::size_t>(U), T, t, h0, h1);
-      eval(static_cast<int>(h0), static_cast<int>(h1));
-    };
-    auto sum_part = [&](int t) {
-      simd::SpringSumRun r = su;
-      r.i0 = split->bounds[t], r.i1 = split->bounds[t + 1];
-      kern.spring_sum(r);
-    };
     // Each thread takes every k-th part from its own (the team may be smaller than T).
 #pragma omp parallel num_threads(T)
     {
@@ -304,9 +322,13 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
 #ifdef _OPENMP
       me = omp_get_thread_num(), k = omp_get_num_threads();
 #endif
-      for (int t = me; t < T; t += k) eval_part(t);
+      for (int t = me; t < T; t += k) {
+        std::size_t h0, h1;
+        split_range(static_cast<std::size_t>(U), T, t, h0, h1);
+        pass.eval(static_cast<int>(h0), static_cast<int>(h1));
+      }
 #pragma omp barrier
-      for (int t = me; t < T; t += k) sum_part(t);
+      for (int t = me; t < T; t += k) pass.sum(split->bounds[t], split->bounds[t + 1]);
     }
     return;
   }
@@ -315,11 +337,50 @@ void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, c
   for (int t = 0; t < T; ++t) {
     for (int q = split->halo_start[t]; q < split->halo_start[t + 1]; ++q) {
       const SpringGather::Run& run = split->halo[q];
-      if (g.mixed) mixed_eval(g, w, springs, dashpots, rows, energy, run.begin, run.end);
-      else eval_run(run.begin, run.end, run.body);
+      pass.eval_run(run.begin, run.end, run.body);
     }
-    part(split->bounds[t], split->bounds[t + 1]);
+    pass.part(split->bounds[t], split->bounds[t + 1]);
   }
+}
+
+bool spring_pass_shareable(SpringGather& g, const World& w) {
+  if (!g.matches(w)) g.build(w);
+  const std::size_t half_edges = static_cast<std::size_t>(g.up_start[g.nodes]) + g.lo_start[g.nodes];
+  if (threads_for(half_edges, kHalfEdgesPerThread) < 2) return false;
+  if (g.chunk_bounds.empty())
+    g.chunk_bounds = balanced_bounds(g.nodes, SpringGather::kChunks,
+                                     [&](int i) { return static_cast<long long>(g.up_start[i]) + g.lo_start[i]; });
+  for (auto& f : g.claims->free) f.store(static_cast<std::uint64_t>(SpringGather::kChunks) << 32);
+  return true;
+}
+
+void spring_pass_shared(SpringGather& g, const World& w, bool springs, bool dashpots, const SpringPassOut& out) {
+  const Pass pass(g, w, springs, dashpots, out, g.lo_slot.data());
+  int me = 0;
+#ifdef _OPENMP
+  me = omp_get_thread_num();
+#endif
+  SpringGather::Claims& cl = *g.claims;
+  // Claims the next free chunk at this thread's end (one compare-and-swap of both ends): every
+  // chunk exactly once; false when none is left.
+  auto claim = [&](int phase, int& c) {
+    std::atomic<std::uint64_t>& f = cl.free[phase];
+    std::uint64_t v = f.load();
+    for (;;) {
+      const std::uint32_t lo = static_cast<std::uint32_t>(v), hi = static_cast<std::uint32_t>(v >> 32);
+      if (lo >= hi) return false;
+      const bool front = me % 2 == 0;
+      const std::uint64_t next = front ? (v + 1) : (static_cast<std::uint64_t>(hi - 1) << 32 | lo);
+      if (f.compare_exchange_weak(v, next)) {
+        c = static_cast<int>(front ? lo : hi - 1);
+        return true;
+      }
+    }
+  };
+  for (int c; claim(0, c);) pass.eval(g.up_start[g.chunk_bounds[c]], g.up_start[g.chunk_bounds[c + 1]]);
+#pragma omp barrier
+  for (int c; claim(1, c);) pass.sum(g.chunk_bounds[c], g.chunk_bounds[c + 1]);
+#pragma omp barrier
 }
 
 double sum_node_energy(const std::vector<double>& e) {

@@ -6,6 +6,8 @@
 #include "core/world.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <cstdint>
 #include <vector>
 
@@ -67,6 +69,17 @@ struct SpringGather {
     std::vector<int> halo_start;  // halo: T + 1, part t's runs [halo_start[t], halo_start[t + 1])
   };
   std::vector<Split> splits;      // one per thread count used so far
+  // The shared pass (spring_pass_shared): kChunks node ranges of about equal numbers of
+  // half-edges, made on first use, and the team's claims on them: the even threads take chunks
+  // from the front, the odd ones from the back (each thread's evaluations and sums then mostly
+  // fall in the same chunks: its own cache), for the evaluations, then the sums.
+  static constexpr int kChunks = 32;
+  std::vector<int> chunk_bounds;
+  struct Claims {
+    // Per phase: the free chunks [front, back), front in the low 32 bits, back in the high.
+    alignas(64) std::atomic<std::uint64_t> free[2];
+  };
+  std::shared_ptr<Claims> claims = std::make_shared<Claims>();
   static constexpr long long kUpWeight = 4;
   static constexpr double kHaloShare = 0.125;
 
@@ -89,6 +102,13 @@ struct SpringPassOut {
 // when `dashpots` (f[i] = (f[i] + springs) + dashpots), and what `out` asks for besides. Mass
 // damping is not here (add_mass_damping). Outputs must be sized to the node count.
 void spring_pass(SpringGather& g, const World& w, bool springs, bool dashpots, const SpringPassOut& out);
+// spring_pass shared out among the threads of an enclosing OpenMP parallel region, in chunks
+// handed out as threads come free (a thread busy with other work, contact detection, joins when
+// it is done): every thread of the team calls it, and it ends with the team at a barrier. The same
+// numbers as spring_pass. spring_pass_shareable(g, w), on one thread before the region, makes g
+// ready for it and says whether the world is large enough to share (else call spring_pass).
+bool spring_pass_shareable(SpringGather& g, const World& w);
+void spring_pass_shared(SpringGather& g, const World& w, bool springs, bool dashpots, const SpringPassOut& out);
 // The node energies of spring_pass summed in a fixed order (chunks of 4096 nodes), J.
 double sum_node_energy(const std::vector<double>& e);
 

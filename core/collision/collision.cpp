@@ -64,13 +64,21 @@ void Collision::all_pushes(const World& w) {
   }
 }
 
-PairStep Collision::finish(PairStep s, Clock::time_point t0, Clock::time_point t1) {
+void Collision::detect_ahead(const World& w) {
+  if (projects()) return;
+  const auto t0 = Clock::now();
+  detect_all(w);
+  ahead_us_ = us_since(t0);
+  ahead_ = true;
+}
+
+PairStep Collision::finish(PairStep s, double detect_us, Clock::time_point t1) {
   stepped_ = true;
   const auto t2 = Clock::now();
   s.contacts = static_cast<int>(contacts_.size() + reverse_contacts_.size());
   s.beyond_band = detector_->beyond_band();
   if (reverse_ && s.beyond_band >= 0) s.beyond_band += std::max(0, reverse_->beyond_band());
-  s.detect_us = us_between(t0, t1);
+  s.detect_us = detect_us;
   s.eliminate_us = us_between(t1, t2);
   return s;
 }
@@ -87,14 +95,19 @@ PairStep Collision::project(World& w, double h) {
   magnitude_.assign(pushes_.size(), 0.0);
   s.force = project_pushes(w, pushes_, h);
   for (std::size_t i = 0; i < pushes_.size(); ++i) magnitude_[i] = pushes_[i].depth > 0.0 ? 1.0 : 0.0;
-  return finish(s, t0, t1);
+  return finish(s, us_between(t0, t1), t1);
 }
 
 PairStep Collision::step(World& w, double h) {
   PairStep s;
   if (projects()) return s;
-  const auto t0 = Clock::now();
-  detect_all(w);
+  double detect_us = ahead_us_;
+  if (!ahead_) {
+    const auto t0 = Clock::now();
+    detect_all(w);
+    detect_us = us_since(t0);
+  }
+  ahead_ = false;
   const auto t1 = Clock::now();
   all_pushes(w);
   switch (spec_.force_rule) {
@@ -112,7 +125,7 @@ PairStep Collision::step(World& w, double h) {
   if (spec_.invert_push)
     for (Push& p : pushes_) p.n = -p.n;
   apply_pushes(w, pushes_, magnitude_);
-  return finish(s, t0, t1);
+  return finish(s, detect_us, t1);
 }
 
 double Collision::work(const World& w, const Points& dx) const {

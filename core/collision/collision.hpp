@@ -58,6 +58,10 @@ class Collision {
   bool projects() const { return spec_.eliminator == EliminatorKind::projection; }
   // Detection only (tests, benchmarks, measurement); returns the number of contacts.
   int detect(const World& w);
+  // The next step()'s detection, made now (from the positions alone, which nothing changes before
+  // that step() in the same substep): on one thread while the force pass runs on the others. Its
+  // time is the step's detect_us. Nothing for a projection pair (it detects after integration).
+  void detect_ahead(const World& w);
 
   // The guest nodes detected this step (with two_sided, the host nodes detected the other way
   // round are in reverse_contacts()).
@@ -80,7 +84,7 @@ class Collision {
   void detect_all(const World& w);  // this way round, and the other when two-sided
   void all_pushes(const World& w);
   // Marks the pair stepped and fills its contacts and timings (detection t0..t1, the rest t1..now).
-  PairStep finish(PairStep s, Clock::time_point t0, Clock::time_point t1);
+  PairStep finish(PairStep s, double detect_us, Clock::time_point t1);
 
   ContactSpec spec_;
   std::unique_ptr<CollisionDetector> detector_;
@@ -97,6 +101,8 @@ class Collision {
   std::vector<Contact> reverse_contacts_;
   std::vector<Push> reverse_pushes_;
   bool stepped_ = false;
+  bool ahead_ = false;        // detect_ahead() ran: step() takes its contacts
+  double ahead_us_ = 0.0;     // and its time
   double projected_h_ = 0.0;  // the substep of the last project()
 };
 

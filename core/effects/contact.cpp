@@ -22,6 +22,22 @@ void ContactEffect::add_forces(World& w, const StepContext& s) {
   }
 }
 
+bool ContactEffect::detects_ahead() const {
+  for (const Pair& p : pairs_)
+    if (p.collision && !p.collision->projects()) return true;
+  return false;
+}
+
+bool ContactEffect::detect_ahead(const World& w) {
+  bool any = false;
+  for (Pair& p : pairs_)
+    if (p.collision && !p.collision->projects()) {
+      p.collision->detect_ahead(w);
+      any = true;
+    }
+  return any;
+}
+
 void ContactEffect::after_integration(World& w, const StepContext& s) {
   for (Pair& p : pairs_) {
     if (!p.collision->projects()) continue;

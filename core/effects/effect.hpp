@@ -5,6 +5,8 @@
 //   begin_step   once per step, before any force: kinematic constraints (pins, drivers);
 //   add_forces   once per (sub)step: adds the effect's forces into World::f;
 //   end_step     once per step, after the last position update;
+//   detect_ahead, add_forces_shared  the overlap of contact detection with the springs' pass on
+//                two threads or more (below);
 //   after_integration  after each substep's position update (projection);
 //   add_jacobian the linearisation the implicit integrator assembles (LinearSystem);
 //   add_stiffness_rows  Gershgorin row sums of |df/dx|, for the explicit stability guard;
@@ -67,6 +69,23 @@ class Effect {
   virtual void begin_step(World& w, const StepContext& s) { (void)w, (void)s; }
   virtual void add_forces(World& w, const StepContext& s) { (void)w, (void)s; }
   virtual void end_step(World& w, const StepContext& s) { (void)w, (void)s; }
+  // Overlap on two threads or more (Simulation::add_forces). detect_ahead: work of the next
+  // add_forces that needs the positions alone (contact detection), done now on one thread while
+  // the first effect's forces are computed on the others; false when there is none.
+  // shareable / add_forces_shared: add_forces with its work shared out among the threads of an
+  // enclosing parallel region: shareable(), on one thread before the region, gets ready and says
+  // whether the effect has such a form worth using now; then every thread of the team calls
+  // add_forces_shared, which ends with the team at a barrier. The same forces as add_forces.
+  virtual bool detect_ahead(const World& w) {
+    (void)w;
+    return false;
+  }
+  virtual bool detects_ahead() const { return false; }
+  virtual bool shareable(const World& w) {
+    (void)w;
+    return false;
+  }
+  virtual void add_forces_shared(World& w, const StepContext& s) { (void)w, (void)s; }
   // After each substep's position update (position-based corrections); a correction that moves
   // nodes adds its equivalent force m dx / h^2 into World::f for the energy audit.
   virtual void after_integration(World& w, const StepContext& s) { (void)w, (void)s; }

@@ -24,14 +24,20 @@ void SpringsEffect::add_jacobian(const World& w, LinearSystem& sys) const {
   }
 }
 
-void SpringsEffect::add_forces(World& w, const StepContext& s) {
+SpringPassOut SpringsEffect::outputs(World& w, const StepContext& s) const {
   SpringPassOut out;
   out.f = &w.f;
   out.f_spring = s.f_spring;
   out.f_dashpot = dashpots_ ? s.f_dashpot : nullptr;
   out.energy = s.spring_energy;
   out.rows = s.guard_rows;
-  spring_pass(gather_, w, true, dashpots_, out);
+  return out;
+}
+
+void SpringsEffect::add_forces(World& w, const StepContext& s) { spring_pass(gather_, w, true, dashpots_, outputs(w, s)); }
+
+void SpringsEffect::add_forces_shared(World& w, const StepContext& s) {
+  spring_pass_shared(gather_, w, true, dashpots_, outputs(w, s));
 }
 
 bool SpringsEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const {

@@ -16,6 +16,8 @@ class SpringsEffect final : public Effect {
   const char* name() const override { return "springs"; }
   EffectCategory category() const override { return EffectCategory::elastic; }
   void add_forces(World& w, const StepContext& s) override;
+  bool shareable(const World& w) override { return spring_pass_shareable(gather_, w); }
+  void add_forces_shared(World& w, const StepContext& s) override;
   // K_k = k_t u u^T + max(T / l, 0) (I - u u^T): the compressive geometric term is dropped so
   // that the implicit system stays symmetric positive definite.
   void add_jacobian(const World& w, LinearSystem& sys) const override;
@@ -24,6 +26,7 @@ class SpringsEffect final : public Effect {
   double energy(const World& w) const override { return spring_potential(gather_, w, energy_); }
 
  private:
+  SpringPassOut outputs(World& w, const StepContext& s) const;
   mutable SpringGather gather_;  // kept between steps (spring topology is fixed once built)
   mutable std::vector<double> energy_;  // energy(): the node energies, sized once
   bool has_springs_;

@@ -42,8 +42,11 @@ std::string bundled(const std::string& name) {
   return std::string(HARNESS_SOURCE_DIR) + "/experiments/scenes/" + name + ".json";
 }
 
-std::string run_hash(const Scene& scene, int steps, std::vector<int>* contacts = nullptr) {
-  Simulation sim(scene);
+std::string run_hash(const Scene& scene, int steps, std::vector<int>* contacts = nullptr,
+                     SimulationOptions::Overlap overlap = SimulationOptions::Overlap::automatic) {
+  SimulationOptions so;
+  so.overlap = overlap;
+  Simulation sim(scene, so);
   for (int s = 0; s < steps; ++s) {
     sim.step();
     if (contacts)
@@ -91,6 +94,25 @@ TEST_CASE("a run's state hash is the same with 1 and 2 threads", "[parallel][det
   set_threads(2);
   set_parallel_grain(1);
   CHECK(run_hash(scene, 60) == h1);
+}
+
+TEST_CASE("detection overlapping the springs' pass gives one thread's state and contacts", "[parallel][determinism]") {
+  ThreadsGuard guard;
+  for (const char* name : {"cylinder_press", "implant_expansion", "sphere_collision"}) {
+    const Scene scene = load_scene(bundled(name), {{"references.solvers", "[]"}, {"contacts.0.detector", "\"voxel\""}});
+    set_threads(1);
+    set_parallel_grain(0);
+    std::vector<int> c1, c2, c3;
+    const std::string h1 = run_hash(scene, 40, &c1);
+    set_parallel_grain(1);
+    for (int t : {2, 3}) {
+      set_threads(t);
+      std::vector<int>& c = t == 2 ? c2 : c3;
+      INFO(name << ", threads " << t);
+      CHECK(run_hash(scene, 40, &c, SimulationOptions::Overlap::always) == h1);
+      CHECK(c == c1);
+    }
+  }
 }
 
 TEST_CASE("spring and damping gathers equal the serial scatter bit for bit", "[parallel][springs]") {

@@ -1,4 +1,8 @@
 // The exact detectors ("cgal", "fcl") behind the core CollisionDetector interface.
+#include "core/parallel.hpp"
+#include "core/scene/scene.hpp"
+#include "core/simulation.hpp"
+#include "core/state_hash.hpp"
 #include "reference/reference.hpp"
 #include "tests/reference/reference_test_worlds.hpp"
 
@@ -159,4 +163,35 @@ TEST_CASE("a diverged state: no contacts, no measurement, no abort", "[reference
   CHECK_FALSE(out.has_cgal);
   CHECK_FALSE(out.has_fcl);
   CHECK_FALSE(out.has_ccd);
+}
+
+TEST_CASE("CGAL detection overlapping the springs' pass: the same state and contacts as one thread",
+          "[reference][detector][cgal][parallel]") {
+  // Each bundled scene with its own contact (CGAL both ways), 60 steps from rest and 60 steps of
+  // its contact phase: one thread, then two and three with the detection always overlapped.
+  const int threads_before = threads();
+  for (const char* name : {"sphere_collision", "cylinder_press", "implant_expansion"}) {
+    Scene scene = load_scene(std::string(HARNESS_SOURCE_DIR) + "/experiments/scenes/" + name + ".json",
+                             {{"references.solvers", "[]"}, {"output.frames_every", "0"}});
+    auto run = [&](int t, SimulationOptions::Overlap overlap, std::vector<int>& contacts) {
+      set_threads(t);
+      SimulationOptions so;
+      so.exact_detectors = make_exact_detector;
+      so.overlap = overlap;
+      Simulation sim(scene, so);
+      for (int s = 0; s < 1500; ++s) {
+        sim.step();
+        if (s >= 1440) contacts.push_back(sim.pairs().at(0).last.contacts);
+      }
+      return state_hash(sim.world());
+    };
+    std::vector<int> c1, c2, c3;
+    const std::string h1 = run(1, SimulationOptions::Overlap::never, c1);
+    INFO(name);
+    CHECK(run(2, SimulationOptions::Overlap::always, c2) == h1);
+    CHECK(run(3, SimulationOptions::Overlap::always, c3) == h1);
+    CHECK(c2 == c1);
+    CHECK(c3 == c1);
+  }
+  set_threads(threads_before);
 }
