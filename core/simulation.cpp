@@ -29,7 +29,7 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : s
     corrects_ = corrects_ || e->corrects_positions();
     if (e->category() == EffectCategory::contact) contact = e.get();
   }
-  if (contact && contact->detects_ahead() && options.overlap != SimulationOptions::Overlap::never) ahead_ = contact;
+  if (contact && contact->ahead_tasks() > 0 && options.overlap != SimulationOptions::Overlap::never) ahead_ = contact;
   overlap_ = options.overlap;
   if (external_) f_ext_.assign(world_.x.size(), Vec3::Zero());  // sized once: no allocation per step
   if (options.audit) {
@@ -180,24 +180,28 @@ void Simulation::add_forces(StepContext& s) {
     for (int i = 0; i < n; ++i) w.f[i] += f_ext_[i];
     joined = true;
   };
-  // Two threads or more: the contact's detection (from the positions alone) on one thread while
-  // the first effect (the springs) computes its forces on the others; that thread joins them when
-  // it is done. The forces, their order and the contacts are those of one thread; only the time
-  // differs: the shared pass is handed out in chunks (less local than the pass's own split), so
-  // the overlap is taken when the last step's detection took at least kOverlapShare of the time
-  // the first effect's forces took alone (measured on the steps it runs alone).
+  // Two threads or more: the contact's detection (from the positions alone: each pair and
+  // direction a task) on some threads while the first effect (the springs) computes its forces on
+  // the others; a thread joins them when its detection is done. The forces, their order and the
+  // contacts are those of one thread; only the time differs: the shared pass is handed out in
+  // chunks (less local than the pass's own split), so the overlap is taken when the last step's
+  // detection took at least kOverlapShare of the time the first effect's forces took alone
+  // (measured on the steps it runs alone).
   Effect* first = effects_.empty() ? nullptr : effects_.front().get();
   const bool can_overlap = ahead_ && first != ahead_ && threads() > 1;
   const Effect* done = nullptr;
   const bool worth = overlap_ == SimulationOptions::Overlap::always ||
-                     (alone_us_ > 0.0 && last_.detect_us >= kOverlapShare * alone_us_);
+                     (overlap_ == SimulationOptions::Overlap::automatic && alone_us_ > 0.0 &&
+                      last_.detect_us >= kOverlapShare * alone_us_);
   if (can_overlap && worth && first->shareable(w)) {
+    const int tasks = ahead_->ahead_tasks();
 #pragma omp parallel num_threads(threads())
     {
-#pragma omp single nowait
-      ahead_->detect_ahead(w);
+#pragma omp for schedule(dynamic, 1) nowait
+      for (int k = 0; k < tasks; ++k) ahead_->detect_ahead(w, k);
       first->add_forces_shared(w, s);
     }
+    ahead_->ahead_done();
     done = first;
   } else if (can_overlap) {
     const auto t0 = Clock::now();

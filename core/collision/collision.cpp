@@ -64,12 +64,11 @@ void Collision::all_pushes(const World& w) {
   }
 }
 
-void Collision::detect_ahead(const World& w) {
-  if (projects()) return;
+void Collision::detect_ahead(const World& w, int part) {
   const auto t0 = Clock::now();
-  detect_all(w);
-  ahead_us_ = us_since(t0);
-  ahead_ = true;
+  if (part == 0) detector_->detect(w, contacts_);
+  else reverse_->detect(w, reverse_contacts_);
+  ahead_us_[part] = us_since(t0);
 }
 
 PairStep Collision::finish(PairStep s, double detect_us, Clock::time_point t1) {
@@ -101,7 +100,7 @@ PairStep Collision::project(World& w, double h) {
 PairStep Collision::step(World& w, double h) {
   PairStep s;
   if (projects()) return s;
-  double detect_us = ahead_us_;
+  double detect_us = ahead_us_[0] + ahead_us_[1];
   if (!ahead_) {
     const auto t0 = Clock::now();
     detect_all(w);

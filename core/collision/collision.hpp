@@ -59,9 +59,14 @@ class Collision {
   // Detection only (tests, benchmarks, measurement); returns the number of contacts.
   int detect(const World& w);
   // The next step()'s detection, made now (from the positions alone, which nothing changes before
-  // that step() in the same substep): on one thread while the force pass runs on the others. Its
-  // time is the step's detect_us. Nothing for a projection pair (it detects after integration).
-  void detect_ahead(const World& w);
+  // that step() in the same substep), in ahead_parts() parts that may run on different threads
+  // at once (this way round; the other way round when two-sided), while the force pass runs on
+  // the others. The step's detect_us is the sum of the parts' times. None for a projection pair
+  // (it detects after integration).
+  // ahead_done(), once every part is done (on one thread), hands them to the next step().
+  int ahead_parts() const { return projects() ? 0 : reverse_ ? 2 : 1; }
+  void detect_ahead(const World& w, int part);
+  void ahead_done() { ahead_ = true; }
 
   // The guest nodes detected this step (with two_sided, the host nodes detected the other way
   // round are in reverse_contacts()).
@@ -101,8 +106,8 @@ class Collision {
   std::vector<Contact> reverse_contacts_;
   std::vector<Push> reverse_pushes_;
   bool stepped_ = false;
-  bool ahead_ = false;        // detect_ahead() ran: step() takes its contacts
-  double ahead_us_ = 0.0;     // and its time
+  bool ahead_ = false;         // detect_ahead() done: step() takes its contacts
+  double ahead_us_[2] = {0.0, 0.0};  // and their times
   double projected_h_ = 0.0;  // the substep of the last project()
 };
 

@@ -22,20 +22,24 @@ void ContactEffect::add_forces(World& w, const StepContext& s) {
   }
 }
 
-bool ContactEffect::detects_ahead() const {
+int ContactEffect::ahead_tasks() const {
+  int n = 0;
   for (const Pair& p : pairs_)
-    if (p.collision && !p.collision->projects()) return true;
-  return false;
+    if (p.collision) n += p.collision->ahead_parts();
+  return n;
 }
 
-bool ContactEffect::detect_ahead(const World& w) {
-  bool any = false;
+void ContactEffect::detect_ahead(const World& w, int task) {
+  for (Pair& p : pairs_) {
+    const int parts = p.collision ? p.collision->ahead_parts() : 0;
+    if (task < parts) return p.collision->detect_ahead(w, task);
+    task -= parts;
+  }
+}
+
+void ContactEffect::ahead_done() {
   for (Pair& p : pairs_)
-    if (p.collision && !p.collision->projects()) {
-      p.collision->detect_ahead(w);
-      any = true;
-    }
-  return any;
+    if (p.collision && p.collision->ahead_parts() > 0) p.collision->ahead_done();
 }
 
 void ContactEffect::after_integration(World& w, const StepContext& s) {

@@ -16,8 +16,10 @@ class ContactEffect final : public Effect {
   EffectCategory category() const override { return EffectCategory::contact; }
   void begin_step(World& w, const StepContext& s) override;
   void add_forces(World& w, const StepContext& s) override;
-  bool detect_ahead(const World& w) override;
-  bool detects_ahead() const override;
+  // One task per pair and direction (Collision::ahead_parts).
+  int ahead_tasks() const override;
+  void detect_ahead(const World& w, int task) override;
+  void ahead_done() override;
   void end_step(World& w, const StepContext& s) override;
   void after_integration(World& w, const StepContext& s) override;
   bool corrects_positions() const override;

@@ -69,18 +69,18 @@ class Effect {
   virtual void begin_step(World& w, const StepContext& s) { (void)w, (void)s; }
   virtual void add_forces(World& w, const StepContext& s) { (void)w, (void)s; }
   virtual void end_step(World& w, const StepContext& s) { (void)w, (void)s; }
-  // Overlap on two threads or more (Simulation::add_forces). detect_ahead: work of the next
-  // add_forces that needs the positions alone (contact detection), done now on one thread while
-  // the first effect's forces are computed on the others; false when there is none.
+  // Overlap on two threads or more (Simulation::add_forces). ahead_tasks / detect_ahead /
+  // ahead_done: work of the next add_forces that needs the positions alone (contact detection),
+  // in ahead_tasks() independent tasks done now, each on one thread (several at once), while the
+  // first effect's forces are computed on the others; ahead_done() (one thread, after them all)
+  // hands them to add_forces.
   // shareable / add_forces_shared: add_forces with its work shared out among the threads of an
   // enclosing parallel region: shareable(), on one thread before the region, gets ready and says
   // whether the effect has such a form worth using now; then every thread of the team calls
   // add_forces_shared, which ends with the team at a barrier. The same forces as add_forces.
-  virtual bool detect_ahead(const World& w) {
-    (void)w;
-    return false;
-  }
-  virtual bool detects_ahead() const { return false; }
+  virtual int ahead_tasks() const { return 0; }
+  virtual void detect_ahead(const World& w, int task) { (void)w, (void)task; }
+  virtual void ahead_done() {}
   virtual bool shareable(const World& w) {
     (void)w;
     return false;
