@@ -177,7 +177,7 @@ void EnergyAudit::attach(StepContext& ctx, bool lazy_elastic) {
   ctx.f_spring = f_spring_.empty() ? nullptr : &f_spring_;
   ctx.f_dashpot = f_dashpot_.empty() ? nullptr : &f_dashpot_;
   // E*_0 is taken in the first step after a reset: its energy is evaluated in the pass.
-  energy_in_pass_ = !lazy_elastic || !ledger_.started;
+  energy_in_pass_ = !lazy_elastic || !ledger_.started || (read_every_ > 0 && ctx.step % read_every_ == 0);
   ctx.spring_energy = node_energy_.empty() || !energy_in_pass_ ? nullptr : &node_energy_;
 }
 

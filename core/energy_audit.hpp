@@ -47,7 +47,10 @@ class EnergyAudit {
 
   // Points the step's force pass at the audit's per-node outputs; lazy_elastic: the springs'
   // energy may be left pending (the fused path: the step's displacement is exactly what it added).
+  // It is not on the steps read_every (when > 0) divides: those that will read it (a run's
+  // recorder's), which get it from the force pass, at the cost of the law's energy beside its force.
   void attach(StepContext& ctx, bool lazy_elastic);
+  void read_every(int k) { read_every_ = k; }
   // The springs' forces per node (null without springs): a peer engine's residual scale.
   Points* spring_forces() { return f_spring_.empty() ? nullptr : &f_spring_; }
   // Before a step's first substep.
@@ -105,6 +108,7 @@ class EnergyAudit {
   std::vector<double> chunk_sums_;  // the booking pass's partial sums, per chunk of nodes
   bool first_substep_ = false;
   bool energy_in_pass_ = true;      // this step's force pass writes the springs' energy
+  int read_every_ = 0;              // the steps the energy will be read on (read_every)
   bool elastic_pending_ = false;    // the last step's elastic energy is not evaluated yet
   double ke_staggered_ = 0.0;       // J, the kinetic part of E*_n of the last step
   double gravity_potential_ = 0.0;  // J, at the last step's force point

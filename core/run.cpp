@@ -104,6 +104,7 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
   ro.measurer = opt.measurer;
   ro.compare = compare.get();
   Recorder rec(sim, ro);
+  sim.energy_read_every(rec.energy_every());
 
   const fs::path dir(opt.out_dir);
   prepare_output(dir, scene.frames_every > 0);

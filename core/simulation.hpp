@@ -84,6 +84,12 @@ class Simulation {
   // last step's, its elastic and potential energies and E*_n those of the last step evaluated
   // (energy_current() says whether that is the last step).
   const EnergyLedger& energy() const;
+  // The steps energy() will be read on, when they are known: every k-th (k > 0; the recorder's
+  // schedule). The audit then takes the springs' energy from those steps' force pass instead of
+  // evaluating it afterwards; a read on another step still evaluates it then.
+  void energy_read_every(int k) {
+    if (audit_) audit_->read_every(k);
+  }
   const EnergyLedger& energy_booked() const;
   bool energy_current() const { return !audit_ || !audit_->elastic_pending(); }
   // Restarts the audit from the current state (after a caller changed it by hand).

@@ -95,37 +95,41 @@ struct Row {
   std::string note;
 };
 
-// Median times of fn (one step) in microseconds, one per thread count of `counts`, the counts
-// taking turns repetition by repetition: a slow phase of the shared machine then hits every count
-// alike, and the speed-ups (ratios of these medians) hold. One warm-up call per count; when a
-// first call takes longer than `single` seconds, the first calls are the measurements (reps = 1).
-// `reset`, when given, runs (untimed) before every call.
-std::vector<double> time_steps(const std::function<void()>& fn, const std::vector<int>& counts, const BenchOptions& o,
-                               double single, std::vector<int>& reps, const std::function<void()>& reset) {
-  const std::size_t K = counts.size();
+// One timed variant: a function (one repetition), the thread count it runs with, and what runs
+// untimed before every call (may be empty).
+struct Timed {
+  std::function<void()> fn;
+  int threads = 1;
+  std::function<void()> reset;
+};
+
+// Median times of each variant's fn in microseconds, the variants taking turns repetition by
+// repetition: a slow phase of the shared machine then hits every variant alike, and the ratios of
+// these medians (speed-ups, the audit's share) hold. One warm-up call per variant; when a first
+// call takes longer than `single` seconds, the first calls are the measurements (reps = 1).
+std::vector<double> time_steps(const std::vector<Timed>& v, const BenchOptions& o, double single,
+                               std::vector<int>& reps) {
+  const std::size_t K = v.size();
   if (K == 0) return {};
   std::vector<std::vector<double>> t(K);
   std::vector<double> out(K);
   reps.assign(K, 1);
   bool slow = false;
-  for (std::size_t c = 0; c < K; ++c) {
-    set_threads(counts[c]);
-    if (reset) reset();
+  auto call = [&](std::size_t c) {
+    set_threads(v[c].threads);
+    if (v[c].reset) v[c].reset();
     const auto t0 = Clock::now();
-    fn();
-    out[c] = seconds_since(t0) * 1e6;
+    v[c].fn();
+    return seconds_since(t0) * 1e6;
+  };
+  for (std::size_t c = 0; c < K; ++c) {
+    out[c] = call(c);
     slow = slow || out[c] > single * 1e6;
   }
   if (slow) return out;
   const auto start = Clock::now();
   while (static_cast<int>(t[0].size()) < o.min_reps || seconds_since(start) < o.min_seconds * static_cast<double>(K)) {
-    for (std::size_t c = 0; c < K; ++c) {
-      set_threads(counts[c]);
-      if (reset) reset();
-      const auto t0 = Clock::now();
-      fn();
-      t[c].push_back(seconds_since(t0) * 1e6);
-    }
+    for (std::size_t c = 0; c < K; ++c) t[c].push_back(call(c));
     if (t[0].size() >= 200000) break;
   }
   for (std::size_t c = 0; c < K; ++c) {
@@ -311,46 +315,52 @@ class BenchSize {
     measure("pass_floor", T, [&] { fsink = fsink + pass_floor(w, gather); },
             8LL * static_cast<long long>(w.springs.size()) + node_bytes,
             "both ends of every spring loaded as the force pass loads them, one square root and one division");
-    if (wanted("step")) {
+    if (wanted("step") || wanted("step_audited")) {
       // Steps move the bodies (the penalties push the guest out: fewer contacts, a faster step):
       // every repetition starts from the initial state (restored untimed), the one every other
       // row is timed on, so the figure does not depend on how many repetitions there were. A
       // repetition is kEvery steps (one stability check each, as in a run), divided by their
-      // number: the step's cost with its periodic guard, not the median step without it.
-      const Points x0 = w.x, v0 = w.v;
-      auto restore = [&w, &x0, &v0] {
-        std::copy(x0.begin(), x0.end(), w.x.begin());
-        std::copy(v0.begin(), v0.end(), w.v.begin());
-      };
-      measure("step", T, [&] {
-        for (int k = 0; k < StabilityGuard::kEvery; ++k) sim_->step();
-      }, 0, "per step from the initial state; repetitions of " + std::to_string(StabilityGuard::kEvery) +
-              " steps (one stability check)", 1e30, StabilityGuard::kEvery, restore);
-      restore();
-    }
-    if (wanted("step_audited")) {
-      // The same step with the energy audit a run keeps (work, kinetic energy and residual in the
-      // update pass every step; the springs' energy read, as the recorder reads it, once every
-      // kEnergyEvery steps): against `step`, the audit's share of a step.
+      // number: the step's cost with its periodic guard, not the median step without it. Before
+      // each repetition (untimed) one step on the repetition's thread count, then the initial
+      // state again: the variants take turns, and a step's data left in other threads' caches by
+      // the last one would otherwise be charged to the first timed step (a run keeps one count).
+      // step_audited: the same step with the energy audit a run keeps (work, kinetic energy and
+      // residual in the update pass every step; the springs' energy read, as the recorder reads
+      // it, on the steps kEnergyEvery divides, from those steps' force pass); the two take turns
+      // too, so that their ratio, the audit's share, is measured side by side.
       SimulationOptions so;
       so.audit = true;
       Simulation audited(sim_->scene(), so);
+      audited.energy_read_every(kEnergyEvery);  // as a run's recorder tells it
       static_assert(kEnergyEvery % StabilityGuard::kEvery == 0 || StabilityGuard::kEvery % kEnergyEvery == 0);
-      int taken = 0;
-      World& wa = audited.world();
-      const Points xa = wa.x, va = wa.v;
-      auto restore = [&wa, &xa, &va] {
-        std::copy(xa.begin(), xa.end(), wa.x.begin());
-        std::copy(va.begin(), va.end(), wa.v.begin());
+      auto starter = [](Simulation& sim) {
+        World& sw = sim.world();
+        auto x0 = std::make_shared<Points>(sw.x), v0 = std::make_shared<Points>(sw.v);
+        return [&sim, x0, v0] {
+          for (int pass = 0; pass < 2; ++pass) {
+            std::copy(x0->begin(), x0->end(), sim.world().x.begin());
+            std::copy(v0->begin(), v0->end(), sim.world().v.begin());
+            if (pass == 0) sim.step();
+          }
+        };
       };
-      measure("step_audited", T, [&] {
-        for (int k = 0; k < StabilityGuard::kEvery; ++k) {
-          audited.step();
-          if (++taken % kEnergyEvery == 0) (void)audited.energy();
-        }
-      }, 0, "per step with the energy audit (the springs' energy read every " + std::to_string(kEnergyEvery) +
-              " steps) from the initial state; repetitions of " + std::to_string(StabilityGuard::kEvery) + " steps", 1e30,
-              StabilityGuard::kEvery, restore);
+      const std::string reps = "; repetitions of " + std::to_string(StabilityGuard::kEvery) +
+                               " steps (one stability check) after an untimed step on their thread count";
+      Method plain{"step", [&] {
+                     for (int k = 0; k < StabilityGuard::kEvery; ++k) sim_->step();
+                   }, starter(*sim_), "per step from the initial state" + reps};
+      Method with_audit{"step_audited", [&] {
+                          for (int k = 0; k < StabilityGuard::kEvery; ++k) {
+                            audited.step();
+                            if (audited.step_index() % kEnergyEvery == 0) (void)audited.energy();
+                          }
+                        }, starter(audited),
+                        "per step with the energy audit (the springs' energy read every " +
+                            std::to_string(kEnergyEvery) + " steps) from the initial state" + reps};
+      const Points x0 = w.x, v0 = w.v;
+      measure_together(plain, with_audit, T, 0, StabilityGuard::kEvery);
+      std::copy(x0.begin(), x0.end(), w.x.begin());
+      std::copy(v0.begin(), v0.end(), w.v.begin());
     }
   }
 
@@ -462,20 +472,49 @@ class BenchSize {
                long long bytes, const std::string& note, double single = 1e30, int per_rep = 1,
                const std::function<void()>& reset = {}) {
     if (!wanted(method)) return;
+    std::vector<Timed> v;
+    for (int c : counts) v.push_back({fn, c, reset});
     std::vector<int> reps;
-    std::vector<double> us = time_steps(fn, counts, opt_, single, reps, reset);
-    for (double& u : us) u /= per_rep;
-    for (std::size_t c = 0; c < counts.size(); ++c) {
-      Row r;
-      r.method = method;
-      r.nodes = n_;
-      r.threads = counts[c];
-      r.bytes = bytes;
-      r.note = note;
-      r.us = us[c];
-      r.reps = reps[c];
-      emit(r);
+    const std::vector<double> us = time_steps(v, opt_, single, reps);
+    for (std::size_t c = 0; c < counts.size(); ++c) emit_row(method, counts[c], us[c] / per_rep, reps[c], bytes, note);
+  }
+  // Two methods measured together, their repetitions (and thread counts) taking turns: rows for a
+  // ratio of the two that a slow phase of the machine does not decide (step_audited / step).
+  struct Method {
+    std::string name;
+    std::function<void()> fn, reset;
+    std::string note;
+  };
+  void measure_together(const Method& a, const Method& b, const std::vector<int>& counts, long long bytes,
+                        int per_rep) {
+    std::vector<Timed> v;
+    const bool wa = wanted(a.name), wb = wanted(b.name);
+    for (int c : counts) {
+      if (wa) v.push_back({a.fn, c, a.reset});
+      if (wb) v.push_back({b.fn, c, b.reset});
     }
+    if (v.empty()) return;
+    std::vector<int> reps;
+    std::vector<double> us = time_steps(v, opt_, 1e30, reps);
+    std::size_t k = 0;
+    for (int c : counts) {
+      for (const Method* m : {&a, &b}) {
+        if (!wanted(m->name)) continue;
+        emit_row(m->name, c, us[k] / per_rep, reps[k], bytes, m->note);
+        ++k;
+      }
+    }
+  }
+  void emit_row(const std::string& method, int threads, double us, int reps, long long bytes, const std::string& note) {
+    Row r;
+    r.method = method;
+    r.nodes = n_;
+    r.threads = threads;
+    r.bytes = bytes;
+    r.note = note;
+    r.us = us;
+    r.reps = reps;
+    emit(r);
   }
 
   long long n_;

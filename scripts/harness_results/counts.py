@@ -18,7 +18,10 @@ after every study, scripts/reproduce.sh before it builds the report.
                              scene, \\AblVoxelRange ("4 to 32"), \\AblConstRange, \\AblPenaltyRange
   convergence.csv            \\ConvPoints, \\ConvVoxels, \\ConvVoxelRange ("32 to 2")
   realtime.csv               \\RealtimeScenes, \\RealtimeMethods
-  bench.csv                  \\BenchSizeMin, \\BenchSizeMax (as powers of ten in math), \\BenchThreads
+  bench.csv                  \\BenchSizeMin, \\BenchSizeMax (as powers of ten in math), \\BenchThreads;
+                             per size (Thousand ... Million) \\BenchNsPerSpring, \\BenchStepOverStream,
+                             \\BenchStepOverFloor (step / pass_floor), \\BenchFloorNsPerSpring,
+                             \\BenchAuditShare, \\BenchStepTwoThreads
 """
 
 import os
@@ -213,6 +216,10 @@ def collect(root):
                         and reader.present(r.get("springs"))), None)
         text("BenchNsPerSpring" + word, None if not b else "%.2g" % (1e3 * step / springs) if step and springs else "--")
         text("BenchStepOverStream" + word, None if not b else "%.2g" % (step / stream) if step and stream else "--")
+        floor = at("pass_floor", n)
+        text("BenchStepOverFloor" + word, None if not b else "%.2g" % (step / floor) if step and floor else "--")
+        text("BenchFloorNsPerSpring" + word, None if not b else "%.2g" % (1e3 * floor / springs)
+             if floor and springs else "--")
         text("BenchAuditShare" + word, None if not b else "%.0f" % (100.0 * (audited / step - 1.0))
              if step and audited else "--")
         text("BenchStepTwoThreads" + word, None if not b else "%.2g" % (step / at("step", n, 2))
