@@ -22,12 +22,19 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
     std::size_t b, e;
     split_range(n, C, part, b, e);
     bool any = false;  // local: the flags share a cache line
+    // Two loops over the chunk: the nearest host of every contact, then every direction (each
+    // loop's iterations short and independent: the processor overlaps their memory latencies).
+    for (std::size_t i = b; i < e; ++i) {
+      int h = -1;
+      const int found = det.nearest_hosts(w, contacts[i], 1, &h);
+      out[i].hosts[0] = found >= 1 ? h : -1;
+    }
     for (std::size_t i = b; i < e; ++i) {
       const Contact& c = contacts[i];
+      const int h = out[i].hosts[0];
       Push p;  // made here, stored once
       p.guest = c.guest;
-      int h = -1;
-      if (det.nearest_hosts(w, c, 1, &h) >= 1) {
+      if (h >= 0) {
         p.count = 1;
         p.hosts[0] = h;
         p.weight[0] = 1.0;
