@@ -221,13 +221,11 @@ __attribute__((noinline)) std::uint64_t stream_step(World& w) {
   return total;
 }
 
-// The force pass's arithmetic floor: one square root and one division per spring (of its rest
-// length) in the pass's lanes, the springs split over the threads as stream_step splits them.
-__attribute__((noinline)) double arith_floor(const World& w) {
-  const std::size_t ns = w.springs.size();
-  const double* rest = w.springs.rest.data();
+// Sum over the T parts of n items (split_range) of part(begin, end), one thread each; T as the
+// streaming passes take it (threads_for of the node count).
+template <class Part>
+double split_sum(const World& w, std::size_t n, Part&& part) {
   const int T = threads_for(w.x.size());
-  const simd::Kernels& k = simd::kernels();
   double total = 0.0;
 #pragma omp parallel num_threads(T) reduction(+ : total)
   {
@@ -236,31 +234,28 @@ __attribute__((noinline)) double arith_floor(const World& w) {
     t = omp_get_thread_num();
 #endif
     std::size_t b, e;
-    split_range(ns, T, t, b, e);
-    total += k.sqrt_div(rest + b, e - b);
+    split_range(n, T, t, b, e);
+    total += part(b, e);
   }
   return total;
+}
+
+// The force pass's arithmetic floor: one square root and one division per spring (of its rest
+// length) in the pass's lanes, the springs split over the threads as stream_step splits them.
+__attribute__((noinline)) double arith_floor(const World& w) {
+  const double* rest = w.springs.rest.data();
+  const simd::Kernels& k = simd::kernels();
+  return split_sum(w, w.springs.size(), [&](std::size_t b, std::size_t e) { return k.sqrt_div(rest + b, e - b); });
 }
 
 // The force pass's floor: both ends of every spring read as the pass reads them (the node-sorted
 // upper half-edges), one square root and one division each; the half-edges split over the threads.
 __attribute__((noinline)) double pass_floor(const World& w, const SpringGather& g) {
-  const std::size_t ns = static_cast<std::size_t>(g.up_start[g.nodes]);
   const double* x = w.x.data()->data();
-  const int T = threads_for(w.x.size());
   const simd::Kernels& k = simd::kernels();
-  double total = 0.0;
-#pragma omp parallel num_threads(T) reduction(+ : total)
-  {
-    int t = 0;
-#ifdef _OPENMP
-    t = omp_get_thread_num();
-#endif
-    std::size_t b, e;
-    split_range(ns, T, t, b, e);
-    total += k.pass_floor(x, g.up_self.data() + b, g.up_other.data() + b, e - b);
-  }
-  return total;
+  return split_sum(w, static_cast<std::size_t>(g.up_start[g.nodes]), [&](std::size_t b, std::size_t e) {
+    return k.pass_floor(x, g.up_self.data() + b, g.up_other.data() + b, e - b);
+  });
 }
 
 }  // namespace
