@@ -72,6 +72,7 @@ class Simulation {
   const StepTimes& last() const { return last_; }
   const SimulationStats& stats() const { return stats_; }
   const Effects& effects() const { return effects_; }
+  const Kinematics& kinematics() const { return kinematics_; }
   const StepEngine* engine() const { return engine_.get(); }  // null: the harness's own
   // Names of the effects simulated, in canonical order.
   std::vector<std::string> effects_simulated() const;

@@ -6,6 +6,8 @@
 // so f = dE/dl exactly (tested by finite differences).
 #pragma once
 
+#include "core/device/hd.hpp"
+
 #include <cmath>
 
 namespace harness {
@@ -35,7 +37,7 @@ constexpr double kExpm1Coef[12] = {1.0 / 2,         1.0 / 6,          1.0 / 24, 
 // lanes' latency overlaps), then expm1(2y) = e (e + 2) three times. Relative error within a few
 // units in the last place, also as x -> 0. c[k] = kExpm1Coef[k] as T, eighth = 0.125, two = 2.
 template <class T>
-inline T expm1_halving(const T& x, const T* c, const T& eighth, const T& two) {
+HARNESS_HD inline T expm1_halving(const T& x, const T* c, const T& eighth, const T& two) {
   const T y = x * eighth;
   const T y2 = y * y;
   const T y4 = y2 * y2;
@@ -71,26 +73,26 @@ double spring_force_per_length(const SpringLaw& law, double L0, double l);
 // The laws of spring_force_per_length over any number type T with IEEE + - * (a double, or a lane
 // type of the SIMD kernels, each of whose lanes then does these operations).
 template <class T>
-inline T linear_law(const T& k, const T& s, const T& r) {
+HARNESS_HD inline T linear_law(const T& k, const T& s, const T& r) {
   return k * s * r;
 }
 template <class T>
-inline T cubic_law(const T& k, const T& beta, const T& L0, const T& s, const T& q, const T& r) {
+HARNESS_HD inline T cubic_law(const T& k, const T& beta, const T& L0, const T& s, const T& q, const T& r) {
   return k * s * (L0 * L0 + beta * s * s) * (q * q) * r;
 }
 template <class T>
-inline T exponential_near(const T& k, const T& s, const T& x, const T& one, const T& half, const T& r) {
+HARNESS_HD inline T exponential_near(const T& k, const T& s, const T& x, const T& one, const T& half, const T& r) {
   return k * s * (one + half * x) * r;
 }
 template <class T>
-inline T exponential_far(const T& k, const T& L0, const T& em1, const T& inv_beta, const T& r) {
+HARNESS_HD inline T exponential_far(const T& k, const T& L0, const T& em1, const T& inv_beta, const T& r) {
   return k * L0 * em1 * inv_beta * r;
 }
 // The tangent stiffness over l^2 (the stability guard's rows), the same way: linear |k| r r;
 // cubic |k (L0 L0 + 3 beta s s)| (q q) (r r); exponential |k (1 + expm1(x))| r r (as T = the
 // value inside |.|, the caller takes the absolute value).
 template <class T>
-inline T cubic_tangent(const T& k, const T& beta, const T& L0, const T& s, const T& q, const T& three) {
+HARNESS_HD inline T cubic_tangent(const T& k, const T& beta, const T& L0, const T& s, const T& q, const T& three) {
   return k * (L0 * L0 + three * beta * s * s) * (q * q);
 }
 // The exponential law's argument x = beta eps = beta ((l - L0) q).
@@ -105,19 +107,19 @@ double spring_energy(const SpringLaw& law, double L0, double l);
 //   exponential  kL2 eps^2 g(x), x = beta eps, g(x) = (e^x - 1 - x) / x^2: (em1 - x) / x^2 for
 //                |x| >= 1e-3, else its series 1/2 + x/6 + x^2/24 + x^3/120 (the direct form cancels)
 template <class T>
-inline T linear_energy(const T& kL2, const T& eps, const T& half) {
+HARNESS_HD inline T linear_energy(const T& kL2, const T& eps, const T& half) {
   return half * kL2 * eps * eps;
 }
 template <class T>
-inline T cubic_energy(const T& kL2, const T& beta, const T& eps, const T& half, const T& quarter) {
+HARNESS_HD inline T cubic_energy(const T& kL2, const T& beta, const T& eps, const T& half, const T& quarter) {
   return kL2 * (half * eps * eps + quarter * beta * eps * eps * eps * eps);
 }
 template <class T>
-inline T exp_energy_series(const T& x, const T& half, const T& six, const T& c24, const T& c120) {
+HARNESS_HD inline T exp_energy_series(const T& x, const T& half, const T& six, const T& c24, const T& c120) {
   return half + x / six + x * x / c24 + x * x * x / c120;
 }
 template <class T>
-inline T exp_energy_direct(const T& x, const T& em1) {
+HARNESS_HD inline T exp_energy_direct(const T& x, const T& em1) {
   return (em1 - x) / (x * x);
 }
 // Tangent stiffness df/dl (N/m) at length l.

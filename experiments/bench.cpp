@@ -1,4 +1,5 @@
 #include "experiments/bench.hpp"
+#include "experiments/device_run.hpp"
 
 #include "core/clock.hpp"
 #include "core/collision/detectors/hash.hpp"
@@ -38,22 +39,9 @@
 
 namespace harness {
 
-namespace {
-
-using nlohmann::json;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // The generated contact scene of about n nodes per body (bench.hpp).
 Scene make_bench_scene(long long n) {
+  using nlohmann::json;
   const double s = 1e-3;  // host lattice spacing, m
   const int a = std::max(4, static_cast<int>(std::lround(std::cbrt(4.0 * static_cast<double>(n)))) - 1);
   const int c = std::max(2, static_cast<int>(std::lround(a / 4.0)));
@@ -83,6 +71,21 @@ Scene make_bench_scene(long long n) {
          {"margin", 1}, {"eliminator", "line"}, {"force", 1e-4}}}},
       {"references", {{"solvers", json::array()}}}};
   return scene_from_json(doc, "bench_" + std::to_string(n), ".");
+}
+
+
+namespace {
+
+using nlohmann::json;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 struct Row {
@@ -309,7 +312,7 @@ class BenchSize {
     gather.build(w);
     measure("pass_floor", T, [&] { fsink = fsink + pass_floor(w, gather); },
             8LL * static_cast<long long>(w.springs.size()) + node_bytes,
-            "both ends of every spring loaded as the force pass loads them, one square root and one division");
+            "both ends of every spring loaded as the force pass loads them; one square root and one division");
     if (wanted("step") || wanted("step_audited")) {
       // Steps move the bodies (the penalties push the guest out: fewer contacts, a faster step):
       // every repetition starts from the initial state (restored untimed), the one every other
@@ -453,9 +456,10 @@ class BenchSize {
     char ratio[32] = "";
     if ((r.method == "step" || r.method == "step_audited") && stream_us_.count(r.threads) && stream_us_[r.threads] > 0.0)
       std::snprintf(ratio, sizeof ratio, "%.3f", r.us / stream_us_[r.threads]);
-    std::fprintf(out_, "%s,%lld,%d,%.3f,%lld,%d,%d,%d,%zu,%d,%lld,%s,%.4f,%s\n", r.method.c_str(), r.nodes, r.threads,
-                 r.us, r.bytes, r.reps, w.bodies[0].size(), w.bodies[1].size(), w.springs.size(), contacts_, voxels_,
-                 r.note.c_str(), ns_spring, ratio);
+    // The note quoted (it may hold commas); the device and the machine, read from the system.
+    std::fprintf(out_, "%s,%lld,%d,%.3f,%lld,%d,%d,%d,%zu,%d,%lld,\"%s\",%.4f,%s,cpu,\"%s\"\n", r.method.c_str(), r.nodes,
+                 r.threads, r.us, r.bytes, r.reps, w.bodies[0].size(), w.bodies[1].size(), w.springs.size(), contacts_,
+                 voxels_, r.note.c_str(), ns_spring, ratio, machine_.c_str());
     std::fflush(out_);
     if (opt_.progress)
       std::fprintf(stderr, "bench: %-22s %8lld nodes %d thr %14.1f us/step (%d reps)\n", r.method.c_str(), r.nodes,
@@ -519,7 +523,8 @@ class BenchSize {
   Collision* col_ = nullptr;
   int contacts_ = 0;
   long long voxels_ = 0, grid_bytes_ = 0;
-  std::map<int, double> stream_us_;  // stream_step's time per thread count, this size
+  std::map<int, double> stream_us_;
+  std::string machine_ = machine_string();  // stream_step's time per thread count, this size
 };
 
 }  // namespace
@@ -534,7 +539,7 @@ int run_bench(const BenchOptions& opt) {
   if (!out) throw std::runtime_error("cannot write " + opt.out);
   std::fprintf(out,
                "method,nodes,threads,us_per_step,bytes,reps,host_nodes,guest_nodes,springs,contacts,voxels,note,"
-               "ns_per_spring,step_over_stream\n");
+               "ns_per_spring,step_over_stream,device,machine\n");
   std::fflush(out);
   const int threads_before = threads();
   for (long long n : sizes) {

@@ -56,6 +56,7 @@
 namespace harness {
 
 struct BenchOptions {
+  std::string device = "cpu";      // cpu: the rows below; cuda: the device rows (run_device_bench)
   bool quick = false;                // stop at 10^5 nodes per body
   std::string out;                   // CSV path
   std::vector<long long> sizes;      // nodes per body; empty = 10^3 .. 10^6 (10^5 with quick)
@@ -73,5 +74,15 @@ const std::vector<std::string>& bench_methods();
 
 // Runs the benchmark and writes the CSV. Returns 0.
 int run_bench(const BenchOptions& options);
+
+struct Scene;
+// The generated contact scene of about n nodes per body (above).
+Scene make_bench_scene(long long n);
+
+// `harness bench --device cuda`: per size, the device step of the bench scene (rows `step`,
+// median of timed batches of steps, each batch waited for at its end: throughput) and `copy` (one
+// device-to-device copy of half the step's bytes, so that it reads and writes the bytes
+// stream_step counts), each row naming the device. Returns the exit status.
+int run_device_bench(const BenchOptions& o);
 
 }  // namespace harness

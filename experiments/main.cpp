@@ -3,6 +3,7 @@
 #include "core/run.hpp"
 #include "core/scene/scene.hpp"
 #include "experiments/bench.hpp"
+#include "experiments/device_run.hpp"
 #include "experiments/reference.hpp"
 #include "experiments/sweep.hpp"
 #include "core/scene/schema.hpp"
@@ -119,6 +120,14 @@ Scene edited_scene(const std::string& scene, const std::vector<std::string>& set
   return scene_from_source(src);
 }
 
+#ifndef HARNESS_HAVE_BULLET
+// Without the reference library: --bullet-* parse into this and --engine bullet is refused.
+struct BulletOptions {
+  double margin = 0.0;
+  int iterations = 1;
+};
+#endif
+
 struct RunCommand {
   CLI::App* cmd = nullptr;
   std::string scene, out = "out";
@@ -130,6 +139,8 @@ struct RunCommand {
   double dt = 0.0;
   std::string engine = "harness";
   BulletOptions bullet;
+  std::string device;
+  bool check_cpu = false;
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
@@ -155,8 +166,26 @@ struct RunCommand {
                                                       "(default 0.05 x the body's mean surface edge)");
     cmd->add_option("--bullet-iterations", bullet.iterations, "with --engine bullet: position iterations per step")
         ->capture_default_str();
+    cmd->add_option("--device", device, "step on a device: cuda (a GPU) or cpu (the GPU's kernel bodies on one CPU "
+                                        "thread); writes summary.json and state.csv (docs/architecture.md)");
+    cmd->add_flag("--check-cpu", check_cpu, "with --device: also step the CPU's simulation and record the largest "
+                                            "node distance between the two states");
   }
   int exec() {
+    if (!device.empty()) {
+      if (engine != "harness" || !compare.empty())
+        throw InputError("--device", "not with --engine or --compare");
+      if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
+      const Scene sc = edited_scene(scene, sets, cmd->count("--steps") > 0, steps, dt_divide, cmd->count("--dt") > 0, dt);
+      DeviceRunOptions d;
+      d.device = device;
+      d.out_dir = out;
+      d.check_cpu = check_cpu;
+      d.progress = !quiet;
+      d.exact_detectors = run_options().exact_detectors;
+      return run_on_device(sc, d);
+    }
+    if (check_cpu) throw InputError("--check-cpu", "only with --device");
     if (engine != "harness" && engine != "bullet") throw InputError("--engine " + engine, "expected harness or bullet");
     if (engine != "bullet" && (cmd->count("--bullet-margin") || cmd->count("--bullet-iterations")))
       throw InputError("--bullet-margin/--bullet-iterations", "only with --engine bullet");
@@ -266,8 +295,11 @@ struct BenchCommand {
     cmd->add_option("--min-time", bo.min_seconds, "seconds of repetitions per row (at least 3 reps)")->capture_default_str();
     cmd->add_flag("!--no-references", bo.references, "skip the fcl and cgal rows");
     cmd->add_option("--methods", bo.methods, "only these rows (CSV method names; default all)")->delimiter(',');
+    cmd->add_option("--device", bo.device, "cpu (the rows above) or cuda (the device step and a copy, 10^3 to 10^7 "
+                                           "nodes per body)")->capture_default_str();
   }
   int exec() {
+    if (bo.device != "cpu") return run_device_bench(bo);
     for (long long n : bo.sizes)
       if (n < 8) throw InputError("--sizes", "nodes per body must be >= 8");
     if (bo.threads.empty()) throw InputError("--threads", "needs at least one thread count");

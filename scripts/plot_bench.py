@@ -10,7 +10,11 @@ Usage: plot_bench.py [BENCH_CSV] [RESULTS_DIR]
                                          memory-bandwidth limits (stream_*) in grey; printed at
                                          the report's text width (harness_results/style.py: TEXT)
   RESULTS_DIR/tables/bench.md            the ratios the performance targets are stated in, each
-                                         with its target and whether it holds, then every time
+                                         with its target and whether it holds, then every time;
+                                         the GPU rows (device other than cpu: harness bench
+                                         --device cuda) in a section of their own
+  RESULTS_DIR/tables/bench_gpu.tex       the GPU rows: step and copy per size, their ratio, ns per
+                                         spring, beside the CPU's one-thread step
 A ratio whose rows are missing (e.g. a --quick bench has no 10^6 point) is reported as n/a.
 Deterministic: fixed method order, no dates.
 """
@@ -55,9 +59,12 @@ LABEL = {
 }
 
 
-def load(path):
-    """bench.csv's rows: counts as ints (None where empty), us_per_step a float."""
-    rows = reader.read_csv(path, text=("method", "note"), missing=[])
+def load(path, device="cpu"):
+    """bench.csv's rows of one device ("cpu": the rows without a device column too; "gpu": every
+    other device): counts as ints (None where empty), us_per_step a float."""
+    rows = reader.read_csv(path, text=("method", "note", "device", "machine"), missing=[])
+    on_cpu = lambda r: r.get("device") in (None, "", "cpu")  # noqa: E731
+    rows = [r for r in rows if on_cpu(r) == (device == "cpu")]
     for r in rows:
         r["nodes"] = int(r["nodes"])
         r["threads"] = int(r["threads"])
@@ -234,6 +241,46 @@ def main(argv):
         sys.exit("plot_bench: %s has no rows" % csv_path)
     figure(rows, out_dir)
     table(rows, out_dir, csv_path)
+    gpu_table(load(csv_path, "gpu"), rows, out_dir)
+
+
+def gpu_table(gpu, cpu, out_dir):
+    """The GPU rows (harness bench --device cuda): per size the device step, a device-to-device copy
+    of the bytes the CPU's stream_step counts (the step's data), their ratio, ns per spring, and the
+    CPU's one-thread step of this file beside it; appended to bench.md, and bench_gpu.tex."""
+    if not gpu:
+        return
+    sizes = sorted({r["nodes"] for r in gpu})
+    device = gpu[0].get("device", "?")
+    md = ["", "## On a GPU (%s)" % device, "",
+          "`harness bench --device cuda` (`scripts/device_check.sh`): the device step of the bench scene (median "
+          "over batches of steps, each batch waited for at its end) and one device-to-device copy of the bytes "
+          "`stream_step` counts for the size (read and written once). Host: %s." % gpu[0].get("machine", "?"), "",
+          "| nodes per body | springs | contacts | step (µs) | copy (µs) | step / copy | ns per spring | CPU step 1T (µs) | CPU / GPU |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    tex = []
+    for n in sizes:
+        st, cp, c1 = get(gpu, "step", n, 1), get(gpu, "copy", n, 1), us(cpu, "step", n, 1)
+        if not st:
+            continue
+        springs = int(st["springs"]) if reader.present(st.get("springs")) else 0
+        r = st["us_per_step"] / cp["us_per_step"] if cp else None
+        nsps = 1000.0 * st["us_per_step"] / springs if springs else None
+        md.append("| %d | %d | %s | %s | %s | %s | %s | %s | %s |" % (
+            n, springs, int(float(st["contacts"])) if reader.present(st.get("contacts")) else 0, fmt(st["us_per_step"]),
+            fmt(cp["us_per_step"] if cp else None), fmt(r), fmt(nsps, 3), fmt(c1), fmt(ratio(c1, st["us_per_step"]))))
+        tex.append("$10^{%d}$ & %d & %s & %s & %s & %s & %s \\\\" % (
+            round(math.log10(n)), springs, fmt(st["us_per_step"]), fmt(cp["us_per_step"] if cp else None), fmt(r),
+            fmt(nsps, 3), fmt(c1)))
+    with open(os.path.join(out_dir, "tables", "bench.md"), "a") as f:
+        f.write("\n".join(md) + "\n")
+    path = os.path.join(out_dir, "tables", "bench_gpu.tex")
+    with open(path, "w") as f:
+        f.write("%% The GPU rows of bench.csv (%s; made by scripts/plot_bench.py)\n" % device +
+                "\\begin{tabular}{rrrrrrr}\n\\toprule\nnodes/body & springs & step ($\\mu$s) & copy ($\\mu$s) & "
+                "step/copy & ns/spring & CPU 1T ($\\mu$s) \\\\\n\\midrule\n" + "\n".join(tex) +
+                "\n\\bottomrule\n\\end{tabular}\n")
+    print("plot_bench: wrote %s" % path)
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@
 #   --paper-only  builds paper/main.pdf from the committed results alone: no build, no harness, no
 #                 runs (minutes, not hours). Installs LaTeX and matplotlib if missing
 #                 (install-deps.sh --latex), redraws every figure from the committed runs and CSVs
-#                 (figures.py; plot_bench.py; study.py accuracy ablation convergence --plots-only),
+#                 (figures.py; plot_bench.py; study.py accuracy ablation convergence realtime --plots-only),
 #                 rewrites results/tables/counts.tex (counts.py), then runs latexmk in paper/.
 #                 The tables are the committed ones.
 # The runs go two at a time (this machine has two cores); each is one thread.
@@ -73,7 +73,7 @@ if [[ $paper_only -eq 1 ]]; then
   # the report prints them; then the counts the text quotes.
   "$PYTHON" scripts/figures.py results
   [[ -f results/bench.csv ]] && "$PYTHON" scripts/plot_bench.py results/bench.csv results
-  "$PYTHON" scripts/study.py accuracy ablation convergence --plots-only --results results
+  "$PYTHON" scripts/study.py accuracy ablation convergence realtime --plots-only --results results
   "$PYTHON" scripts/counts.py results
   build_paper
   echo "reproduce: done in $(( $(date +%s) - start )) s (from the committed results)"

@@ -76,6 +76,8 @@ class Collision {
   int rebuilds() const { return detector_->rebuilds(); }
   const ContactSpec& spec() const { return spec_; }
   const CollisionDetector& detector() const { return *detector_; }
+  // The two-sided pair's other-way detector; null for a one-sided pair.
+  const CollisionDetector* reverse_detector() const { return reverse_.get(); }
   const CollisionEliminator& eliminator() const { return *eliminator_; }
   // The last step's pushes and their magnitudes (N): the contact forces applied.
   const std::vector<Push>& pushes() const { return pushes_; }

@@ -24,7 +24,14 @@ if "$H" --help 2>/dev/null | grep -q bench && grep -q "^fcl,1000,1," "$T/bench.c
   grep -q "^cgal,1000,1," "$T/bench.csv" && ok || bad "cgal row"
 fi
 # step rows carry their ns per spring and their ratio to stream_step of the same run
-head -1 "$T/bench.csv" | grep -q ',ns_per_spring,step_over_stream$' && ok || bad "bench ns_per_spring, step_over_stream columns"
+head -1 "$T/bench.csv" | grep -q ',ns_per_spring,step_over_stream,device,machine$' && ok \
+  || bad "bench ns_per_spring, step_over_stream, device, machine columns"
+awk -F, 'NR > 1 && $15 != "cpu" {exit 1}' "$T/bench.csv" && ok || bad "CPU rows name their device cpu"
+# --device cuda: on a machine without a GPU (or a build without CUDA), exit 2 with one line
+if ! command -v nvidia-smi >/dev/null || ! nvidia-smi -L >/dev/null 2>&1; then
+  "$H" bench --device cuda --sizes 1000 --out "$T/g.csv" 2>"$T/err"; rc=$?
+  [[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && grep -q -- "--device" "$T/err" && ok || bad "bench --device cuda without a GPU: exit $rc"
+fi
 awk -F, '($1=="step" || $1=="step_audited") && !($13 > 0 && $14 > 0) {exit 1}' "$T/bench.csv" && ok || bad "step rows: ns per spring and stream ratio"
 # voxel rows carry the grid's bytes (> 0); voxel_exact rows name their band count
 awk -F, '$1=="voxel_detect" && $5 <= 0 {exit 1}' "$T/bench.csv" && ok || bad "voxel bytes > 0"

@@ -328,7 +328,7 @@ bool VoxelExactDetector::evaluate(const World& w, const Vec3& x, int cell, Works
 
 template <class Emit>
 void VoxelExactDetector::scan(const World& w, const VoxelIndexer& idx, int begin, int end, Workspace& ws, Emit&& emit,
-                              int& beyond) {
+                              int& beyond, int& undecided_part) {
   constexpr int kBatch = 256;
   int cells[kBatch];
   const Vec3 &lo = init_.host_lo(), &hi = init_.host_hi();
@@ -343,7 +343,12 @@ void VoxelExactDetector::scan(const World& w, const VoxelIndexer& idx, int begin
       const Vec3& x = w.x[i];
       if (!((x.array() > lo.array()).all() && (x.array() < hi.array()).all())) continue;
       Hit& h = hits_[static_cast<std::size_t>(local)];
-      if (!evaluate(w, w.x[i], cells[k], ws, h)) continue;
+      if (!evaluate(w, w.x[i], cells[k], ws, h)) {
+        // Inside the host's box with no host vertex listed in its block: the grid cannot tell
+        // (a node deep inside, or in a hollow of the box): undecided, counted beyond the band.
+        if (candidates(w, cells[k], ws).count == 0) ++beyond, ++undecided_part;
+        continue;
+      }
       hit_step_[static_cast<std::size_t>(local)] = now_;
       beyond += h.within ? 0 : 1;
       emit(Contact{i, h.tri});
@@ -354,6 +359,7 @@ void VoxelExactDetector::scan(const World& w, const VoxelIndexer& idx, int begin
 void VoxelExactDetector::detect(const World& w, std::vector<Contact>& out) {
   out.clear();
   beyond_ = 0;
+  undecided_ = 0;
   if (++now_ == 0) {  // the counter wrapped: forget every stamp
     std::fill(hit_step_.begin(), hit_step_.end(), 0u);
     for (Workspace& ws : ws_)
@@ -370,7 +376,7 @@ void VoxelExactDetector::detect(const World& w, std::vector<Contact>& out) {
   const int T = threads_for(n, 8192);
   if (T == 1) {
     scan(w, idx, guest_begin_, guest_begin_ + guest_size_, ws_[0], [&](const Contact& c) { out.push_back(c); },
-         beyond_);
+         beyond_, undecided_);
     return;
   }
   // Parallel lookup as in voxel.cpp: each chunk writes its contacts into its own part of the
@@ -379,7 +385,7 @@ void VoxelExactDetector::detect(const World& w, std::vector<Contact>& out) {
   if (scratch_.size() < n) scratch_.resize(n);  // once, on the first parallel detection
   ensure_workspaces(T);                          // once per new thread count
   const int L = std::min(64, 4 * T);
-  int found[64] = {}, beyond[64] = {};
+  int found[64] = {}, beyond[64] = {}, undecided[64] = {};
 #pragma omp parallel num_threads(T)
   {
     Workspace& ws = ws_[static_cast<std::size_t>(thread_index())];
@@ -388,11 +394,12 @@ void VoxelExactDetector::detect(const World& w, std::vector<Contact>& out) {
       std::size_t b, e;
       split_range(n, L, c, b, e);
       Contact* dst = scratch_.data() + b;
-      int m = 0, over = 0;
+      int m = 0, over = 0, unknown = 0;
       scan(w, idx, guest_begin_ + static_cast<int>(b), guest_begin_ + static_cast<int>(e), ws,
-           [&](const Contact& k) { dst[m++] = k; }, over);
+           [&](const Contact& k) { dst[m++] = k; }, over, unknown);
       found[c] = m;
       beyond[c] = over;
+      undecided[c] = unknown;
     }
   }
   for (int c = 0; c < L; ++c) {
@@ -401,6 +408,7 @@ void VoxelExactDetector::detect(const World& w, std::vector<Contact>& out) {
     out.insert(out.end(), scratch_.begin() + static_cast<std::ptrdiff_t>(b),
                scratch_.begin() + static_cast<std::ptrdiff_t>(b) + found[c]);
     beyond_ += beyond[c];
+    undecided_ += undecided[c];
   }
 }
 

@@ -44,7 +44,9 @@
 // Beyond the band. A node found inside with d_c >= band(x) is still a contact (pushed best
 // effort along its candidate normal: dropping it would leave a deeper node unresisted) and is
 // counted in beyond_band() (steps.csv `beyond_band`, summary.json `beyond_band_total` /
-// `beyond_band_peak`), never silently dropped. A node found outside beyond the band is reported
+// `beyond_band_peak`), never silently dropped. So is a node strictly inside the host's box whose
+// block lists no host vertex at all (undecided(): deeper than the grid sees, or in a hollow of the
+// box; no force acts on it, and the run says how many there are). A node found outside beyond the band is reported
 // as outside (most are; the references measure the rest).
 //
 // Voxel size. An explicit voxel_size is rounded down to a power of two as the paper's. Automatic
@@ -125,6 +127,9 @@ class VoxelExactDetector final : public CollisionDetector {
   int rebuilds() const override { return init_.rebuilds(); }
   bool region(Vec3& lo, Vec3& hi) const override;
   int beyond_band() const override { return beyond_; }
+  // Of beyond_band(): the guest nodes strictly inside the host's box whose block lists no host
+  // vertex (undecided: the grid cannot tell inside from outside there; no force acts on them).
+  int undecided() const { return undecided_; }
 
   // The contact's data (null when c is not a contact of the last detect()).
   const Hit* hit(const Contact& c) const;
@@ -164,7 +169,8 @@ class VoxelExactDetector final : public CollisionDetector {
   // Scans the guest nodes [begin, end) (global) in order: emit(contact) for each one inside, its
   // hit stored; adds the nodes found beyond the band to `beyond`.
   template <class Emit>
-  void scan(const World& w, const VoxelIndexer& idx, int begin, int end, Workspace& ws, Emit&& emit, int& beyond);
+  void scan(const World& w, const VoxelIndexer& idx, int begin, int end, Workspace& ws, Emit&& emit, int& beyond,
+            int& undecided);
   double band_of(const Vec3& x, const double tlo[3], const double thi[3]) const;
   Vec3 pseudonormal(const World& w, int face, int feature) const;
   Vec3 unit_normal(const World& w, int face) const;
@@ -182,6 +188,7 @@ class VoxelExactDetector final : public CollisionDetector {
   double lterm_ = 0.0;                   // L_max / sqrt(3) with its slack, m
   std::uint32_t now_ = 0;                // detect() counter (0: none yet)
   int beyond_ = 0;
+  int undecided_ = 0;
   // Per guest node (body-local): its hit, valid when hit_step_ says this detect() wrote it. Not
   // value-initialised (only the contacts' entries are ever written or read).
   std::unique_ptr<Hit[]> hits_;

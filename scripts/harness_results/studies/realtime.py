@@ -119,13 +119,75 @@ def run(a):
             r["best_exact_mm"] = best
             r["error_over_best"] = r["pos_err_max_mm"] / best if best > 0 else float("nan")
         rows += srows
-    cols = ["scene", "method", "kind", "mode", "threads", "dt", "integrator", "substeps_max", "t_step_us", "t_contact_us",
-            "contact_budget_share", "realtime_factor", "pos_err_max_mm", "tunnelled", "best_exact_mm", "error_over_best",
-            "stability", "status", "steps", "overrides"]
+    for r in rows:
+        r["device"] = "cpu"
+    write_outputs(a, rows + device_rows(a, rows))
+
+
+# The device rows: `harness run SCENE --device cuda` summaries kept in results/device/runs/ (made by
+# scripts/device_check.sh on a GPU machine, which CI and this study cannot run).
+DEVICE_METHOD = ("voxel_exact both ways, penalty", "completed", "voxel_exact_full")
+
+
+def device_rows(a, cpu_rows):
+    """One row per scene with a device run: the completed model at the scene's dt on the GPU over the
+    scene's time.steps, every step waited for (mean, median, p99, max). Its error is the CPU
+    twin's (same method, scene dt, one thread): the GPU steps the same states (results/device/
+    state_check.csv gives the largest node distance between the two after the run)."""
+    label, kind, stem = DEVICE_METHOD
+    out = []
+    for scene in SCENES:
+        path = os.path.join(a.results, "device", "runs", "%s_%s" % (scene, stem), "summary.json")
+        if not os.path.isfile(path):
+            continue
+        s = reader.load_summary(path)
+        t = s.get("timing_us") or {}
+        twin = next((r for r in cpu_rows if r["scene"] == scene and r["method"] == label and r["mode"] == "scene dt"
+                     and int(r["threads"]) == 1), {})
+        dt = reader.num(s.get("dt"))
+        med = reader.num(t.get("median"))
+        m = s.get("machine") or {}
+        out.append({"scene": scene, "method": label, "kind": kind, "mode": "scene dt", "threads": 1, "dt": dt,
+                    "integrator": "symplectic_euler", "substeps_max": 1, "t_step_us": med,
+                    "t_step_mean_us": t.get("mean"), "t_step_p99_us": t.get("p99"), "t_step_max_us": t.get("max"),
+                    "budget_us": s.get("budget_us"), "t_contact_us": float("nan"), "contact_budget_share": float("nan"),
+                    "realtime_factor": dt * 1e6 / med if med > 0 else float("nan"),
+                    "realtime_factor_mean": s.get("realtime_factor_mean"), "realtime_factor_p99": s.get("realtime_factor_p99"),
+                    "pos_err_max_mm": twin.get("pos_err_max_mm", float("nan")), "tunnelled": twin.get("tunnelled", ""),
+                    "best_exact_mm": twin.get("best_exact_mm", float("nan")),
+                    "error_over_best": twin.get("error_over_best", float("nan")), "stability": twin.get("stability", ""),
+                    "status": s.get("status"), "steps": s.get("steps_run"),
+                    "overrides": "--device cuda --steps %s --set 'contacts.0.detector=\"voxel_exact\"' --set "
+                                 "'references.solvers=[]'" % s.get("steps_requested"),
+                    "device": s.get("device"), "machine": "%s (%s cores)" % (m.get("cpu", "?"), m.get("cores", "?"))})
+    return out
+
+
+def plots(a):
+    """--plots-only: realtime.csv's CPU rows as they are, the device rows made again from
+    results/device/runs/, and the tables; runs nothing."""
+    rows = reader.read_csv(os.path.join(a.results, "realtime.csv"),
+                           text=("scene", "method", "kind", "mode", "integrator", "stability", "status", "overrides",
+                                 "device", "machine", "tunnelled"), missing=[])
+    cpu = [r for r in rows if r.get("device") in (None, "", "cpu")]
+    for r in cpu:
+        r["device"] = "cpu"
+    write_outputs(a, cpu + device_rows(a, cpu))
+
+
+COLS = ["scene", "method", "kind", "mode", "threads", "dt", "integrator", "substeps_max", "t_step_us", "t_contact_us",
+        "contact_budget_share", "realtime_factor", "pos_err_max_mm", "tunnelled", "best_exact_mm", "error_over_best",
+        "stability", "status", "steps", "overrides", "device", "t_step_mean_us", "t_step_p99_us", "t_step_max_us",
+        "budget_us", "realtime_factor_mean", "realtime_factor_p99", "machine"]
+
+
+def write_outputs(a, rows):
+    cols = COLS
     writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
     heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps", "step (µs)",
              "detect+response (µs)", "of 1 ms", "real-time factor", "pos. error (mm)", "tunnelled", "best exact (mm)",
-             "error / best", "stability", "status", "steps", "arguments after `harness run SCENE`"]
+             "error / best", "stability", "status", "steps", "arguments after `harness run SCENE`", "device",
+             "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget (µs)", "RTF mean", "RTF p99", "machine"]
     with open(table_path(a, "realtime.md"), "w") as f:
         f.write("# Real time\n\nPer scene and method: the collision unit's time per step (detection + response, "
                 "median over the run's steps, against a 1 ms haptic budget) and the whole step's (the simulator's: "
@@ -136,10 +198,15 @@ def run(a):
                 "error against the reference over the final window beside it (the two-thread run steps the same "
                 "state bit for bit: its error is the one-thread run's), and its ratio to the best exact method's at the scene's dt. Timings "
                 "exclude the references' measurement. `arguments`: what follows `harness run SCENE` to reproduce "
-                "the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary.\n\n"
+                "the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary. Rows whose `device` is "
+                "not cpu: the completed model on a GPU (`harness run SCENE --device cuda`, scripts/device_check.sh), "
+                "over the scene's time.steps with every step waited for (mean, median, p99, max); their error is the "
+                "CPU twin's (the GPU steps the same states: results/device/state_check.csv).\n\n"
                 + writers.md_table(rows, cols, heads))
     with open(table_path(a, "realtime.tex"), "w") as f:
-        tcols = ["scene", "method", "mode", "threads", "t_step_us", "t_contact_us", "realtime_factor", "error_over_best"]
-        f.write(writers.tex_table([dict(r, scene=r["scene"].replace("_", " ")) for r in rows], tcols,
-                                  ["scene", "method", "mode", "threads", "step ($\\mu$s)", "collision ($\\mu$s)",
+        tcols = ["scene", "method", "mode", "device", "threads", "t_step_us", "t_contact_us", "realtime_factor",
+                 "error_over_best"]
+        f.write(writers.tex_table([dict(r, scene=r["scene"].replace("_", " "),
+                                        device="CPU" if r.get("device") == "cpu" else "GPU") for r in rows], tcols,
+                                  ["scene", "method", "mode", "on", "threads", "step ($\\mu$s)", "collision ($\\mu$s)",
                                    "real-time factor", "error / best exact"], "Real time"))

@@ -417,3 +417,31 @@ TEST_CASE("voxel_exact: non-finite positions find nothing instead of failing", "
     CHECK(col.detect(v) == 0);
   }
 }
+
+TEST_CASE("voxel_exact: a node deep inside, with no host vertex in its block, is undecided and counted",
+          "[collision][voxel_exact]") {
+  // A 8 x 8 x 8 lattice surface of 1 m (surface edges 0.125 m), voxel 0.125 m: a node at the centre
+  // is 0.5 m from every face, its 3 x 3 x 3 block lists no host vertex. The grid cannot tell it
+  // inside from outside: no contact, but counted beyond the band (undecided), not silently dropped.
+  World w;
+  add_body(w, "box", box_lattice(Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3i(8, 8, 8)));
+  const Points g = {Vec3(0.5013, 0.4987, 0.5021),   // deep inside: undecided
+                    Vec3(0.5, 0.5, 0.99),           // near the top face inside: a contact
+                    Vec3(1.5, 0.5, 0.5)};           // outside the box: nothing
+  add_body(w, "guest", cloud(g));
+  ContactSpec spec = exact_spec(0.125);
+  Collision col(w, spec, nullptr);
+  col.detect(w);
+  const auto& det = exact(col);
+  REQUIRE(col.contacts().size() == 1);
+  CHECK(col.contacts()[0].guest == w.bodies[1].begin + 1);
+  CHECK(det.undecided() == 1);
+  CHECK(det.beyond_band() == 1);  // the undecided node (the contact is within its band)
+  // With a voxel large enough for the centre's block to reach the faces, it is decided: a contact.
+  ContactSpec coarse = exact_spec(0.25);
+  Collision col2(w, coarse, nullptr);
+  col2.detect(w);
+  CHECK(exact(col2).undecided() == 0);
+  CHECK(std::count_if(col2.contacts().begin(), col2.contacts().end(),
+                      [&](const Contact& c) { return c.guest == w.bodies[1].begin; }) == 1);
+}
