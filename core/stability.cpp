@@ -50,16 +50,16 @@ StabilityGuard::StabilityGuard(const Scene& sc, const World& w, const Effects& e
   const double d = c.all;
   stats_.dt_crit = stats_.dt_crit_min = dt_crit_last_ = d;
   elastic_last_ = c.without_contact;
-  if (explicit_ && std::isfinite(d) && dt_ > 0.9 * d) {
+  if (explicit_ && std::isfinite(d) && dt_ > kGuardFraction * d) {
     if (!substep_) {
       char buf[256];
       std::snprintf(buf, sizeof buf,
-                    "dt = %.6g s exceeds 0.9 dt_crit = %.6g s (dt_crit = %.6g s, Gershgorin bound); "
+                    "dt = %.6g s exceeds %g dt_crit = %.6g s (dt_crit = %.6g s, Gershgorin bound); "
                     "lower dt or set time.guard to \"substep\"",
-                    dt_, 0.9 * d, d);
+                    dt_, kGuardFraction, kGuardFraction * d, d);
       throw InputError(sc.file + ": time.dt", buf);
     }
-    const double ratio = dt_ / (0.9 * d);
+    const double ratio = dt_ / (kGuardFraction * d);
     if (ratio > 1e6) throw InputError(sc.file + ": time.dt", "dt needs more than 1e6 substeps");
     stats_.substeps = static_cast<int>(std::ceil(ratio));
   }
@@ -94,7 +94,7 @@ void StabilityGuard::adapt(const CriticalDt& c) {
   dt_crit_last_ = measured;
   stats_.dt_crit_min = std::min(stats_.dt_crit_min, d);
   if (!explicit_ || !std::isfinite(d)) return;
-  const double ratio = dt_ / (0.9 * d);
+  const double ratio = dt_ / (kGuardFraction * d);
   if (substep_) {
     stats_.substeps = std::max(1, static_cast<int>(std::ceil(std::min(ratio, 1e6))));
     stats_.max_substeps = std::max(stats_.max_substeps, stats_.substeps);

@@ -16,6 +16,10 @@
 
 namespace harness {
 
+// The largest share of dt_crit an explicit step may take (the guard refuses or substeps above it).
+constexpr double kGuardFraction = 0.9;
+
+
 using Effects = std::vector<std::unique_ptr<Effect>>;
 
 // dt_crit (s) of the effects at the current state; infinity without stiffness. Kinematic nodes

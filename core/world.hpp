@@ -99,9 +99,9 @@ double kinetic_energy(const World& w);
 double mean_rest_length(const World& w, int body);
 // The node spacing of a body, m, the one estimate of how far apart its nodes are: the mean rest
 // length of its springs; for a body without springs (a rigid or hand-made one) the spacing of a
-// uniform lattice of its nodes over its bounding box, largest extent / cbrt(nodes). The paper's
-// automatic voxel size (initializer.hpp) and the automatic force's length scale without a grid
-// (collision.hpp) are taken from it. (Surface quantities, a hash cell or the spacing a surface
+// uniform lattice of its nodes over its bounding box, largest extent / cbrt(nodes). The automatic
+// force's length scale without a grid (collision.hpp) is taken from it, and the automatic voxel
+// size of a host without a surface (initializer.hpp: a host with one takes its mean surface edge). (Surface quantities, a hash cell or the spacing a surface
 // leaves for nodes to pass through, use mean_surface_edge below.)
 double node_spacing(const World& w, int body);
 // Mean length of a body's surface edges (faces' edges, each interior edge counted from both of its

@@ -53,5 +53,15 @@ left=$(( ${BUDGET_S:-600} - ($(date +%s) - t0) ))
 ( sleep "$(( left > 0 ? left : 1 ))"; kill $big 2>/dev/null ) &
 wait $big || echo "bench 1e7: exit $?"
 cat "$OUT/bench_1e7.log"
+# PROFILE=1: per kernel, what 20 steps of each scene's completed model cost (Nsight Compute's
+# gpu__time_duration per kernel launch, the graph's nodes profiled one by one; one CSV per scene):
+# the profile the next optimisation starts from.
+if [[ "${PROFILE:-0}" == 1 ]] && command -v ncu >/dev/null; then
+  for s in sphere_collision cylinder_press implant_expansion; do
+    timeout 120 ncu --csv --metrics gpu__time_duration.sum \
+      "$H" run "$s" --device cuda --quiet --steps 20 --out "$OUT/prof_$s" --set 'contacts.0.detector="voxel_exact"' \
+      --set 'references.solvers=[]' > "$OUT/ncu_$s.csv" 2>&1 || echo "ncu $s: exit $?"
+  done
+fi
 echo "total: $(( $(date +%s) - t0 )) s"
 for f in "$OUT"/bench_cuda*.csv; do echo "== $f"; cut -d, -f1-5,14 "$f"; done

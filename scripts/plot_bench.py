@@ -255,7 +255,11 @@ def gpu_table(gpu, cpu, out_dir):
     md = ["", "## On a GPU (%s)" % device, "",
           "`harness bench --device cuda` (`scripts/device_check.sh`): the device step of the bench scene (median "
           "over batches of steps, each batch waited for at its end) and one device-to-device copy of the bytes "
-          "`stream_step` counts for the size (read and written once). Host: %s." % gpu[0].get("machine", "?"), "",
+          "`stream_step` counts for the size (read and written once). Host: %s. Unlike the CPU's rows, whose "
+          "repetitions restart from the initial state, the device steps on from it: `contacts` are those of "
+          "its last step (at 10^3 nodes the penalties had pushed every contact out). The CPU's step beside it "
+          "is this file's, from another machine (the shared two-core machine of the CPU bench)."
+          % gpu[0].get("machine", "?"), "",
           "| nodes per body | springs | contacts | step (µs) | copy (µs) | step / copy | ns per spring | CPU step 1T (µs) | CPU / GPU |",
           "|---|---|---|---|---|---|---|---|---|"]
     tex = []
@@ -269,15 +273,15 @@ def gpu_table(gpu, cpu, out_dir):
         md.append("| %d | %d | %s | %s | %s | %s | %s | %s | %s |" % (
             n, springs, int(float(st["contacts"])) if reader.present(st.get("contacts")) else 0, fmt(st["us_per_step"]),
             fmt(cp["us_per_step"] if cp else None), fmt(r), fmt(nsps, 3), fmt(c1), fmt(ratio(c1, st["us_per_step"]))))
-        tex.append("$10^{%d}$ & %d & %s & %s & %s & %s & %s \\\\" % (
-            round(math.log10(n)), springs, fmt(st["us_per_step"]), fmt(cp["us_per_step"] if cp else None), fmt(r),
-            fmt(nsps, 3), fmt(c1)))
+        tex.append("$10^{%d}$ & %d & %d & %s & %s & %s & %s & %s \\\\" % (
+            round(math.log10(n)), springs, int(float(st["contacts"])) if reader.present(st.get("contacts")) else 0,
+            fmt(st["us_per_step"]), fmt(cp["us_per_step"] if cp else None), fmt(r), fmt(nsps, 3), fmt(c1)))
     with open(os.path.join(out_dir, "tables", "bench.md"), "a") as f:
         f.write("\n".join(md) + "\n")
     path = os.path.join(out_dir, "tables", "bench_gpu.tex")
     with open(path, "w") as f:
         f.write("%% The GPU rows of bench.csv (%s; made by scripts/plot_bench.py)\n" % device +
-                "\\begin{tabular}{rrrrrrr}\n\\toprule\nnodes/body & springs & step ($\\mu$s) & copy ($\\mu$s) & "
+                "\\begin{tabular}{rrrrrrrr}\n\\toprule\nnodes/body & springs & contacts & step ($\\mu$s) & copy ($\\mu$s) & "
                 "step/copy & ns/spring & CPU 1T ($\\mu$s) \\\\\n\\midrule\n" + "\n".join(tex) +
                 "\n\\bottomrule\n\\end{tabular}\n")
     print("plot_bench: wrote %s" % path)

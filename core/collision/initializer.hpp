@@ -29,9 +29,8 @@
 // trigger a rebuild (that step simply finds no contacts; the run reports the bad state).
 //
 // Voxel size: ContactSpec::voxel_size rounded down to a power of two. voxel_size == 0 means
-// automatic: the largest power of two <= the host's node spacing (node_spacing, world.hpp: the
-// mean rest length of its springs, or for a host without springs its lattice spacing estimate,
-// the largest box extent / cbrt(nodes)). Capacity cap: a region of more than
+// automatic: the smallest power of two >= the host's mean surface edge at rest
+// (host_node_spacing; for a host without a surface its node_spacing, world.hpp). Capacity cap: a region of more than
 // kMaxVoxels voxels throws std::invalid_argument at initialisation (the scene loader reports
 // it) and std::runtime_error when a rebuild during the run would need it.
 #pragma once

@@ -87,7 +87,7 @@ ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json&
       s.cells[a] = static_cast<int>(n);
       total *= (n + 1);
     }
-    if (total > kMaxBoxNodes) c.fail(o.at("cells"), "too many nodes (" + std::to_string(total) + " > 2e7)");
+    if (total > kMaxBoxNodes) c.fail(o.at("cells"), "too many nodes (" + std::to_string(total) + " > " + std::to_string(kMaxBoxNodes) + ")");
     o.out()["cells"] = {s.cells[0], s.cells[1], s.cells[2]};
     // A box lattice is always volumetric: of the fills a surface takes (the shared fill key), only
     // volume.
@@ -114,7 +114,7 @@ ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json&
     s.segments = static_cast<int>(o.integer("segments"));
     s.rings = static_cast<int>(o.integer("rings"));
     if (static_cast<long long>(s.segments) * (s.rings + 1) > kMaxCylinderNodes)
-      c.fail(o.at("rings"), "too many nodes (segments * (rings + 1) > 2e7)");
+      c.fail(o.at("rings"), "too many nodes (segments * (rings + 1) > " + std::to_string(kMaxCylinderNodes) + ")");
     fill();
   } else {
     const std::string p = o.string("path");

@@ -184,11 +184,6 @@ void rescale_to_dt(nlohmann::json& doc, double dt);
 // rescale_steps on a validated scene's resolved document, validated again (tests).
 Scene rescale_dt(const Scene& scene, int factor);
 
-// The same scene at another dt over the same physical time: every step count times dt_old / dt,
-// rounded to the nearest step (at least 1; a driver's window moves with its first step), so the
-// physical times agree within a step. Throws InputError("--dt", ...) for a dt that is not > 0.
-Scene rescale_to_dt(const Scene& scene, double dt);
-
 // Reads a whole text file; throws InputError(path, ...) when missing or unreadable.
 std::string read_text_file(const std::string& path);
 

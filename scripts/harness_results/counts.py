@@ -258,7 +258,9 @@ def gpu_counts(root, text):
         text("GpuRtf" + word, None if not rt else "%.2g" % float(r["realtime_factor_mean"]) if r else "--")
         text("GpuRtfPnn" + word, None if not rt else "%.2g" % float(r["realtime_factor_p99"]) if r else "--")
         text("GpuStepMeanUs" + word, None if not rt else "%.0f" % float(r["t_step_mean_us"]) if r else "--")
-        text("GpuErrOverBest" + word, None if not rt else "%.3g" % float(r["error_over_best"]) if r else "--")
+        text("GpuRtfMedian" + word, None if not rt else "%.2g" % float(r["realtime_factor"]) if r else "--")
+        text("GpuStepMedianUs" + word, None if not rt else "%.0f" % float(r["t_step_us"]) if r else "--")
+        text("GpuTwinErrOverBest" + word, None if not rt else "%.3g" % float(r["cpu_twin_error_over_best"]) if r else "--")
     sc = rows_of(root, os.path.join("device", "state_check.csv")) or []
     text("GpuStateChecks", "%d" % len(sc) if sc else None)
     text("GpuStateIdentical", "%d" % sum(1 for r in sc if r["bit_identical"] == "true") if sc else None)

@@ -131,9 +131,11 @@ DEVICE_METHOD = ("voxel_exact both ways, penalty", "completed", "voxel_exact_ful
 
 def device_rows(a, cpu_rows):
     """One row per scene with a device run: the completed model at the scene's dt on the GPU over the
-    scene's time.steps, every step waited for (mean, median, p99, max). Its error is the CPU
-    twin's (same method, scene dt, one thread): the GPU steps the same states (results/device/
-    state_check.csv gives the largest node distance between the two after the run)."""
+    scene's time.steps (no settling: not on a device), every step waited for (mean, median, p99,
+    max). A device measures no error (no references there): the row's error, stability and
+    tunnelling are empty, and the CPU twin's (same method, scene dt, one thread, measured over its
+    settled run's final window) stand beside them as cpu_twin_*; the GPU's states agree with the
+    CPU's over the steps both ran (results/device/state_check.csv), not beyond."""
     label, kind, stem = DEVICE_METHOD
     out = []
     for scene in SCENES:
@@ -153,9 +155,11 @@ def device_rows(a, cpu_rows):
                     "budget_us": s.get("budget_us"), "t_contact_us": float("nan"), "contact_budget_share": float("nan"),
                     "realtime_factor": dt * 1e6 / med if med > 0 else float("nan"),
                     "realtime_factor_mean": s.get("realtime_factor_mean"), "realtime_factor_p99": s.get("realtime_factor_p99"),
-                    "pos_err_max_mm": twin.get("pos_err_max_mm", float("nan")), "tunnelled": twin.get("tunnelled", ""),
+                    "pos_err_max_mm": float("nan"), "tunnelled": "", "error_over_best": float("nan"), "stability": "",
                     "best_exact_mm": twin.get("best_exact_mm", float("nan")),
-                    "error_over_best": twin.get("error_over_best", float("nan")), "stability": twin.get("stability", ""),
+                    "cpu_twin_pos_err_max_mm": twin.get("pos_err_max_mm", float("nan")),
+                    "cpu_twin_error_over_best": twin.get("error_over_best", float("nan")),
+                    "cpu_twin_stability": twin.get("stability", ""), "cpu_twin_steps": twin.get("steps", ""),
                     "status": s.get("status"), "steps": s.get("steps_run"),
                     "overrides": "--device cuda --steps %s --set 'contacts.0.detector=\"voxel_exact\"' --set "
                                  "'references.solvers=[]'" % s.get("steps_requested"),
@@ -170,6 +174,9 @@ def plots(a):
                            text=("scene", "method", "kind", "mode", "integrator", "stability", "status", "overrides",
                                  "device", "machine", "tunnelled"), missing=[])
     cpu = [r for r in rows if r.get("device") in (None, "", "cpu")]
+    for r in cpu:  # the device rows' columns, empty on the CPU's
+        for k in ("cpu_twin_pos_err_max_mm", "cpu_twin_error_over_best", "cpu_twin_stability", "cpu_twin_steps"):
+            r[k] = ""
     for r in cpu:
         r["device"] = "cpu"
     write_outputs(a, cpu + device_rows(a, cpu))
@@ -178,7 +185,8 @@ def plots(a):
 COLS = ["scene", "method", "kind", "mode", "threads", "dt", "integrator", "substeps_max", "t_step_us", "t_contact_us",
         "contact_budget_share", "realtime_factor", "pos_err_max_mm", "tunnelled", "best_exact_mm", "error_over_best",
         "stability", "status", "steps", "overrides", "device", "t_step_mean_us", "t_step_p99_us", "t_step_max_us",
-        "budget_us", "realtime_factor_mean", "realtime_factor_p99", "machine"]
+        "budget_us", "realtime_factor_mean", "realtime_factor_p99", "machine", "cpu_twin_pos_err_max_mm",
+        "cpu_twin_error_over_best", "cpu_twin_stability", "cpu_twin_steps"]
 
 
 def write_outputs(a, rows):
@@ -187,7 +195,8 @@ def write_outputs(a, rows):
     heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps", "step (µs)",
              "detect+response (µs)", "of 1 ms", "real-time factor", "pos. error (mm)", "tunnelled", "best exact (mm)",
              "error / best", "stability", "status", "steps", "arguments after `harness run SCENE`", "device",
-             "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget (µs)", "RTF mean", "RTF p99", "machine"]
+             "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget (µs)", "RTF mean", "RTF p99", "machine",
+             "CPU twin's error (mm)", "CPU twin's error / best", "CPU twin's stability", "CPU twin's steps"]
     with open(table_path(a, "realtime.md"), "w") as f:
         f.write("# Real time\n\nPer scene and method: the collision unit's time per step (detection + response, "
                 "median over the run's steps, against a 1 ms haptic budget) and the whole step's (the simulator's: "
@@ -200,8 +209,11 @@ def write_outputs(a, rows):
                 "exclude the references' measurement. `arguments`: what follows `harness run SCENE` to reproduce "
                 "the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary. Rows whose `device` is "
                 "not cpu: the completed model on a GPU (`harness run SCENE --device cuda`, scripts/device_check.sh), "
-                "over the scene's time.steps with every step waited for (mean, median, p99, max); their error is the "
-                "CPU twin's (the GPU steps the same states: results/device/state_check.csv).\n\n"
+                "over the scene's time.steps (no settling) with every step waited for (mean, median, p99, max), on "
+                "another machine than the CPU rows (its `machine`; the CPU rows' machine was not recorded: the "
+                "shared two-core machine of the studies). A device measures no error: theirs is empty, and the "
+                "CPU twin's (same method, scene dt, one thread, over its settled run) stands beside it; the GPU's "
+                "states agree with the CPU's over the steps both ran (results/device/state_check.csv).\n\n"
                 + writers.md_table(rows, cols, heads))
     with open(table_path(a, "realtime.tex"), "w") as f:
         tcols = ["scene", "method", "mode", "device", "threads", "t_step_us", "t_contact_us", "realtime_factor",
