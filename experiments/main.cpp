@@ -78,7 +78,8 @@ int cmd_list() {
         try {
           const Scene s = load_scene(e.path().string());
           desc = s.name + ": " + std::to_string(s.bodies.size()) + " bodies, " +
-                 std::to_string(s.contacts.size()) + " contacts, " + std::to_string(s.steps) + " steps";
+                 std::to_string(s.contacts.size()) + " contacts, " + std::to_string(s.steps) + " steps" +
+                 (s.settle.present ? " then settling, up to " + std::to_string(s.settle.max_steps) + " more" : "");
         } catch (const std::exception& ex) {
           desc = std::string("(invalid: ") + ex.what() + ")";
         }

@@ -129,12 +129,34 @@ int run_reference(const Scene& scene, const ReferenceOptions& opt) {
   json order = nullptr, estimate = nullptr;
   for (const json& lv : levels)
     if (lv["order"].is_number()) order = lv["order"], estimate = lv["error_estimate"];
+  // The floor: how far the answer may be from the converged one. The last level's change when the
+  // last order is sane (kSaneOrder: first order in dt and 1/k_c is what the loop expects; the change
+  // then bounds the remaining error); else the largest of the last two changes (not yet asymptotic:
+  // a jump between levels stays possible); null with one level. (scripts/harness_results/reader.py
+  // reads it, and applies the same rule to references made before it was recorded.)
+  constexpr double kSaneOrder[2] = {0.5, 4.0};
+  std::vector<double> changes;
+  for (const json& lv : levels)
+    if (lv["change_max"].is_number()) changes.push_back(lv["change_max"].get<double>());
+  json floor = nullptr;
+  std::string floor_rule = "one level only";
+  if (!changes.empty()) {
+    const json& lo = levels.back()["order"];
+    if (lo.is_number() && lo.get<double>() >= kSaneOrder[0] && lo.get<double>() <= kSaneOrder[1]) {
+      floor = changes.back(), floor_rule = "last change (order sane)";
+    } else {
+      floor = changes.size() > 1 ? std::max(changes[changes.size() - 2], changes.back()) : changes.back();
+      floor_rule = lo.is_number() ? "largest of the last two changes (order not sane)" : "largest change (no order yet)";
+    }
+  }
   sum[json::json_pointer(summary_key::kReference)] = {{"converged", converged},
                       {"tolerance", opt.tolerance},
                       {"min_levels", opt.min_levels},
                       {"two_sided", !opt.one_sided},
                       {"order", order},
                       {"error_estimate", estimate},
+                      {"floor", floor},
+                      {"floor_rule", floor_rule},
                       {"base_dt", scene.dt},
                       {"base_stiffness", k0},
                       {"max_levels", opt.max_levels},
@@ -143,6 +165,17 @@ int run_reference(const Scene& scene, const ReferenceOptions& opt) {
   out << sum.dump(2) << "\n";
   out.close();
   fs::rename(dir / "summary.json.tmp", dir / "summary.json");
+  // What the reference knows: its floor (the last level's change), the observed order and
+  // Richardson's estimate of the last level's error where three levels gave an order.
+  auto shown = [](const json& v, double scale, const char* unit) {
+    if (!v.is_number()) return std::string("-");
+    char b[64];
+    std::snprintf(b, sizeof b, "%.3g%s", v.get<double>() * scale, unit);
+    return std::string(b);
+  };
+  std::fprintf(stderr, "reference: %s after %d levels; floor %s (%s), observed order %s, Richardson error estimate %s\n",
+               converged ? "converged" : "NOT converged", static_cast<int>(levels.size()), shown(floor, 1e3, " mm").c_str(),
+               floor_rule.c_str(), shown(order, 1.0, "").c_str(), shown(estimate, 1e3, " mm").c_str());
   if (!converged)
     std::fprintf(stderr, "harness: warning: the reference of %s did not converge within %d levels (tolerance %g m)\n",
                  scene.name.c_str(), opt.max_levels, opt.tolerance);

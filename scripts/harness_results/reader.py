@@ -306,7 +306,10 @@ def reference_floor(s):
     change when the last order of convergence is sane (SANE_ORDER: the change then bounds the
     remaining error from above); otherwise the largest of the last two changes (the loop is not in
     its asymptotic range: a jump between levels stays possible). NaN when fewer than two levels."""
-    levels = (s.get("reference") or {}).get("levels") or []
+    ref = s.get("reference") or {}
+    if present(ref.get("floor")):  # recorded by harness reference (the same rule)
+        return num(ref.get("floor")), ref.get("floor_rule", "")
+    levels = ref.get("levels") or []
     changes = [num(lv.get("change_max")) for lv in levels if present(lv.get("change_max"))]
     if not changes:
         return float("nan"), "one level only"

@@ -127,5 +127,20 @@ head -1 "$T/sw/runs.csv" | grep -q '^point,name,contacts.0.force,contacts.0.elim
 "$H" sweep sphere_collision --grid contacts.0.force=-1 --out "$T/sw4" 2>"$T/err"; rc=$?
 [[ $rc -eq 2 ]] && grep -q "contacts.0.force" "$T/err" && [[ ! -e "$T/sw4" ]] && ok || bad "sweep bad value: exit $rc"
 
+# harness list: the steps a scene runs, and its settling cap
+"$H" list | grep -q "^cylinder_press .* 5000 steps then settling, up to 30000 more" && ok || bad "list: steps and settle cap"
+# harness reference: the end line says what it knows (floor, order, estimate); summary.json records the floor
+"$H" reference hard/collinear_plane --max-levels 3 --min-levels 3 --out "$T/ref" 2>"$T/err"
+grep -q "^reference: .*after 3 levels; floor [0-9.e+-]* mm (.*), observed order " "$T/err" && ok \
+  || { bad "reference end line"; cat "$T/err"; }
+/usr/bin/python3 - "$T/ref/summary.json" "$2/scripts" <<'PY' && ok || bad "reference floor in summary.json: the scripts' rule"
+import json, sys
+sys.path.insert(0, sys.argv[2])
+from harness_results import reader
+s = json.load(open(sys.argv[1]))
+r = dict(s, reference=dict(s["reference"], floor=None))  # the rule the scripts apply without it
+sys.exit(0 if abs(reader.reference_floor(r)[0] - s["reference"]["floor"]) <= 0 else 1)
+PY
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
