@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/run.hpp"
+#include "core/run/machine.hpp"
 #include "core/scene/scene.hpp"
 
 #include <nlohmann/json.hpp>
@@ -23,9 +24,5 @@ struct DeviceRunOptions {
 // Exit status as `harness run`: 0 done, 3 the state became non-finite (summary written).
 int run_on_device(const Scene& scene, const DeviceRunOptions& o);
 
-// The processor and the cores of this machine, read from the system: {"cpu": model, "cores": n}.
-nlohmann::json machine_info();
-// The same as one string: "MODEL (N cores)".
-std::string machine_string();
 
 }  // namespace harness

@@ -1,6 +1,8 @@
 #include "core/run/summary.hpp"
 
 #include "core/run/compare.hpp"
+#include "core/run/machine.hpp"
+#include "core/parallel.hpp"
 #include "core/run/summary_keys.hpp"
 
 #include "harness_git.hpp"
@@ -163,6 +165,9 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& 
   json ver = {{"compiler", compiler_version()}, {"Eigen", eigen_version()}};
   for (const auto& [k, v] : versions) ver[k] = v;
   sum["versions"] = ver;
+  // Where it ran, read from the system, and the threads it used (timings depend on both).
+  sum["machine"] = machine_info();
+  sum["threads"] = threads();
   at(sum, key::kResolvedScene) = sc.resolved;
   at(sum, key::kStateHash) = state_hash(w);
   const char* const* part = key::kTimingParts;  // step, physics, detect, eliminate, cgal, fcl

@@ -73,10 +73,10 @@ double auto_contact_forces(const World& w, const std::vector<Push>& pushes, doub
       Vec3 dv = velocity(w, p.guest), da = acceleration(w, p.guest);
       double c = inverse_mass(w, p.guest);
       for (int k = 0; k < p.count; ++k) {
-        const int h = p.hosts[k];
-        dv -= p.weight[k] * velocity(w, h);
-        da -= p.weight[k] * acceleration(w, h);
-        c += p.weight[k] * p.weight[k] * share[h] * inverse_mass(w, h);
+        const int host = p.hosts[k];
+        dv -= p.weight[k] * velocity(w, host);
+        da -= p.weight[k] * acceleration(w, host);
+        c += p.weight[k] * p.weight[k] * share[host] * inverse_mass(w, host);
       }
       if (!(c > 0.0)) continue;  // every node kinematic: nothing can move
       const double sep = dv.dot(p.n) + h * da.dot(p.n);
