@@ -200,6 +200,29 @@ HARNESS_HD inline bool occupied(const DirView& D, int cell) {
   cell_range(D, cell, b, e);
   return e > b;
 }
+// Calls fn(node) for every host node listed in the 3 x 3 x 3 block of voxels around ijk (those
+// inside the grid): voxels in z, y, x order, each voxel's nodes in increasing order (the order of
+// VoxelDetector::nearest_hosts and of voxel_exact's candidates).
+template <class Fn>
+HARNESS_HD inline void for_block_nodes(const DirView& D, const int ijk[3], Fn&& fn) {
+  const GridState& G = *D.G;
+  for (int dz = -1; dz <= 1; ++dz) {
+    const int z = ijk[2] + dz;
+    if (z < 0 || z >= G.gdims[2]) continue;
+    for (int dy = -1; dy <= 1; ++dy) {
+      const int y = ijk[1] + dy;
+      if (y < 0 || y >= G.gdims[1]) continue;
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = ijk[0] + dx;
+        if (xx < 0 || xx >= G.gdims[0]) continue;
+        int cb, ce;
+        cell_range(D, xx + G.gdims[0] * (y + G.gdims[1] * z), cb, ce);
+        for (int s = cb; s < ce; ++s) fn(D.sorted[s]);
+      }
+    }
+  }
+}
+
 // The keys path's key of listed node j: (voxel, j), the voxel kNoCell outside the grid.
 HARNESS_HD inline unsigned long long fill_key(const DirView& D, const double* x, int j) {
   const int c = cell_of(*D.G, load3(x, D.listed_begin + j));
@@ -351,22 +374,7 @@ HARNESS_HD inline void voxel_push(const DirView& D, const double* x, int g, int 
   }
   int h[3] = {-1, -1, -1}, k = 0;
   double d[3] = {0, 0, 0};
-  for (int dz = -1; dz <= 1; ++dz) {
-    const int z = ijk[2] + dz;
-    if (z < 0 || z >= G.gdims[2]) continue;
-    for (int dy = -1; dy <= 1; ++dy) {
-      const int y = ijk[1] + dy;
-      if (y < 0 || y >= G.gdims[1]) continue;
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int xx = ijk[0] + dx;
-        if (xx < 0 || xx >= G.gdims[0]) continue;
-        const int c = xx + G.gdims[0] * (y + G.gdims[1] * z);
-        int cb, ce;
-        cell_range(D, c, cb, ce);
-        for (int s = cb; s < ce; ++s) nearest3_offer(x, p, D.sorted[s], h, d, k);
-      }
-    }
-  }
+  for_block_nodes(D, ijk, [&](int node) { nearest3_offer(x, p, node, h, d, k); });
   if (k == 3) {
     const V3 a = load3(x, h[0]), b = load3(x, h[1]), q = load3(x, h[2]);
     const V3 centroid = (a + b + q) / 3.0;

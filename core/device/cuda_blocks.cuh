@@ -151,35 +151,19 @@ __global__ void guest_exact_warp(DirView D, const double* x) {
     int bb_i = 0x7fffffff;
     Nearest bb_n, nn;  // the least-bound candidate's and the nearest candidate's closest points
     int nn_i = 0x7fffffff;
-    int idx = 0;
-    const GridState& G = *D.G;
-    for (int dz = -1; dz <= 1; ++dz) {
-      const int z = ijk[2] + dz;
-      if (z < 0 || z >= G.gdims[2]) continue;
-      for (int dy = -1; dy <= 1; ++dy) {
-        const int y = ijk[1] + dy;
-        if (y < 0 || y >= G.gdims[1]) continue;
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int xx = ijk[0] + dx;
-          if (xx < 0 || xx >= G.gdims[0]) continue;
-          const int c = xx + G.gdims[0] * (y + G.gdims[1] * z);
-          int cb, ce;
-          cell_range(D, c, cb, ce);
-          for (int s = cb; s < ce; ++s) {
-            const int u = D.sorted[s] - D.host_begin;
-            const int f0 = D.vf_start[u], m = D.vf_start[u + 1] - f0;
-            for (int k = (lane - idx % 32 + 32) % 32; k < m; k += 32) {
-              const int f = D.vf_faces[f0 + k], i = idx + k;
-              const double b = face_bound(D, x, f, p);
-              const Nearest e = eval_candidate(D, x, f, p);
-              if (better(b, i, bb, bb_i)) bb = b, bb_i = i, bb_d2 = e.d2, bb_n = e;
-              if (better(e.d2, i, nn.d2, nn_i)) nn = e, nn_i = i;
-            }
-            idx += m;
-          }
-        }
+    int idx = 0;  // the candidate sequence's index of the block's next node's first face
+    for_block_nodes(D, ijk, [&](int node) {
+      const int u = node - D.host_begin;
+      const int f0 = D.vf_start[u], m = D.vf_start[u + 1] - f0;
+      for (int k = (lane - idx % 32 + 32) % 32; k < m; k += 32) {
+        const int f = D.vf_faces[f0 + k], i = idx + k;
+        const double b = face_bound(D, x, f, p);
+        const Nearest e = eval_candidate(D, x, f, p);
+        if (better(b, i, bb, bb_i)) bb = b, bb_i = i, bb_d2 = e.d2, bb_n = e;
+        if (better(e.d2, i, nn.d2, nn_i)) nn = e, nn_i = i;
       }
-    }
+      idx += m;
+    });
     // The warp's least bound (first) and least distance, each with the least index among ties.
     double fb = bb, fd2 = bb_d2, md = nn.d2;
     int fi = bb_i, mi = nn_i;

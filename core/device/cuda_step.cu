@@ -103,8 +103,10 @@ struct DirDev {
     grid.alloc(1);
     check(cudaMemcpy(grid.p, &p.grid, sizeof(GridState), cudaMemcpyHostToDevice), "grid");
     capacity = p.grid.capacity;
-    cnt.alloc(static_cast<std::size_t>(capacity) + 1);
-    start.alloc(static_cast<std::size_t>(capacity) + 1);
+    if (!p.keys) {  // the counting sort's arrays over the voxels (the keys path has none)
+      cnt.alloc(static_cast<std::size_t>(capacity) + 1);
+      start.alloc(static_cast<std::size_t>(capacity) + 1);
+    }
     cellof.alloc(p.listed), slot.alloc(p.listed), sorted.alloc(p.listed);
     if (p.keys) scell.alloc(p.listed);
     push.alloc(p.guest_size);

@@ -115,26 +115,10 @@ HARNESS_HD inline double face_bound(const DirView& D, const double* x, int f, V3
 // face may come more than once: the first time is its place in voxel_exact's candidate order).
 template <class Fn>
 HARNESS_HD inline void for_candidates(const DirView& D, const int ijk[3], Fn&& fn) {
-  const GridState& G = *D.G;
-  for (int dz = -1; dz <= 1; ++dz) {
-    const int z = ijk[2] + dz;
-    if (z < 0 || z >= G.gdims[2]) continue;
-    for (int dy = -1; dy <= 1; ++dy) {
-      const int y = ijk[1] + dy;
-      if (y < 0 || y >= G.gdims[1]) continue;
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int xx = ijk[0] + dx;
-        if (xx < 0 || xx >= G.gdims[0]) continue;
-        const int c = xx + G.gdims[0] * (y + G.gdims[1] * z);
-        int cb, ce;
-        cell_range(D, c, cb, ce);
-        for (int s = cb; s < ce; ++s) {
-          const int u = D.sorted[s] - D.host_begin;
-          for (int k = D.vf_start[u]; k < D.vf_start[u + 1]; ++k) fn(D.vf_faces[k]);
-        }
-      }
-    }
-  }
+  for_block_nodes(D, ijk, [&](int node) {
+    const int u = node - D.host_begin;
+    for (int k = D.vf_start[u]; k < D.vf_start[u + 1]; ++k) fn(D.vf_faces[k]);
+  });
 }
 
 // A candidate face's closest point to p (voxel_exact's evaluate): squared distance, feature,

@@ -24,9 +24,10 @@ struct DirBuffers {
   void make(const DirPlan& p) {
     plan = &p;
     grid = p.grid;
-    const std::size_t cap = static_cast<std::size_t>(grid.capacity) + 1;
-    cnt.assign(cap, 0);
-    start.assign(cap, 0);
+    if (!p.keys) {  // the counting sort's arrays over the voxels (the keys path has none)
+      cnt.assign(static_cast<std::size_t>(grid.capacity) + 1, 0);
+      start.assign(cnt.size(), 0);
+    }
     cellof.assign(static_cast<std::size_t>(p.listed), -1);
     slot.assign(static_cast<std::size_t>(p.listed), -1);
     sorted.assign(static_cast<std::size_t>(p.listed), -1);
