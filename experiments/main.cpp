@@ -1,6 +1,7 @@
 // The command-line program `harness` (README.md, "Usage").
 #include "core/parallel.hpp"
 #include "core/run.hpp"
+#include "core/scene/bundled.hpp"
 #include "core/scene/scene.hpp"
 #include "experiments/bench.hpp"
 #include "experiments/device_run.hpp"
@@ -26,33 +27,6 @@ namespace fs = std::filesystem;
 using namespace harness;
 
 namespace {
-
-// Bundled scenes: $HARNESS_SCENES, else experiments/scenes next to the build, else the source tree.
-std::vector<fs::path> scene_roots() {
-  std::vector<fs::path> roots;
-  if (const char* env = std::getenv("HARNESS_SCENES")) roots.emplace_back(env);
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) roots.push_back(exe.parent_path() / ".." / ".." / "experiments" / "scenes");
-  roots.emplace_back(fs::path(HARNESS_SOURCE_DIR) / "experiments" / "scenes");
-  return roots;
-}
-
-// A path that exists, or the name of a bundled scene ("cylinder_press", "hard/fast_impact",
-// "bullet/sphere_collision": the variants Bullet can represent, --engine bullet).
-std::string resolve_scene(const std::string& arg) {
-  std::error_code ec;
-  if (fs::is_regular_file(arg, ec)) return arg;
-  if (arg.find('/') == std::string::npos || arg.rfind("hard/", 0) == 0 || arg.rfind("bullet/", 0) == 0) {
-    for (const fs::path& root : scene_roots()) {
-      for (const fs::path& cand : {root / (arg + ".json"), root / "hard" / (arg + ".json")}) {
-        if (fs::is_regular_file(cand, ec)) return fs::weakly_canonical(cand).string();
-      }
-    }
-  }
-  if (fs::exists(arg, ec)) return arg;  // a directory etc.: read_text_file says what is wrong
-  throw InputError(arg, "no such scene file or bundled scene (see `harness list`)");
-}
 
 std::vector<std::pair<std::string, std::string>> parse_sets(const std::vector<std::string>& sets) {
   std::vector<std::pair<std::string, std::string>> out;
@@ -95,13 +69,11 @@ int cmd_list() {
 
 // The options every program that runs a scene passes: the reference library where linked.
 RunOptions run_options() {
-  RunOptions opt;
 #ifdef HARNESS_HAVE_REFERENCE
-  opt.measurer = make_reference_measurer;
-  opt.exact_detectors = make_exact_detector;
-  opt.versions = reference_version_map();
+  return with_references();
+#else
+  return {};
 #endif
-  return opt;
 }
 
 // The scene as the command line edits it, validated once: the file's document, --set overrides

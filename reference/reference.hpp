@@ -6,3 +6,18 @@
 #include "reference/exact_detectors.hpp"    // make_exact_detector()
 #include "reference/measure_reference.hpp"  // make_reference_measurer(), reference_versions(),
                                             // reference_version_map()
+
+#include "core/run.hpp"
+
+namespace harness {
+
+// A program's RunOptions with this library's exact detectors, measurer and versions filled in
+// (the command line's runs and the Python module's).
+inline RunOptions with_references(RunOptions opt = {}) {
+  opt.measurer = make_reference_measurer;
+  opt.exact_detectors = make_exact_detector;
+  opt.versions = reference_version_map();
+  return opt;
+}
+
+}  // namespace harness

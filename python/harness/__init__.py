@@ -1,0 +1,101 @@
+"""harness from Python: scenes, runs and a simulation you can step (docs/python.md).
+
+    import harness
+    scene = harness.Scene.load("sphere_collision").with_(**{"contacts.0.detector": "voxel"})
+    result = harness.run(scene, steps=200)          # what `harness run` writes, read back
+    sim = harness.Simulation(scene)
+    sim.step(100)
+    x = sim.positions("left")                      # read-only (n, 3) view, follows the steps
+
+Bad input raises SceneError, whose message is the command line's exit-2 line (file and key path).
+"""
+import csv
+import json
+import os
+import shutil
+import tempfile
+
+import numpy as np
+
+from ._harness import Scene, SceneError, Simulation, SimulationError, have_reference
+from ._harness import _run_scene
+
+__all__ = ["Scene", "SceneError", "Simulation", "SimulationError", "Result", "run", "read_steps",
+           "have_reference"]
+
+
+def read_steps(path):
+    """steps.csv as a dict of column name -> numpy array (float where every value is a number,
+    else str; an empty field in a numeric column is NaN)."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        return {}
+    header, body = rows[0], rows[1:]
+    out = {}
+    for j, name in enumerate(header):
+        values = [r[j] if j < len(r) else "" for r in body]
+        try:
+            out[name] = np.array([float(v) if v != "" else np.nan for v in values], dtype=float)
+        except ValueError:
+            out[name] = np.array(values, dtype=str)
+    return out
+
+
+class Result:
+    """A finished run: .summary (summary.json as a dict), .steps (steps.csv's columns as numpy
+    arrays), .state_hash, .exit_code (0 done, 3 the state became non-finite: .summary says
+    where), .out (the folder it was written to, None when it was a temporary one)."""
+
+    def __init__(self, summary, steps, exit_code, out):
+        self.summary = summary
+        self.steps = steps
+        self.exit_code = exit_code
+        self.out = out
+
+    @property
+    def state_hash(self):
+        return self.summary.get("state_hash")
+
+    def __repr__(self):
+        status = self.summary.get("status")
+        return (f"<harness.Result {self.summary.get('scene', '?')}: "
+                f"{self.summary.get('steps_run', '?')} steps, status {status}, "
+                f"state_hash {self.state_hash}>")
+
+
+def _as_scene(scene):
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, dict):
+        return Scene.from_dict(scene)
+    if isinstance(scene, (str, os.PathLike)):
+        return Scene.load(os.fspath(scene))
+    raise TypeError(f"expected a harness.Scene, a dict or a scene file/name, got {type(scene).__name__}")
+
+
+def run(scene, steps=None, threads=1, compare=None, out=None):
+    """Runs a scene as `harness run` does (the same code, the same files) and returns a Result.
+
+    steps: exactly that many steps (time.settle off), as --steps; None: the scene's own.
+    threads: threads of the parallel kernels (results do not depend on it).
+    compare: a reference folder (harness reference) or a finished run of the same scene.
+    out: the output folder (as --out); None: a temporary folder, removed after reading it back.
+    Raises SceneError for bad input (nothing written), KeyboardInterrupt when interrupted (the
+    outputs in `out` hold the state after the last whole step, summary status "interrupted").
+    """
+    scene = _as_scene(scene)
+    if steps is not None:
+        scene = scene.with_steps(int(steps))
+    folder = os.fspath(out) if out is not None else tempfile.mkdtemp(prefix="harness-run-")
+    try:
+        rc = _run_scene(scene, folder, int(threads), os.fspath(compare) if compare is not None else "")
+        if rc in (130, 143):
+            raise KeyboardInterrupt(f"harness.run: interrupted; outputs in {folder}")
+        with open(os.path.join(folder, "summary.json")) as f:
+            summary = json.load(f)
+        table = read_steps(os.path.join(folder, "steps.csv"))
+    finally:
+        if out is None:
+            shutil.rmtree(folder, ignore_errors=True)
+    return Result(summary, table, rc, folder if out is not None else None)

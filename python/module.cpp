@@ -1,0 +1,71 @@
+// The extension module harness._harness (docs/python.md): Scene, Simulation, and run_scene
+// (`harness run` itself, writing the same files), with InputError raised as harness.SceneError.
+#include "python/module.hpp"
+
+#include "core/parallel.hpp"
+#include "core/run.hpp"
+
+#ifdef HARNESS_HAVE_REFERENCE
+#include "reference/reference.hpp"
+#endif
+
+namespace harness::py {
+
+ExactDetectorMaker exact_detector_maker() {
+#ifdef HARNESS_HAVE_REFERENCE
+  return make_exact_detector;
+#else
+  return nullptr;
+#endif
+}
+
+bool have_reference() { return exact_detector_maker() != nullptr; }
+
+void check_signals() {
+  pyb::gil_scoped_acquire acquire;
+  if (PyErr_CheckSignals() != 0) throw pyb::error_already_set();
+}
+
+namespace {
+
+// `harness run` on a scene into out_dir: the same options as the command line's, no progress
+// line. Returns its exit status (0 done, 3 non-finite, 130/143 interrupted: harness.run raises).
+int run_scene_into(const PyScene& s, const std::string& out_dir, int threads, const std::string& compare) {
+  if (threads < 1) throw InputError("threads", "must be >= 1");
+#ifdef HARNESS_HAVE_REFERENCE
+  RunOptions opt = with_references();
+#else
+  RunOptions opt;
+#endif
+  opt.out_dir = out_dir;
+  opt.progress = false;
+  opt.compare_dir = compare;
+  const int before = harness::threads();
+  set_threads(threads);
+  int rc = 0;
+  try {
+    pyb::gil_scoped_release release;
+    rc = run_scene(s.scene, opt);
+  } catch (...) {
+    set_threads(before);
+    throw;
+  }
+  set_threads(before);
+  return rc;
+}
+
+}  // namespace
+
+}  // namespace harness::py
+
+PYBIND11_MODULE(_harness, m) {
+  using namespace harness::py;
+  m.doc() = "harness: soft bodies as nonlinear mass-spring models, collisions by the local voxel model "
+            "(the C++ side of the Python module; import harness)";
+  pybind11::register_exception<harness::InputError>(m, "SceneError", PyExc_ValueError);
+  bind_scene(m);
+  bind_simulation(m);
+  m.def("_run_scene", &run_scene_into, pybind11::arg("scene"), pybind11::arg("out_dir"), pybind11::arg("threads") = 1,
+        pybind11::arg("compare") = "");
+  m.def("have_reference", &have_reference, "Whether this build links FCL and CGAL (references, measure()).");
+}

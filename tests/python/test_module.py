@@ -1,0 +1,278 @@
+"""import harness (docs/python.md): scenes, runs, a simulation one can step."""
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import harness
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def cli(harness_bin, *args, cwd=None):
+    return subprocess.run([harness_bin, *args], capture_output=True, text=True, cwd=cwd)
+
+
+# --- scenes ---------------------------------------------------------------------------------
+
+def test_load_bundled_and_file_alike():
+    by_name = harness.Scene.load("cylinder_press")
+    by_path = harness.Scene.load(os.path.join(ROOT, "experiments", "scenes", "cylinder_press.json"))
+    assert by_name.name == by_path.name == "cylinder_press"
+    assert by_name.resolved() == by_path.resolved()
+    assert by_name.bodies and by_name.contacts and by_name.dt > 0
+
+
+def test_dict_round_trip_and_edits():
+    s = harness.Scene.load("sphere_collision")
+    d = s.to_dict()
+    again = harness.Scene.from_dict(d, base_dir=os.path.dirname(s.file))
+    assert again.resolved() == s.resolved()
+    edited = s.with_(**{"contacts.0.force": 0.01, "time.steps": 123})
+    assert edited.to_dict()["contacts"][0]["force"] == 0.01 and edited.steps == 123
+    assert s.to_dict() == d  # the original is unchanged
+    assert s.with_steps(7).steps == 7 and s.with_steps(7).to_dict()["time"]["settle"] is None
+    assert s.with_dt_divide(2).dt == pytest.approx(s.dt / 2) and s.with_dt_divide(2).steps == 2 * s.steps
+
+
+def test_scene_error_is_the_cli_line(harness_bin, capfd):
+    s = harness.Scene.load("sphere_collision")
+    with pytest.raises(harness.SceneError) as e:
+        s.with_(**{"contacts.0.force": -1})
+    r = cli(harness_bin, "run", "sphere_collision", "--set", "contacts.0.force=-1", "--out", "/nonexistent/x")
+    assert r.returncode == 2
+    assert r.stderr.strip() == "harness: error: " + str(e.value)
+    assert "contacts.0.force" in str(e.value) and "sphere_collision.json" in str(e.value)
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""  # nothing printed
+    assert isinstance(e.value, ValueError)
+
+
+@pytest.mark.parametrize("edit, where", [
+    ({"contacts.5.force": 1.0}, "contacts.5"),
+    ({"time.dt": "fast"}, "time.dt"),
+    ({"bodies.0.material.law": "quintic"}, "bodies.0.material.law"),
+])
+def test_scene_error_names_the_key_path(edit, where):
+    with pytest.raises(harness.SceneError, match=where.replace(".", r"\.")):
+        harness.Scene.load("sphere_collision").with_(**edit)
+
+
+def test_from_dict_errors():
+    with pytest.raises(harness.SceneError, match=r"^<dict>: time: missing required key"):
+        harness.Scene.from_dict({"name": "x"})
+    with pytest.raises(harness.SceneError, match=r"^my\.json: .*not a JSON value"):
+        harness.Scene.from_dict({"name": float("nan")}, file="my.json")
+    with pytest.raises(harness.SceneError, match="no such scene file or bundled scene"):
+        harness.Scene.load("no_such_scene")
+
+
+# --- runs -----------------------------------------------------------------------------------
+
+def test_run_hash_equals_cli(harness_bin, small, tmp_path):
+    scene_file = tmp_path / "small.json"
+    scene_file.write_text(json.dumps(small.to_dict()))
+    base = os.path.dirname(small.file)  # mesh paths: none here, but keep the folder honest
+    r = cli(harness_bin, "run", str(scene_file), "--steps", "300", "--quiet", "--out", str(tmp_path / "cli"), cwd=base)
+    assert r.returncode == 0, r.stderr
+    cli_hash = json.loads((tmp_path / "cli" / "summary.json").read_text())["state_hash"]
+    res = harness.run(small, steps=300)
+    assert res.exit_code == 0 and res.out is None
+    assert res.state_hash == cli_hash
+    assert res.summary["steps_run"] == 300
+    assert len(res.steps["step"]) == 300 and res.steps["step"][-1] == 300
+    assert res.steps["step"].dtype == float and res.steps["pair"].dtype.kind == "U"
+    # two threads: the same bits
+    assert harness.run(small, steps=300, threads=2).state_hash == cli_hash
+
+
+def test_run_out_writes_what_the_cli_writes(harness_bin, small, tmp_path):
+    scene_file = tmp_path / "small.json"
+    scene_file.write_text(json.dumps(small.to_dict()))
+    assert cli(harness_bin, "run", str(scene_file), "--steps", "50", "--quiet", "--out", str(tmp_path / "cli")).returncode == 0
+    res = harness.run(small, steps=50, out=tmp_path / "py")
+    assert res.out == str(tmp_path / "py")
+    assert sorted(os.listdir(tmp_path / "py")) == sorted(os.listdir(tmp_path / "cli"))
+    assert (tmp_path / "py" / "steps.csv").read_text().splitlines()[0] == \
+        (tmp_path / "cli" / "steps.csv").read_text().splitlines()[0]
+
+
+def test_run_accepts_names_and_dicts(small):
+    a = harness.run(small.to_dict(), steps=20)
+    b = harness.run(small, steps=20)
+    assert a.state_hash == b.state_hash
+    with pytest.raises(TypeError):
+        harness.run(42)
+
+
+# --- a simulation one can step --------------------------------------------------------------
+
+def test_simulation_hash_equals_cli(harness_bin, small, tmp_path):
+    scene_file = tmp_path / "small.json"
+    scene_file.write_text(json.dumps(small.to_dict()))
+    assert cli(harness_bin, "run", str(scene_file), "--steps", "2100", "--quiet", "--out", str(tmp_path / "c")).returncode == 0
+    cli_hash = json.loads((tmp_path / "c" / "summary.json").read_text())["state_hash"]
+    sim = harness.Simulation(small)
+    sim.step(1000)
+    for _ in range(1100):
+        sim.step()
+    assert sim.step_index == 2100 and sim.time == pytest.approx(2100 * small.dt)
+    assert sim.state_hash() == cli_hash
+
+
+def test_positions_are_views_without_copy(small):
+    sim = harness.Simulation(small)
+    x = sim.positions("right")
+    v = sim.velocities(1)
+    assert x.shape == (sim_nodes(small, 1), 3) and v.shape == x.shape
+    assert not x.flags.writeable and not x.flags.owndata
+    with pytest.raises(ValueError):
+        x[0, 0] = 1.0
+    before, ptr = x.copy(), x.__array_interface__["data"][0]
+    sim.step(10)
+    assert np.abs(x - before).max() > 0  # the same array object, changed by the steps
+    assert x.__array_interface__["data"][0] == ptr == sim.positions("right").__array_interface__["data"][0]
+    # the velocity the driver imposes (-0.05 m/s along x) is seen in place
+    assert v[:, 0].min() == pytest.approx(-0.05, rel=0.2)
+    del sim  # the view keeps the simulation alive
+    assert np.isfinite(x).all()
+
+
+def sim_nodes(scene, body):
+    return harness.Simulation(scene).positions(body).shape[0]
+
+
+def test_set_positions_moves_a_body(small):
+    sim = harness.Simulation(small)
+    x0 = sim.positions("left").copy()
+    sim.set_positions("left", x0 + [0.0, 0.0, 0.001])
+    assert np.allclose(sim.positions("left"), x0 + [0, 0, 0.001], atol=0, rtol=0)
+    sim.set_positions("left", x0[:2] - 1e-3, nodes=[0, 1])
+    assert np.array_equal(sim.positions("left")[:2], x0[:2] - 1e-3)
+    with pytest.raises(ValueError, match=r"shape \(2, 3\)"):
+        sim.set_positions("left", x0, nodes=[0, 1])
+    with pytest.raises(ValueError, match="not finite"):
+        sim.set_positions("left", np.full((1, 3), np.nan), nodes=[0])
+    with pytest.raises(KeyError):
+        sim.positions("nobody")
+    with pytest.raises(IndexError):
+        sim.set_positions(0, x0[:1], nodes=[10 ** 6])
+    sim.step(5)  # a driver written in Python: the state it set is stepped from
+    assert np.isfinite(sim.positions("left")).all()
+
+
+def test_contacts_penalty_force_is_stiffness_times_depth(small):
+    sim = harness.Simulation(small)
+    assert len(sim.contacts(0)["node"]) == 0
+    sim.step(2300)
+    c = sim.contacts("left/right")
+    assert len(c["node"]) > 0
+    assert set(np.unique(c["way"])) <= {0, 1}
+    assert np.allclose(np.linalg.norm(c["direction"], axis=1), 1.0, atol=1e-12)
+    inside = c["depth"] > 0
+    assert inside.any()
+    assert np.allclose(c["force"][inside], 500.0 * c["depth"][inside], rtol=1e-12)
+    n_right = sim.positions("right").shape[0]
+    assert (c["node"][c["way"] == 0] < n_right).all()
+    with pytest.raises(KeyError):
+        sim.contacts("no/pair")
+
+
+@pytest.mark.skipif(not harness.have_reference(), reason="built without FCL and CGAL")
+def test_measure_and_energy(small):
+    sim = harness.Simulation(small)
+    m0 = sim.measure(0)
+    assert m0["true_pen_guest"] == 0 and m0["gap"] > 0.003  # 8 mm apart, less the spheres' facets
+    sim.step(2300)
+    m = sim.measure()
+    assert isinstance(m, list) and m[0]["pair"] == "left/right"
+    assert m[0]["true_pen_guest"] + m[0]["true_pen_host"] > 0 and m[0]["max_depth"] > 0 and m[0]["gap"] < 0
+    e = sim.energy()
+    assert abs(e["balance_error"]) < 1e-3  # the audit's balance, as summary.json gives it
+    assert e["kinetic"] > 0 and e["dissipated"] > 0
+
+
+def test_failed_step_keeps_the_last_good_state(small):
+    sim = harness.Simulation(small)
+    sim.step(3)
+    x3, v3 = sim.positions("left").copy(), sim.velocities("left").copy()
+    v = v3.copy()
+    v[0] = [1e300, 1e300, 1e300]
+    sim.set_velocities("left", v)
+    with pytest.raises(harness.SimulationError, match=r"^step \d+: .*last good state \(step \d+\)$") as e:
+        sim.step(10)
+    import re
+    failed, good = map(int, re.search(r"^step (\d+):.*\(step (\d+)\)$", str(e.value)).groups())
+    assert good == failed - 1 and sim.step_index == good and 3 < failed <= 13
+    assert np.isfinite(sim.positions("right")).all()
+    sim.set_positions("left", x3)  # the body put back: the simulation steps on
+    sim.set_velocities("left", v3)
+    sim.step(2)
+    assert sim.step_index == good + 2
+
+
+def test_gil_released_while_stepping(small):
+    """Another Python thread runs while step(n) does: it stamps the time in a loop, and stamps fall
+    well inside the step's interval (more than Python's 5 ms switch interval from either end)."""
+    sim = harness.Simulation(small)
+    stamps = []
+    stop = threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            stamps.append(time.perf_counter())
+
+    t = threading.Thread(target=spin)
+    t.start()
+    time.sleep(0.02)
+    t0 = time.perf_counter()
+    sim.step(6000)
+    t1 = time.perf_counter()
+    stop.set()
+    t.join()
+    assert t1 - t0 > 0.1
+    inside = [s for s in stamps if t0 + 0.02 < s < t1 - 0.02]
+    assert len(inside) > 1000
+
+
+def test_ctrl_c_stops_between_steps(small):
+    sim = harness.Simulation(small)
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    t0 = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        sim.step(2 * 10 ** 6)  # about a minute: stopped after 0.3 s
+    assert time.perf_counter() - t0 < 5.0
+    k = sim.step_index
+    assert 0 < k < 2 * 10 ** 6
+    assert np.isfinite(sim.positions(0)).all()
+    sim.step(5)  # still usable
+    assert sim.step_index == k + 5
+
+
+def test_interrupted_run_raises(small, tmp_path):
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        harness.run(small, steps=10 ** 7, out=tmp_path / "r")
+    summary = json.loads((tmp_path / "r" / "summary.json").read_text())
+    assert summary["status"] == "interrupted"
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # Python's handler is back
+
+
+# --- the worked example (docs/python.md) ----------------------------------------------------
+
+def test_worked_ablation_runs(tmp_path):
+    r = subprocess.run([sys.executable, os.path.join(ROOT, "python", "examples", "ablation.py"),
+                        "--steps", "300", "--every", "100", "--forces", "0.003,0.01", "--voxels", "0.0078125",
+                        "--out", str(tmp_path)], capture_output=True, text=True, env=os.environ)
+    assert r.returncode == 0, r.stderr
+    rows = (tmp_path / "ablation.csv").read_text().splitlines()
+    assert rows[0].startswith("force,voxel,depth_max_mm") and len(rows) == 1 + 3
+    assert (tmp_path / "ablation.png").stat().st_size > 10000
