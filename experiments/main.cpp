@@ -242,6 +242,9 @@ struct SweepCommand {
     cmd->add_option("--index", sw.index, "run only point I (0-based), then merge runs.csv");
     cmd->add_flag("--merge", sw.merge, "run nothing; rewrite DIR/runs.csv from the points already complete");
     cmd->add_option("--compare", sw.compare, "passed to every run: the reference to measure the error against");
+    cmd->add_flag("--baseline", sw.baseline, "also run the scene with no contact force (every pair's force 0), once per "
+                                             "combination of the grid's values outside contacts.*: runs.csv then says "
+                                             "whether each point helps (error at least 10 % below it, with --compare)");
   }
   int exec(const char* argv0) {
     sw.scene = resolve_scene(scene);

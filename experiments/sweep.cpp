@@ -11,7 +11,9 @@
 
 #include <fcntl.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -121,10 +123,10 @@ std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
-std::vector<std::string> run_args(const SweepOptions& opt, const SweepPoint& p, const std::string& scene) {
-  std::vector<std::string> a = {opt.self, "run", scene, "--out", (fs::path(opt.out_dir) / point_name(p)).string()};
+std::vector<std::string> run_args(const SweepOptions& opt, const SweepJob& job, const std::string& scene) {
+  std::vector<std::string> a = {opt.self, "run", scene, "--out", (fs::path(opt.out_dir) / job.name).string()};
   for (const std::string& s : opt.sets) a.insert(a.end(), {"--set", s});
-  for (const auto& [k, v] : p) a.insert(a.end(), {"--set", k + "=" + v});
+  for (const auto& [k, v] : job.sets) a.insert(a.end(), {"--set", k + "=" + v});
   if (!opt.compare.empty()) a.insert(a.end(), {"--compare", opt.compare});
   return a;
 }
@@ -173,8 +175,11 @@ const std::vector<std::pair<std::string, std::string>>& merged_figures() {
   auto pair0 = [](const char* key) { return k::pair_key(0, key); };
   auto under = [](const char* parent, const char* key) { return std::string(parent) + "/" + key; };
   auto error = [&](int i) { return pair0(k::kErrorVsReference) + "/" + k::kErrorFigures[i]; };
+  auto error_window = [&](const char* stat) { return pair0(k::kErrorVsReference) + k::kErrorWindow + "/" + stat; };
   static const std::vector<std::pair<std::string, std::string>> figures = {
       {"status", k::kStatus},
+      {"stability", k::kStabilityVerdict},
+      {"contact_power_ratio", under(k::kWindow, k::kContactPowerRatio)},
       {"steps_run", k::kSteps},
       {"finite", k::kFinite},
       {"state_hash", k::kStateHash},
@@ -196,7 +201,8 @@ const std::vector<std::pair<std::string, std::string>>& merged_figures() {
       {"max_depth_peak", pair0(k::kMaxDepthPeak)},
       {"recall", pair0(k::kRecall)},
       {"precision", pair0(k::kPrecision)},
-      {"tunnelled", pair0(k::kTunnelled)},
+      {"tunnelled_guest", pair0(k::kTunnelled)},
+      {"tunnelled_host", pair0(k::kTunnelledHost)},
       {"settled", k::kSettled},
       {"residual", k::kResidual},
       {"settle_steps", k::kSettleSteps},
@@ -210,36 +216,105 @@ const std::vector<std::pair<std::string, std::string>>& merged_figures() {
       {"gap_max", error(2)},
       {"gap_mean", error(3)},
       {"depth_max", error(4)},
+      {"error_window_mean", error_window("mean")},
+      {"error_window_max", error_window("max")},
+      {"error_window_chatter", error_window("amplitude")},
+      {"depth_window_max", pair0(k::kErrorVsReference) + "/window/depth_max/max"},
       {"reference_converged", k::kCompareConverged},
   };
   return figures;
 }
 
-void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& points) {
+namespace {
+
+// A number at a pointer of a summary, or NaN.
+double number_at(const json& s, const std::string& ptr) {
+  const json::json_pointer jp(ptr);
+  return s.contains(jp) && s.at(jp).is_number() ? s.at(jp).get<double>() : std::nan("");
+}
+
+// The columns runs.csv adds after the figures, from a run's summary and its no-force run's (null:
+// none): the no-force run's window error, "helps", and what makes a stable run useless.
+std::vector<json> judged_columns(const json& s, const json* base) {
+  namespace k = summary_key;
+  const std::string ev = k::pair_key(0, k::kErrorVsReference);
+  const double err = number_at(s, ev + k::kErrorWindow + "/mean"), depth = number_at(s, ev + "/window/depth_max/max");
+  const double tunnelled = number_at(s, k::pair_key(0, k::kTunnelled)) + number_at(s, k::pair_key(0, k::kTunnelledHost));
+  double base_err = std::nan(""), base_depth = std::nan("");
+  if (base) base_err = number_at(*base, ev + k::kErrorWindow + "/mean"), base_depth = number_at(*base, ev + "/window/depth_max/max");
+  json helps;  // null: not judged (no no-force run, or no error: run without --compare)
+  if (std::isfinite(err) && std::isfinite(base_err))
+    helps = err <= kHelpsShare * base_err ||
+                    (std::isfinite(depth) && std::isfinite(base_depth) && depth <= kHelpsShare * base_depth && err <= base_err)
+                ? "yes" : "no";
+  std::string useless;
+  if (tunnelled > 0) useless = "tunnels";
+  if (helps == "no") useless += std::string(useless.empty() ? "" : "; ") + "no better than no force";
+  return {std::isfinite(base_err) ? json(base_err) : json(), helps, useless.empty() ? json() : json(useless)};
+}
+
+json read_summary(const fs::path& sp) {
+  if (!fs::exists(sp)) return json();
+  try {
+    std::ifstream in(sp);
+    return json::parse(in);
+  } catch (const json::exception&) {
+    return json();
+  }
+}
+
+}  // namespace
+
+std::vector<SweepJob> sweep_jobs(const std::vector<SweepPoint>& points, bool baseline, std::size_t pairs) {
+  std::vector<SweepJob> jobs;
+  for (const SweepPoint& p : points) jobs.push_back({p, point_name(p), -1, false});
+  if (!baseline) return jobs;
+  std::map<std::string, int> made;  // name of the point's values outside contacts.* -> its job
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    SweepPoint rest, sets;
+    for (const auto& kv : points[i])
+      if (kv.first.rfind("contacts.", 0) != 0) rest.push_back(kv);
+    const std::string name = rest.empty() ? "no_force" : "no_force__" + point_name(rest);
+    auto it = made.find(name);
+    if (it == made.end()) {
+      sets = rest;
+      for (std::size_t c = 0; c < pairs; ++c) sets.emplace_back("contacts." + std::to_string(c) + ".force", "0");
+      it = made.emplace(name, static_cast<int>(jobs.size())).first;
+      jobs.push_back({sets, name, -1, true});
+    }
+    jobs[i].baseline = it->second;
+  }
+  return jobs;
+}
+
+void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& points, const std::vector<SweepJob>& jobs) {
   // Unique temporary name: several --index runs (one per scheduler task) may merge at once.
   const fs::path tmp = fs::path(out_dir) / ("runs.csv.tmp." + std::to_string(::getpid()));
   std::ofstream o(tmp);
-  o << "point,name";
+  o << "point,name,no_force";
   if (!points.empty())
     for (const auto& [k, v] : points[0]) o << "," << csv_field(json(k));
   for (const auto& [name, ptr] : merged_figures()) o << "," << name;
-  o << "\n";
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const fs::path sp = fs::path(out_dir) / point_name(points[i]) / "summary.json";
-    if (!fs::exists(sp)) continue;
-    json s;
-    try {
-      std::ifstream in(sp);
-      s = json::parse(in);
-    } catch (const json::exception&) {
-      continue;
-    }
-    o << i << "," << csv_field(json(point_name(points[i])));
-    for (const auto& [k, v] : points[i]) o << "," << csv_field(json(plain(v)));
+  o << ",no_force_error,helps,useless\n";
+  std::vector<json> sums;
+  for (const SweepJob& j : jobs) sums.push_back(read_summary(fs::path(out_dir) / j.name / "summary.json"));
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const json& s = sums[i];
+    if (s.is_null()) continue;
+    o << i << "," << csv_field(json(jobs[i].name)) << "," << (jobs[i].no_force ? 1 : 0);
+    if (!points.empty())
+      for (const auto& [k, v] : points[0]) {  // a no-force run: its values outside contacts.*
+        std::string val;
+        for (const auto& [jk, jv] : jobs[i].no_force ? jobs[i].sets : points[i])
+          if (jk == k) val = plain(jv);
+        o << "," << csv_field(json(val));
+      }
     for (const auto& [name, ptr] : merged_figures()) {
       const json::json_pointer jp(ptr);
       o << "," << csv_field(s.contains(jp) ? s.at(jp) : json());
     }
+    const json* base = jobs[i].baseline >= 0 && !sums[jobs[i].baseline].is_null() ? &sums[jobs[i].baseline] : nullptr;
+    for (const json& c : judged_columns(s, jobs[i].no_force ? nullptr : base)) o << "," << csv_field(c);
     o << "\n";
   }
   o.close();
@@ -259,22 +334,24 @@ int run_sweep(const SweepOptions& opt) {
     fixed.emplace_back(s.substr(0, eq), s.substr(eq + 1));
   }
   const std::string text = read_text_file(opt.scene);
+  std::size_t pairs = 0;
   for (const SweepPoint& p : points) {
     auto ov = fixed;
     ov.insert(ov.end(), p.begin(), p.end());
-    (void)parse_scene(text, opt.scene, ov);
+    pairs = std::max(pairs, parse_scene(text, opt.scene, ov).contacts.size());
   }
-  if (opt.index >= static_cast<int>(points.size()))
+  const std::vector<SweepJob> jobs = sweep_jobs(points, opt.baseline, pairs);
+  if (opt.index >= static_cast<int>(jobs.size()))
     throw InputError("--index", "point " + std::to_string(opt.index) + " does not exist (" +
-                                    std::to_string(points.size()) + " points, 0-based)");
+                                    std::to_string(jobs.size()) + " points, 0-based)");
   if (opt.merge) {
-    merge_runs(opt.out_dir, points);
+    merge_runs(opt.out_dir, points, jobs);
     return 0;
   }
   if (opt.list) {
-    for (const SweepPoint& p : points) {
+    for (const SweepJob& j : jobs) {
       std::string line;
-      std::vector<std::string> a = run_args(opt, p, opt.scene_arg);
+      std::vector<std::string> a = run_args(opt, j, opt.scene_arg);
       a[0] = "harness";
       for (const std::string& s : a) line += (line.empty() ? "" : " ") + (s.find_first_of(" '\"{}[],$*") != std::string::npos ? shell_quote(s) : s);
       std::printf("%s\n", line.c_str());
@@ -285,7 +362,7 @@ int run_sweep(const SweepOptions& opt) {
   std::vector<std::size_t> todo;
   if (opt.index >= 0) todo.push_back(static_cast<std::size_t>(opt.index));
   else
-    for (std::size_t i = 0; i < points.size(); ++i) todo.push_back(i);
+    for (std::size_t i = 0; i < jobs.size(); ++i) todo.push_back(i);
 
   std::map<pid_t, std::size_t> running;
   int worst = 0;
@@ -298,12 +375,12 @@ int run_sweep(const SweepOptions& opt) {
     running.erase(pid);
     ++done;
     const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    std::fprintf(stderr, "sweep: [%zu/%zu] %s: %s\n", done, todo.size(), point_name(points[i]).c_str(),
+    std::fprintf(stderr, "sweep: [%zu/%zu] %s: %s\n", done, todo.size(), jobs[i].name.c_str(),
                  rc == 0 ? "ok" : rc == 3 ? "simulation failed (exit 3)" : ("exit " + std::to_string(rc)).c_str());
     if (rc != 0 && rc != 3) worst = std::max(worst, 1);
     // The point's own log (POINT/stderr.log: progress every 10 %, the end-of-run line): all of it
     // for a single --index job (a scheduler's per-job log), else its last line.
-    std::ifstream log(fs::path(opt.out_dir) / point_name(points[i]) / "stderr.log");
+    std::ifstream log(fs::path(opt.out_dir) / jobs[i].name / "stderr.log");
     std::string line, last;
     while (std::getline(log, line)) {
       if (opt.index >= 0) std::fprintf(stderr, "%s\n", line.c_str());
@@ -314,13 +391,13 @@ int run_sweep(const SweepOptions& opt) {
   while (next < todo.size() || !running.empty()) {
     while (next < todo.size() && static_cast<int>(running.size()) < std::max(1, opt.jobs)) {
       const std::size_t i = todo[next++];
-      const fs::path dir = fs::path(opt.out_dir) / point_name(points[i]);
+      const fs::path dir = fs::path(opt.out_dir) / jobs[i].name;
       fs::create_directories(dir);
-      running[spawn(run_args(opt, points[i], opt.scene), (dir / "stderr.log").string())] = i;
+      running[spawn(run_args(opt, jobs[i], opt.scene), (dir / "stderr.log").string())] = i;
     }
     reap();
   }
-  merge_runs(opt.out_dir, points);
+  merge_runs(opt.out_dir, points, jobs);
   return worst;
 }
 

@@ -23,6 +23,7 @@ struct SweepOptions {
   bool merge = false;  // run nothing: rewrite runs.csv from the complete points
   std::string self;  // path of this executable
   std::string compare;  // --compare DIR passed to every run
+  bool baseline = false;  // --baseline: the no-force runs "helps" is judged against (sweep_jobs)
 };
 
 // One grid point: its overrides in grid order.
@@ -35,8 +36,25 @@ std::vector<SweepPoint> expand_grid(const std::vector<std::pair<std::string, std
 // Folder name of a point: "key-value__key-value" with unsafe characters replaced by '_'.
 std::string point_name(const SweepPoint& p);
 
+// A run of the sweep: a grid point, or with --baseline a no-force run ("no_force[__...]": once per
+// combination of the grid's values outside contacts.*, every pair's force 0), after the points.
+struct SweepJob {
+  SweepPoint sets;       // its overrides (after the fixed --set ones)
+  std::string name;      // its folder under DIR
+  int baseline = -1;     // a grid point's no-force job (index into the jobs), -1: none
+  bool no_force = false;
+};
+std::vector<SweepJob> sweep_jobs(const std::vector<SweepPoint>& points, bool baseline, std::size_t pairs);
+
+// "helps": a run's window error (mean of the largest position error) at most this share of its
+// no-force run's, or its window depth at most this share with an error no larger (the studies'
+// rule: scripts/harness_results/rules.py USEFUL).
+inline constexpr double kHelpsShare = 0.9;
+
 int run_sweep(const SweepOptions& opt);
-// Rewrites DIR/runs.csv from the point folders that hold a summary.json.
-void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& points);
+// Rewrites DIR/runs.csv from the job folders that hold a summary.json: per row the grid values,
+// the summary figures (merged_figures), and no_force_error, helps, useless (tunnels, or no better
+// than no force).
+void merge_runs(const std::string& out_dir, const std::vector<SweepPoint>& points, const std::vector<SweepJob>& jobs);
 
 }  // namespace harness

@@ -68,7 +68,7 @@ json window_json(const StabilityJudgement& j) {
           {"after_forcing", w.after_forcing},
           {"contact_power_W", num_or_null(j.contact_power)},
           {"input_power_W", num_or_null(j.input_power)},
-          {"contact_power_ratio", num_or_null(j.ratio)},
+          {key::kContactPowerRatio, num_or_null(j.ratio)},
           {"injection_ratio_limit", kInjectionRatio},
           {"kinetic_growth", num_or_null(j.growth)},
           {"net_contact_work_J", num_or_null(j.net_contact_work)},
@@ -117,7 +117,7 @@ json pair_json(const Simulation& sim, const Recorder& rec, const RunOutcome& out
   // Nodes that have passed through the other body (CGAL; null without it).
   const TunnelCount& tun = outcome.pairs[pi].tunnelled;
   at(pj, key::kTunnelled) = tun.measured ? json(tun.guest) : json(nullptr);
-  pj["tunnelled_host"] = tun.measured ? json(tun.host) : json(nullptr);
+  at(pj, key::kTunnelledHost) = tun.measured ? json(tun.host) : json(nullptr);
   pj["tunnelled_peak"] = measured(json{{"guest", t.tunnelled_guest_peak}, {"host", t.tunnelled_host_peak}});
   at(pj, key::kTruePenFinal) = measured(t.true_pen_final);
   at(pj, key::kMaxDepthFinal) = measured(t.max_depth_final);
@@ -193,8 +193,8 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& 
   at(sum, key::kStability) = stability_json(sim);
   at(sum, key::kMaxSubsteps) = outcome.stability.max_substeps;
   at(sum, key::kGuardViolations) = outcome.stability.guard_violations;
-  sum["window"] = window_json(outcome.judged);
-  sum["stability_verdict"] = outcome.verdict;
+  at(sum, key::kWindow) = window_json(outcome.judged);
+  at(sum, key::kStabilityVerdict) = outcome.verdict;
   sum["nodes"] = w.num_nodes();
   sum["springs"] = w.springs.size();
   sum["bodies"] = json::array();

@@ -31,6 +31,10 @@ inline constexpr const char* kCompare = "/compare";
 inline constexpr const char* kCompareConverged = "/compare/converged";
 inline constexpr const char* kReference = "/reference";
 inline constexpr const char* kReferenceConverged = "/reference/converged";
+inline constexpr const char* kStabilityVerdict = "/stability_verdict";
+inline constexpr const char* kWindow = "/window";
+// Under kWindow: the contact's mean power over the window against the power the scene put in.
+inline constexpr const char* kContactPowerRatio = "contact_power_ratio";
 
 // Under kTiming: median wall times of a step's parts, microseconds.
 inline constexpr const char* kTimingParts[] = {"step", "physics", "detect", "eliminate", "cgal", "fcl"};
@@ -50,10 +54,14 @@ inline constexpr const char* kMaxDepthFinal = "/max_depth_final";
 inline constexpr const char* kMaxDepthPeak = "/max_depth_peak";
 inline constexpr const char* kRecall = "/recall";
 inline constexpr const char* kPrecision = "/precision";
-inline constexpr const char* kTunnelled = "/tunnelled";
+inline constexpr const char* kTunnelled = "/tunnelled";  // guest nodes
+inline constexpr const char* kTunnelledHost = "/tunnelled_host";
 inline constexpr const char* kErrorVsReference = "/error_vs_reference";
 // Under kErrorVsReference.
 inline constexpr const char* kErrorFigures[] = {"pos_err_max", "pos_err_rms", "gap_max", "gap_mean", "depth_max"};
+// Under kErrorVsReference: the largest position error over the final window (stat_json: mean,
+// max, amplitude = max - min, the chatter).
+inline constexpr const char* kErrorWindow = "/window/pos_err_max";
 
 // The pointer of a key of pair p.
 inline std::string pair_key(int p, const char* key) { return std::string(kPairs) + "/" + std::to_string(p) + key; }

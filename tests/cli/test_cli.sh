@@ -108,6 +108,7 @@ done
 "$H" run hard/fast_impact --out "$T/tunnel" 2>"$T/err"
 grep -q "warning: contacts.0: guest 'ball' node spacing .* coarser than the voxel" "$T/err" \
   && grep -q "warning: contacts.0: [1-9][0-9]* guest nodes tunnelled" "$T/err" && tail -1 "$T/err" | grep -q "[1-9][0-9]* tunnelled" \
+  && tail -1 "$T/err" | grep -q ", [a-z]* but tunnels" \
   && grep -q '"tunnelled": [1-9]' "$T/tunnel/summary.json" && ok || { bad "tunnelling warnings"; cat "$T/err"; }
 "$H" run cylinder_press --out "$T/run" --bogus 2>"$T/err"; rc=$?
 [[ $rc -eq 2 ]] && ok || bad "unknown option: exit $rc"
@@ -118,7 +119,38 @@ cmp -s "$T/run/summary.json" "$T/summary.before" && ok || bad "summary survived 
   --set time.steps=5 --set time.settle=null --set 'references.solvers=[]' --set output.frames_every=0 --out "$T/sw" -j 2 2>/dev/null \
   && ok || bad "sweep runs"
 [[ $(($(wc -l < "$T/sw/runs.csv") - 1)) -eq 4 ]] && ok || bad "sweep runs.csv has 4 rows"
-head -1 "$T/sw/runs.csv" | grep -q '^point,name,contacts.0.force,contacts.0.eliminator,status' && ok || bad "runs.csv header"
+head -1 "$T/sw/runs.csv" | grep -q '^point,name,no_force,contacts.0.force,contacts.0.eliminator,status,stability,contact_power_ratio,' \
+  && head -1 "$T/sw/runs.csv" | grep -q ',tunnelled_guest,tunnelled_host,.*,error_window_mean,error_window_max,error_window_chatter,.*,no_force_error,helps,useless$' \
+  && ok || bad "runs.csv header"
+# --baseline: one no-force run (every pair's force 0) per combination of the grid's values outside
+# contacts.*; with --compare each point says whether it helps (the rule recomputed here from the
+# row's own figures) and what makes it useless.
+"$H" sweep sphere_collision --grid contacts.0.force=0.003,0.03 --grid time.window=200,300 --set time.steps=1200 \
+  --set time.settle=null --set 'contacts.0.detector="voxel"' --set contacts.0.two_sided=false --set output.frames_every=0 \
+  --baseline --compare "$SRC/results/references/sphere_collision" --out "$T/swb" -j 2 2>/dev/null && ok || bad "sweep --baseline"
+[[ -f "$T/swb/no_force__time.window-200/summary.json" && -f "$T/swb/no_force__time.window-300/summary.json" \
+   && $(($(wc -l < "$T/swb/runs.csv") - 1)) -eq 6 ]] && ok || bad "sweep --baseline: 4 points and 2 no-force runs"
+[[ $("$H" sweep sphere_collision --grid contacts.0.force=0.003,0.03 --grid time.window=200,300 --baseline --out "$T/swb2" --list \
+     | grep -c "contacts.0.force=0$") -eq 2 ]] && ok || bad "sweep --baseline --list lists the no-force runs"
+"${PYTHON:-/usr/bin/python3}" - "$T/swb/runs.csv" <<'EOF' && ok || bad "runs.csv helps/useless"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+base = {r["time.window"]: r for r in rows if r["no_force"] == "1"}
+assert len(base) == 2 and all(r["helps"] == "" for r in base.values())
+for r in rows:
+    if r["no_force"] == "1":
+        continue
+    b = base[r["time.window"]]
+    err, berr = float(r["error_window_mean"]), float(b["error_window_mean"])
+    d, bd = float(r["depth_window_max"]), float(b["depth_window_max"])
+    assert float(r["no_force_error"]) == berr
+    helps = err <= 0.9 * berr or (d <= 0.9 * bd and err <= berr)
+    assert r["helps"] == ("yes" if helps else "no"), r
+    tun = int(r["tunnelled_guest"]) + int(r["tunnelled_host"])
+    want = "; ".join((["tunnels"] if tun else []) + ([] if helps else ["no better than no force"]))
+    assert r["useless"] == want, (r["useless"], want)
+    assert r["stability"] and float(r["error_window_chatter"]) >= 0
+EOF
 [[ -f "$T/sw/contacts.0.force-auto__contacts.0.eliminator-plane/summary.json" ]] && ok || bad "point folder named by parameters"
 [[ $("$H" sweep sphere_collision --grid contacts.0.force=0.01,auto --grid contacts.0.eliminator=line,plane --out "$T/sw2" --list | wc -l) -eq 4 ]] \
   && ok || bad "sweep --list prints 4 commands"
