@@ -17,6 +17,11 @@
   study.py orient       orient.csv, tables/orient.md: claim (a) without its confound
   study.py bullet       bullet.csv, tables/bullet.{md,tex}: Bullet's soft bodies beside the harness
   study.py all          every one of them, in this order (or name several: study.py accuracy realtime)
+  study.py card         one scene's verdict at a glance: --scene FILE|NAME --out DIR (card.md, card.csv,
+                        card.{png,pdf}, the runs and, unless --reference DIR is given, the reference in DIR);
+                        without --scene every bundled scene's into results/cards/<scene>/
+                        (harness_results/card.py; --methods D1,D2,... the detectors, --set KEY=JSON for every
+                        run and the reference)
 Options: --harness PATH (default build/bin/harness), --results DIR (default results),
          --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
          --repeats N (runs per configuration for the timings, default 5),
@@ -33,13 +38,13 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import counts, rules, studies  # noqa: E402
+from harness_results import card, counts, rules, studies  # noqa: E402
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__ + "\n" + rules.__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("what", nargs="+", choices=studies.ORDER + ["all"])
+    ap.add_argument("what", nargs="+", choices=studies.ORDER + ["all", "card"])
     ap.add_argument("--harness", default="build/bin/harness")
     ap.add_argument("--results", default="results")
     ap.add_argument("--quick", action="store_true")
@@ -51,7 +56,17 @@ def main():
     ap.add_argument("--plots-only", action="store_true",
                     help="only redraw the figures of the named studies from their CSVs in --results "
                          "(accuracy_time.csv, ablation.csv, convergence.csv); runs nothing")
+    ap.add_argument("--scene", help="card: a scene file or bundled name (default: every bundled scene)")
+    ap.add_argument("--out", help="card: the output folder (default cards/<scene name>)")
+    ap.add_argument("--reference", help="card: the reference folder (default: the bundled one, else made in --out)")
+    ap.add_argument("--methods", default=",".join(card.METHODS), help="card: the detectors (default %(default)s)")
+    ap.add_argument("--set", dest="card_sets", action="append", default=[], help="card: KEY=JSON for every run")
     a = ap.parse_args()
+    if "card" in a.what:
+        if len(a.what) > 1:
+            ap.error("card is made alone (study.py card --scene ...)")
+        card.run(a)
+        return
     a.extra_sets = ["time.steps=300"] if a.quick else []
     if a.quick:
         a.repeats = 1
