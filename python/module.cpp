@@ -31,7 +31,7 @@ namespace {
 // `harness run` on a scene into out_dir: the same options as the command line's, no progress
 // line. Returns its exit status (0 done, 3 non-finite, 130/143 interrupted: harness.run raises).
 int run_scene_into(const PyScene& s, const std::string& out_dir, int threads, const std::string& compare) {
-  if (threads < 1) throw InputError("threads", "must be >= 1");
+  if (threads < 1) throw pyb::value_error("threads: must be >= 1");
 #ifdef HARNESS_HAVE_REFERENCE
   RunOptions opt = with_references();
 #else
@@ -62,7 +62,19 @@ PYBIND11_MODULE(_harness, m) {
   using namespace harness::py;
   m.doc() = "harness: soft bodies as nonlinear mass-spring models, collisions by the local voxel model "
             "(the C++ side of the Python module; import harness)";
-  pybind11::register_exception<harness::InputError>(m, "SceneError", PyExc_ValueError);
+  // SceneError: the CLI's exit-2 line (without "harness: error: "); bytes that are not UTF-8 (a
+  // message quoting a Latin-1 file) kept as backslash escapes, never an empty message.
+  static auto* scene_error = new pybind11::exception<harness::InputError>(m, "SceneError", PyExc_ValueError);
+  pybind11::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const harness::InputError& e) {
+      const std::string what = e.what();
+      pybind11::object msg = pybind11::reinterpret_steal<pybind11::object>(
+          PyUnicode_DecodeUTF8(what.data(), static_cast<Py_ssize_t>(what.size()), "backslashreplace"));
+      PyErr_SetObject(scene_error->ptr(), msg.ptr());
+    }
+  });
   bind_scene(m);
   bind_simulation(m);
   m.def("_run_scene", &run_scene_into, pybind11::arg("scene"), pybind11::arg("out_dir"), pybind11::arg("threads") = 1,

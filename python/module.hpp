@@ -20,6 +20,8 @@ struct PyScene {
 
 // Validates a document into a PyScene (InputError: SceneError in Python).
 PyScene make_scene(SceneSource src);
+// A Scene, a dict of the scene format, or a scene file / bundled name (str or os.PathLike) as a Scene.
+PyScene as_scene(const pyb::object& o);
 
 // The JSON text of a Python value (json.dumps, no NaN), or InputError(where, ...) when it has none.
 std::string to_json_text(const pyb::handle& value, const std::string& where);

@@ -15,7 +15,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <memory>
+#include <set>
 
 namespace harness::py {
 
@@ -24,14 +26,33 @@ namespace {
 // The simulation error: a step that failed (non-finite state, a region past its cap). The
 // simulation keeps the last good state.
 pyb::object& simulation_error() {
-  static pyb::object e;
-  return e;
+  static pyb::object* e = new pyb::object();  // never destroyed (after finalization)
+  return *e;
+}
+
+// Sets the kernels' thread count for its lifetime, then puts the caller's back.
+struct ThreadCount {
+  explicit ThreadCount(int n) : before(threads()) { set_threads(n); }
+  ~ThreadCount() { set_threads(before); }
+  int before;
+};
+
+// An index given by Python (int, numpy integer; not bool), or nothing when `o` is not one.
+bool as_index(const pyb::handle& o, long long& out) {
+  if (PyBool_Check(o.ptr()) || !PyIndex_Check(o.ptr())) return false;
+  pyb::object i = pyb::reinterpret_steal<pyb::object>(PyNumber_Index(o.ptr()));
+  if (!i) throw pyb::error_already_set();
+  int overflow = 0;
+  out = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow) out = overflow > 0 ? std::numeric_limits<long long>::max() : std::numeric_limits<long long>::min();
+  return true;
 }
 
 class PySim {
  public:
-  PySim(const PyScene& s, int threads) : threads_(threads) {
-    if (threads < 1) throw InputError("threads", "must be >= 1");
+  PySim(const pyb::object& scene, int threads) : threads_(threads) {
+    if (threads < 1) throw pyb::value_error("threads: must be >= 1");
+    const PyScene s = as_scene(scene);
     SimulationOptions so;
     so.exact_detectors = exact_detector_maker();
     sim_ = std::make_unique<Simulation>(s.scene, so);
@@ -43,8 +64,8 @@ class PySim {
   // signal handlers run (Ctrl-C: KeyboardInterrupt after a whole step).
   void step(long long n) {
     if (n < 0) throw pyb::value_error("step: n must be >= 0");
-    const int before = threads();
-    set_threads(threads_);
+    const Busy busy(*this);
+    const ThreadCount tc(threads_);
     std::string failure;
     int failed = 0;
     {
@@ -55,16 +76,10 @@ class PySim {
         if (!failure.empty()) failed = sim_->step_index() + 1;
         if (i + 1 < n && us_since(last_check) > 20000.0) {
           last_check = Clock::now();
-          try {
-            check_signals();
-          } catch (...) {
-            set_threads(before);
-            throw;
-          }
+          check_signals();
         }
       }
     }
-    set_threads(before);
     if (!failure.empty()) {
       const std::string msg = "step " + std::to_string(failed) + ": " + failure +
                               "; the simulation holds the last good state (step " + std::to_string(failed - 1) + ")";
@@ -73,28 +88,41 @@ class PySim {
     }
   }
 
+  // While one thread steps (the GIL released), every other call on the same simulation is refused.
+  struct Busy {
+    explicit Busy(const PySim& s) : sim(s) {
+      if (sim.busy_.exchange(true))
+        throw std::runtime_error("this Simulation is stepping in another thread (one simulation is stepped by one "
+                                 "thread at a time; make one Simulation per thread)");
+    }
+    ~Busy() { sim.busy_ = false; }
+    const PySim& sim;
+  };
+
   const Body& body(const pyb::object& which) const {
     const World& w = sim_->world();
-    if (pyb::isinstance<pyb::int_>(which)) {
-      const int i = which.cast<int>();
-      if (i < 0 || i >= static_cast<int>(w.bodies.size()))
+    long long i = 0;
+    if (as_index(which, i)) {
+      if (i < 0 || i >= static_cast<long long>(w.bodies.size()))
         throw pyb::index_error("body " + std::to_string(i) + ": the scene has " + std::to_string(w.bodies.size()));
-      return w.bodies[i];
+      return w.bodies[static_cast<std::size_t>(i)];
     }
+    if (!pyb::isinstance<pyb::str>(which)) throw pyb::type_error("a body is a name (str) or an index (int)");
     const std::string name = pyb::str(which);
-    const int i = w.find_body(name);
-    if (i < 0) throw pyb::key_error("no body named '" + name + "'");
-    return w.bodies[i];
+    const int found = w.find_body(name);
+    if (found < 0) throw pyb::key_error("no body named '" + name + "'");
+    return w.bodies[found];
   }
 
   std::size_t pair(const pyb::object& which) const {
     const auto& pairs = sim_->pairs();
-    if (pyb::isinstance<pyb::int_>(which)) {
-      const int i = which.cast<int>();
-      if (i < 0 || i >= static_cast<int>(pairs.size()))
+    long long i = 0;
+    if (as_index(which, i)) {
+      if (i < 0 || i >= static_cast<long long>(pairs.size()))
         throw pyb::index_error("pair " + std::to_string(i) + ": the scene has " + std::to_string(pairs.size()));
       return static_cast<std::size_t>(i);
     }
+    if (!pyb::isinstance<pyb::str>(which)) throw pyb::type_error("a pair is a label (str) or an index (int)");
     const std::string label = pyb::str(which);
     for (std::size_t p = 0; p < pairs.size(); ++p)
       if (pairs[p].label == label) return p;
@@ -104,6 +132,7 @@ class PySim {
   // A read-only (n, 3) view of a body's rows of x or v, kept alive by `self`.
   static pyb::array view(const pyb::object& self, const pyb::object& which, bool velocities) {
     PySim& s = self.cast<PySim&>();
+    const Busy busy(s);
     const Body& b = s.body(which);
     Points& p = velocities ? s.sim_->world().v : s.sim_->world().x;
     pyb::array a(pyb::dtype::of<double>(), {static_cast<pyb::ssize_t>(b.size()), pyb::ssize_t{3}},
@@ -117,15 +146,23 @@ class PySim {
   // body-local `nodes` from a (len(nodes), 3) one. The energy audit restarts from the new state.
   void set_rows(const pyb::object& which, const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& a,
                 const pyb::object& nodes, bool velocities) {
+    const Busy busy(*this);
     const Body& b = body(which);
     std::vector<int> idx;
     if (nodes.is_none()) {
       for (int i = 0; i < b.size(); ++i) idx.push_back(i);
     } else {
-      idx = nodes.cast<std::vector<int>>();
-      for (int i : idx)
+      if (!pyb::isinstance<pyb::iterable>(nodes) || pyb::isinstance<pyb::str>(nodes))
+        throw pyb::type_error("nodes: a sequence of body-local node indices");
+      std::set<int> seen;
+      for (const pyb::handle& h : nodes) {
+        long long i = 0;
+        if (!as_index(h, i)) throw pyb::type_error("nodes: a sequence of body-local node indices");
         if (i < 0 || i >= b.size())
           throw pyb::index_error("node " + std::to_string(i) + ": body " + b.name + " has " + std::to_string(b.size()));
+        if (!seen.insert(static_cast<int>(i)).second) throw pyb::value_error("node " + std::to_string(i) + " given twice");
+        idx.push_back(static_cast<int>(i));
+      }
     }
     if (a.ndim() != 2 || a.shape(1) != 3 || a.shape(0) != static_cast<pyb::ssize_t>(idx.size()))
       throw pyb::value_error("expected an array of shape (" + std::to_string(idx.size()) + ", 3)");
@@ -149,6 +186,7 @@ class PySim {
   std::unique_ptr<Simulation> sim_;
   Points good_x_, good_v_;
   std::vector<std::unique_ptr<Measurer>> measurers_;  // per pair, made on the first measure()
+  mutable std::atomic<bool> busy_{false};
 };
 
 template <typename T>
@@ -163,6 +201,7 @@ pyb::array_t<T> column(const std::vector<T>& v) {
 // the push's direction on that node, the depth the eliminator sees (m, negative outside) and the
 // force (N; projection: 1 where it moved the node).
 pyb::dict PySim::contacts(const pyb::object& which) const {
+  const Busy busy(*this);
   const Pair& pr = sim_->pairs()[pair(which)];
   const World& w = sim_->world();
   std::vector<int> node, key, way;
@@ -201,7 +240,10 @@ pyb::dict ledger(const EnergyLedger& e, const Simulation& sim) {
   return d;
 }
 
-pyb::dict PySim::energy() const { return ledger(sim_->energy(), *sim_); }
+pyb::dict PySim::energy() const {
+  const Busy busy(*this);
+  return ledger(sim_->energy(), *sim_);
+}
 
 #ifdef HARNESS_HAVE_REFERENCE
 pyb::dict measurement(const Measurement& m) {
@@ -226,6 +268,7 @@ pyb::dict measurement(const Measurement& m) {
 // The exact references of the current state, per pair (CGAL and FCL; reference/measure_reference.hpp).
 pyb::object PySim::measure(const pyb::object& which) {
 #ifdef HARNESS_HAVE_REFERENCE
+  const Busy busy(*this);
   const auto& pairs = sim_->pairs();
   measurers_.resize(pairs.size());
   pyb::list all;
@@ -257,7 +300,8 @@ pyb::object PySim::measure(const pyb::object& which) {
 void bind_simulation(pyb::module_& m) {
   simulation_error() = pyb::exception<std::runtime_error>(m, "SimulationError", PyExc_RuntimeError);
   pyb::class_<PySim>(m, "Simulation", "A scene built and stepped from Python (docs/python.md).")
-      .def(pyb::init<const PyScene&, int>(), pyb::arg("scene"), pyb::arg("threads") = 1)
+      .def(pyb::init<const pyb::object&, int>(), pyb::arg("scene"), pyb::arg("threads") = 1,
+           "A simulation of a Scene (or a dict, a scene file, a bundled name), built now (SceneError for bad input).")
       .def("step", &PySim::step, pyb::arg("n") = 1,
            "n steps of scene.dt (the GIL released; Ctrl-C stops between steps with KeyboardInterrupt).")
       .def_property_readonly("time", [](const PySim& s) { return s.sim().time(); })
@@ -287,7 +331,10 @@ void bind_simulation(pyb::module_& m) {
       .def("measure", &PySim::measure, pyb::arg("pair") = pyb::none(),
            "The exact references (CGAL, FCL) of the current state: one dict per pair, or the given pair's.")
       .def("energy", &PySim::energy, "The energy audit so far (J) and the force residual.")
-      .def("state_hash", [](const PySim& s) { return state_hash(s.sim().world()); })
+      .def("state_hash", [](const PySim& s) {
+        const PySim::Busy busy(s);
+        return state_hash(s.sim().world());
+      })
       .def("critical_dt", [](const PySim& s) { return s.sim().critical_dt(); })
       .def("last_times", [](const PySim& s) {
         const StepTimes& t = s.sim().last();

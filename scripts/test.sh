@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, runs every test (ctest: Catch2, command line, fuzz replay, and
-# scripts:pytest, the result scripts' rules in tests/scripts/). Exit non-zero on any failure.
+# scripts:pytest, the result scripts' rules in tests/scripts/; python:pytest, the Python module in
+# tests/python/). Exit non-zero on any failure.
 # Usage: scripts/test.sh [--sanitize]   (--sanitize: AddressSanitizer + UBSan build)
 set -euo pipefail
 cd "$(dirname "$0")/.."

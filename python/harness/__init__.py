@@ -11,6 +11,7 @@ Bad input raises SceneError, whose message is the command line's exit-2 line (fi
 """
 import csv
 import json
+import operator
 import os
 import shutil
 import tempfile
@@ -24,9 +25,13 @@ __all__ = ["Scene", "SceneError", "Simulation", "SimulationError", "Result", "ru
            "have_reference"]
 
 
+# steps.csv's columns of words: always str, also where every row is empty (a scene without contacts).
+TEXT_COLUMNS = ("pair", "detector")
+
+
 def read_steps(path):
     """steps.csv as a dict of column name -> numpy array (float where every value is a number,
-    else str; an empty field in a numeric column is NaN)."""
+    else str; an empty field in a numeric column is NaN; `pair` and `detector` always str)."""
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     if not rows:
@@ -35,6 +40,9 @@ def read_steps(path):
     out = {}
     for j, name in enumerate(header):
         values = [r[j] if j < len(r) else "" for r in body]
+        if name in TEXT_COLUMNS:
+            out[name] = np.array(values, dtype=str)
+            continue
         try:
             out[name] = np.array([float(v) if v != "" else np.nan for v in values], dtype=float)
         except ValueError:
@@ -70,7 +78,7 @@ def _as_scene(scene):
     if isinstance(scene, dict):
         return Scene.from_dict(scene)
     if isinstance(scene, (str, os.PathLike)):
-        return Scene.load(os.fspath(scene))
+        return Scene.load(scene)
     raise TypeError(f"expected a harness.Scene, a dict or a scene file/name, got {type(scene).__name__}")
 
 
@@ -82,20 +90,29 @@ def run(scene, steps=None, threads=1, compare=None, out=None):
     compare: a reference folder (harness reference) or a finished run of the same scene.
     out: the output folder (as --out); None: a temporary folder, removed after reading it back.
     Raises SceneError for bad input (nothing written), KeyboardInterrupt when interrupted (the
-    outputs in `out` hold the state after the last whole step, summary status "interrupted").
+    outputs in `out` hold the state after the last whole step, summary status "interrupted"; with
+    out=None the temporary folder is kept and named), SystemExit(143) when terminated (SIGTERM).
+    The run's warnings go to the process's standard error, as the command line's do.
     """
     scene = _as_scene(scene)
     if steps is not None:
-        scene = scene.with_steps(int(steps))
+        scene = scene.with_steps(operator.index(steps))
+    threads = operator.index(threads)
+    if threads < 1:
+        raise ValueError("threads: must be >= 1")
     folder = os.fspath(out) if out is not None else tempfile.mkdtemp(prefix="harness-run-")
+    keep = out is not None
     try:
-        rc = _run_scene(scene, folder, int(threads), os.fspath(compare) if compare is not None else "")
+        rc = _run_scene(scene, folder, threads, os.fspath(compare) if compare is not None else "")
         if rc in (130, 143):
+            keep = True
+            if rc == 143:
+                raise SystemExit(143)
             raise KeyboardInterrupt(f"harness.run: interrupted; outputs in {folder}")
         with open(os.path.join(folder, "summary.json")) as f:
             summary = json.load(f)
         table = read_steps(os.path.join(folder, "steps.csv"))
     finally:
-        if out is None:
+        if not keep:
             shutil.rmtree(folder, ignore_errors=True)
     return Result(summary, table, rc, folder if out is not None else None)

@@ -276,3 +276,153 @@ def test_worked_ablation_runs(tmp_path):
     rows = (tmp_path / "ablation.csv").read_text().splitlines()
     assert rows[0].startswith("force,voxel,depth_max_mm") and len(rows) == 1 + 3
     assert (tmp_path / "ablation.png").stat().st_size > 10000
+
+
+# --- what a referee tried (review of the module) ---------------------------------------------
+
+def test_one_simulation_is_stepped_by_one_thread_at_a_time(small):
+    sim = harness.Simulation(small)
+    errors = []
+
+    def go():
+        try:
+            sim.step(1500)
+        except RuntimeError as e:
+            errors.append(str(e))
+
+    ts = [threading.Thread(target=go) for _ in range(2)]
+    [t.start() for t in ts]
+    [t.join() for t in ts]
+    assert len(errors) == 1 and "another thread" in errors[0]
+    assert sim.step_index == 1500
+    ref = harness.Simulation(small)
+    ref.step(1500)
+    assert sim.state_hash() == ref.state_hash()
+
+
+def test_scene_keeps_its_folder_when_the_working_directory_changes(tmp_path, monkeypatch):
+    (tmp_path / "ms" / "sub").mkdir(parents=True)
+    # an octahedron as an OFF mesh, the guest of a mesh scene given by a relative path
+    (tmp_path / "ms" / "sub" / "octa.off").write_text(
+        "OFF\n6 8 0\n0.01 0 0\n-0.01 0 0\n0 0.01 0\n0 -0.01 0\n0 0 0.01\n0 0 -0.01\n"
+        "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n")
+    doc = {"name": "mesh", "time": {"dt": 1e-5, "steps": 3}, "effects": ["springs"],
+           "bodies": [{"name": "o", "shape": {"type": "mesh", "path": "sub/octa.off"}}]}
+    (tmp_path / "ms" / "mesh.json").write_text(json.dumps(doc))
+    monkeypatch.chdir(tmp_path)
+    s = harness.Scene.load("ms/mesh.json")
+    d = harness.Scene.from_dict(doc, base_dir="ms")
+    import pathlib
+    p = harness.Scene.load(pathlib.Path("ms") / "mesh.json")
+    monkeypatch.chdir("/")
+    for scene in (s, d, p):
+        assert harness.run(scene).exit_code == 0
+        harness.Simulation(scene).step(2)
+    assert s == p and s.resolved() == d.resolved()
+
+
+def test_scene_error_keeps_bytes_that_are_not_utf8(tmp_path):
+    f = tmp_path / "latin1.json"
+    f.write_bytes(b'{"name": "M\xfcller", "time": {"dt": 1e-5, "steps": 1}}')
+    with pytest.raises(harness.SceneError) as e:
+        harness.Scene.load(str(f))
+    assert str(e.value).startswith(str(f) + ":1:") and "malformed JSON" in str(e.value)
+
+
+def test_interrupted_temporary_run_keeps_its_folder(small):
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt) as e:
+        harness.run(small, steps=10 ** 7)
+    folder = str(e.value).rsplit(" ", 1)[-1]
+    assert json.loads(open(os.path.join(folder, "summary.json")).read())["status"] == "interrupted"
+    import shutil
+    shutil.rmtree(folder)
+
+
+def test_numpy_values_and_indices(small):
+    s = small.with_(**{"time.steps": np.int64(10), "contacts.0.force": {"stiffness": np.float32(250.0)}})
+    assert s.steps == 10
+    sim = harness.Simulation(s)
+    assert sim.positions(np.int64(1)).shape == sim.positions("right").shape
+    assert len(sim.contacts(np.int32(0))["node"]) == 0
+    sim.set_positions(np.int64(0), sim.positions(0)[:2].copy(), nodes=np.array([0, 1]))
+
+
+@pytest.mark.parametrize("call, error", [
+    (lambda sim, x: sim.positions(2 ** 40), IndexError),
+    (lambda sim, x: sim.positions(True), TypeError),
+    (lambda sim, x: sim.positions(1.0), TypeError),
+    (lambda sim, x: sim.set_positions(0, x[:1], nodes=0), TypeError),
+    (lambda sim, x: sim.set_positions(0, x[:1], nodes=[2 ** 40]), IndexError),
+    (lambda sim, x: sim.set_positions(0, x[:2], nodes=[0, 0]), ValueError),
+    (lambda sim, x: sim.contacts(5), IndexError),
+    (lambda sim, x: sim.step(-1), ValueError),
+    (lambda sim, x: sim.step(2.5), TypeError),
+])
+def test_bad_arguments_raise_what_python_raises(small, call, error):
+    sim = harness.Simulation(small)
+    with pytest.raises(error):
+        call(sim, sim.positions(0).copy())
+    assert sim.step_index == 0
+
+
+def test_bad_run_arguments_write_nothing(small, tmp_path):
+    with pytest.raises(ValueError, match="threads: must be >= 1"):
+        harness.run(small, steps=5, threads=0, out=tmp_path / "a")
+    with pytest.raises(ValueError, match="threads: must be >= 1"):
+        harness.Simulation(small, threads=0)
+    with pytest.raises(TypeError):
+        harness.run(small, steps=2.7, out=tmp_path / "b")
+    with pytest.raises(harness.SceneError, match="--steps: must be >= 0"):
+        harness.run(small, steps=-1, out=tmp_path / "c")
+    with pytest.raises(harness.SceneError, match="--compare"):
+        harness.run(small, steps=5, compare=tmp_path / "nothing", out=tmp_path / "d")
+    assert not any((tmp_path / x).exists() for x in "abcd")
+
+
+def test_compare_with_a_finished_run(small, tmp_path):
+    first = harness.run(small, steps=2300, out=tmp_path / "first")  # in contact from about step 1900
+    again = harness.run(small, steps=2300, compare=tmp_path / "first")
+    e = again.summary["pairs"][0]["error_vs_reference"]
+    assert e["pos_err_max"] == 0.0  # the same run: no distance at all
+    other = harness.run(small.with_(**{"contacts.0.force": {"stiffness": 50}}), steps=2300, compare=first.out)
+    assert other.summary["pairs"][0]["error_vs_reference"]["pos_err_max"] > 0.0
+
+
+def test_views_survive_their_simulation(small):
+    sim = harness.Simulation(small)
+    sim.step(20)
+    x = sim.positions("left")
+    kept = x.copy()
+    del sim
+    others = [harness.Simulation(small) for _ in range(3)]
+    for o in others:
+        o.step(5)
+    assert np.array_equal(x, kept)
+
+
+def test_scenes_pickle_and_compare(small):
+    import pickle
+    again = pickle.loads(pickle.dumps(small))
+    assert again == small and again.to_dict() == small.to_dict()
+    assert small.with_(**{"time.steps": 7}) != small
+
+
+def test_contacts_of_the_papers_rule_and_both_ways(small):
+    s = small.with_(**{"contacts.0.detector": "voxel", "contacts.0.eliminator": "line", "contacts.0.force": 0.003,
+                       "contacts.0.two_sided": True})
+    sim = harness.Simulation(s)
+    sim.step(2300)
+    c = sim.contacts(0)
+    assert len(c["node"]) > 0
+    assert (c["force"] == 0.003).all()  # a constant force per contact
+    assert (c["depth"] == 0.0).all()    # the line rule computes no depth (only the penalty and projection do)
+    n = {0: sim.positions("right").shape[0], 1: sim.positions("left").shape[0]}
+    for way in (0, 1):
+        assert (c["node"][c["way"] == way] < n[way]).all()
+
+
+def test_read_steps_word_columns_without_contacts(tmp_path):
+    r = harness.run("hard/exp_large_strain", steps=3)
+    assert r.steps["pair"].dtype.kind == "U" and r.steps["detector"].dtype.kind == "U"
