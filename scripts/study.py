@@ -17,6 +17,9 @@
   study.py orient       orient.csv, tables/orient.md: claim (a) without its confound
   study.py bullet       bullet.csv, tables/bullet.{md,tex}: Bullet's soft bodies beside the harness
   study.py all          every one of them, in this order (or name several: study.py accuracy realtime)
+  study.py accuracy ablation --scene FILE --out DIR
+                        the same studies on a scene of your own: the same tables, figures and CSV files in DIR
+                        (its reference: --reference REF, else made into DIR/references/<name>); nothing in results/
   study.py card         one scene's verdict at a glance: --scene FILE|NAME --out DIR (card.md, card.csv,
                         card.{png,pdf}, the runs and, unless --reference DIR is given, the reference in DIR);
                         without --scene every bundled scene's into results/cards/<scene>/
@@ -38,7 +41,13 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import card, counts, rules, studies  # noqa: E402
+from harness_results import card, counts, reader, rules, runner, studies  # noqa: E402
+from harness_results.studies import common  # noqa: E402
+
+# The studies that run on a user's scene (--scene FILE|NAME --out DIR): the same code as the
+# bundled ones, the scene's own eliminator, footing voxels from its host's node spacing, its
+# reference (--reference DIR, or made into DIR/references/<name>).
+USER_STUDIES = ["accuracy", "ablation"]
 
 
 def main():
@@ -56,9 +65,11 @@ def main():
     ap.add_argument("--plots-only", action="store_true",
                     help="only redraw the figures of the named studies from their CSVs in --results "
                          "(accuracy_time.csv, ablation.csv, convergence.csv); runs nothing")
-    ap.add_argument("--scene", help="card: a scene file or bundled name (default: every bundled scene)")
-    ap.add_argument("--out", help="card: the output folder (default cards/<scene name>)")
-    ap.add_argument("--reference", help="card: the reference folder (default: the bundled one, else made in --out)")
+    ap.add_argument("--scene", help="a scene file or bundled name: card, accuracy and ablation on it, every output "
+                                    "in --out (default: the bundled scenes into --results)")
+    ap.add_argument("--out", help="with --scene: the output folder (default cards/<name> or studies/<name>)")
+    ap.add_argument("--reference", help="with --scene: the reference folder (default: the bundled one for card, "
+                                        "else made in --out)")
     ap.add_argument("--methods", default=",".join(card.METHODS), help="card: the detectors (default %(default)s)")
     ap.add_argument("--set", dest="card_sets", action="append", default=[], help="card: KEY=JSON for every run")
     a = ap.parse_args()
@@ -67,6 +78,15 @@ def main():
             ap.error("card is made alone (study.py card --scene ...)")
         card.run(a)
         return
+    if a.scene:  # a user's scene: the studies that take one, everything in --out
+        other = [w for w in a.what if w not in USER_STUDIES]
+        if other:
+            ap.error("--scene: %s run on the bundled scenes only (with --scene: %s)" % (", ".join(other), ", ".join(USER_STUDIES)))
+        user = common.set_user_scene(a, a.scene, a.out or os.path.join("studies", os.path.basename(a.scene).split(".")[0]),
+                                     a.reference)
+        if not a.plots_only and not reader.has_summary(user["reference"]):
+            print("study: making the reference of %s into %s" % (a.scene, user["reference"]), file=sys.stderr)
+            runner.reference(a, user["path"], user["reference"])
     a.extra_sets = ["time.steps=300"] if a.quick else []
     if a.quick:
         a.repeats = 1
@@ -81,7 +101,7 @@ def main():
             continue
         print("study:", w, file=sys.stderr)
         study.run(a)
-    if not a.plots_only:
+    if not a.plots_only and not a.scene:
         counts.write(a.results)  # the report's counts follow the results
 
 

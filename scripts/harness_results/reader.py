@@ -196,7 +196,8 @@ def window_stat(d, key, what="mean"):
 def stability_inputs(s):
     """What the stability rule (rules.classify) reads from a summary, by name."""
     w = window(s)
-    return {"status": s.get("status"), "finite": s.get("finite"), "verdict": s.get("stability_verdict"),
+    return {"status": s.get("status"), "error": s.get("error"), "finite": s.get("finite"),
+            "verdict": s.get("stability_verdict"),
             "rho": num(w.get("contact_power_ratio")), "growth": num(w.get("kinetic_growth")),
             "kicked": w.get("kicked"), "net_contact_work": num(w.get("net_contact_work_J")),
             "guard_violations": num((s.get("stability") or {}).get("guard_violations"), 0),

@@ -69,6 +69,8 @@ def classify(s):
     x = reader.stability_inputs(s)
     rho, verdict = x["rho"], x["verdict"]
     if x["status"] != "ok":
+        if x["status"] == "refused":  # runner.harness: the harness refused the configuration (exit 2)
+            return FAILED, ["refused: %s" % x["error"]]
         return FAILED, ["not finite" if x["finite"] is False else str(x["status"])]
     reasons = []
     if x["guard_violations"] > 0:

@@ -27,18 +27,25 @@ def harness(a, args, out, check=False, show_stderr=False, cached=True, threads="
         if getattr(a, "cached_only", False):  # study.py --cached-only: a run not made is listed, not made
             return {"status": "not run"}
         env = dict(os.environ, HARNESS_THREADS=threads) if threads else None
-        subprocess.run([a.harness] + args, check=check, env=env, stderr=None if show_stderr else subprocess.DEVNULL)
+        p = subprocess.run([a.harness] + args, check=check, env=env, stderr=None if show_stderr else subprocess.PIPE,
+                           text=True)
+        if p.returncode == 2 and not reader.has_summary(out):
+            # Refused before it ran (exit 2: a dt the stability guard refuses for this force, ...):
+            # a configuration that cannot run, listed as failed with the harness's one line.
+            why = (p.stderr or "").strip().splitlines()
+            return {"status": "refused", "error": why[-1] if why else "exit 2"}
     return reader.load_summary(out)
 
 
 def run(a, scene, out, sets, compare=True):
     """One `harness run` of `scene` into `out` without frames, with the --set overrides `sets` (and
     --quick's), compared with results/references/<scene> when that reference exists; its summary."""
-    args = ["run", scene, "--out", out, "--quiet", "--set", "output.frames_every=0"]
+    from .studies import common  # the user's scene (study.py --scene), if any
+    args = ["run", common.scene_arg(a, scene), "--out", out, "--quiet", "--set", "output.frames_every=0"]
     if a.quick:
         args += ["--set", "time.settle.max_steps=400"]
     args += sets_args(list(sets) + a.extra_sets)
-    ref = os.path.join(a.results, "references", scene)
+    ref = common.reference_dir(a, scene)
     if compare and os.path.exists(os.path.join(ref, "surfaces.csv")):
         args += ["--compare", ref]
     return harness(a, args, out)

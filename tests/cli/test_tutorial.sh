@@ -34,7 +34,7 @@ fail=0
 ( cd "$SRC" && bash "$T/script.sh" ) > "$T/log" 2>&1 || { echo "FAIL: the tutorial's commands"; tail -30 "$T/log"; fail=1; }
 S="$T/study"
 for f in out/run/summary.json out/ref/summary.json out/exact/summary.json out/sweep/runs.csv out/sweep/no_force/summary.json \
-         out/card/card.md out/card/card.png out/card/card.csv out/error_time.png; do
+         out/card/card.md out/card/card.png out/card/card.csv out/error_time.png out/studies/accuracy_time.csv out/studies/ablation.csv; do
   [[ -s "$S/$f" ]] || { echo "FAIL: the tutorial made no $f"; fail=1; }
 done
 grep -q "harness: error: my_press.json: contacts.0.force: value -1 out of range" "$T/log" || { echo "FAIL: the error line shown"; fail=1; }

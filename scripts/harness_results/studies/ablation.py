@@ -12,33 +12,41 @@ import os
 from .. import rules, runner, style, writers
 from ..rules import USEFUL
 from .accuracy import FOOTING_VOXELS
-from .common import (PAPER_ELIMINATOR, PARETO_CAP_MM, PENALTY, SCENES, combine, config_sets, figure_path, figures,
-                     force_label, read_rows, table_path)
+from .common import (PARETO_CAP_MM, PENALTY, combine, config_sets, figure_path, figures, footing_voxels, force_label,
+                     paper_eliminator, read_rows, scenes, table_path)
 
 ABLATION_VOXELS = [0.004, 0.008, 0.016, 0.032]
 CONSTANT_FORCES = ["0.0005", "0.001", "0.003", "0.01", "0.03", "0.1"]
 ABLATION_FORCES = CONSTANT_FORCES + ["auto", '{"stiffness":125}', PENALTY, '{"stiffness":2000}']
 
 
+def ablation_voxels(a, scene):
+    """The bundled scenes' ABLATION_VOXELS; for a user's scene the powers of two from half its
+    footing voxel (below the host's node spacing) to four times it."""
+    f = footing_voxels(a, scene, FOOTING_VOXELS)[0] if getattr(a, "user", None) else None
+    return [f / 2, f, 2 * f, 4 * f] if f else ABLATION_VOXELS
+
+
 def run(a):
     rows, jobs, index = [], [], []
-    for scene in SCENES:
-        elim = PAPER_ELIMINATOR[scene]
-        for v in ABLATION_VOXELS:
+    for scene in scenes(a):
+        elim = paper_eliminator(a, scene)
+        for v in ablation_voxels(a, scene):
             for f in ABLATION_FORCES:
                 js = runner.repeated(a, scene, "ablation/%s/v%g_%s" % (scene, 1e3 * v, force_label(f)),
                                      config_sets("voxel", v, elim, f, []), repeats=1)
                 index.append((scene, v, f, len(jobs), len(js)))
                 jobs += js
     base_at = len(jobs)
-    for scene in SCENES:  # the baseline: contact measured, never pushed (force 0)
+    for scene in scenes(a):  # the baseline: contact measured, never pushed (force 0)
         jobs += runner.repeated(a, scene, "ablation/%s/no_force" % scene,
-                                config_sets("voxel", ABLATION_VOXELS[0], PAPER_ELIMINATOR[scene], "0", []), repeats=1)
+                                config_sets("voxel", ablation_voxels(a, scene)[0], paper_eliminator(a, scene), "0", []),
+                                repeats=1)
     sums = runner.run_all(a, jobs)
-    baseline = {scene: figures(sums[base_at + k]) for k, scene in enumerate(SCENES)}
+    baseline = {scene: figures(sums[base_at + k]) for k, scene in enumerate(scenes(a))}
     for scene, v, f, i, n in index:
         rows.append(dict(combine(sums[i:i + n]), scene=scene, voxel_mm=1e3 * v, force=force_label(f),
-                         eliminator=PAPER_ELIMINATOR[scene]))
+                         eliminator=paper_eliminator(a, scene)))
     md = ["# Ablation: force rule and magnitude by voxel size (the voxel model)\n\n",
           "The paper's voxel model with its eliminator for the scenario; constant force F (N per contact), "
           "`auto`, and the depth penalty k (N/m), by voxel size. Errors against the reference (mm) and "
@@ -46,11 +54,11 @@ def run(a):
           "medians of several). Made by `scripts/study.py ablation`.\n"]
     reasons = ["% The voxel model's defaults chosen by the rule (made by scripts/study.py)\n"]
     chosen = {}
-    for scene in SCENES:
+    for scene in scenes(a):
         sr = [r for r in rows if r["scene"] == scene]
-        footing = min(FOOTING_VOXELS[scene]) * 1e3 - 1e-9  # the default: on equal footing only
+        footing = min(footing_voxels(a, scene, FOOTING_VOXELS)) * 1e3 - 1e-9  # the default: on equal footing only
         best = chosen[scene] = rules.choose([r for r in sr if r["voxel_mm"] >= footing], baseline[scene])
-        md.append("\n## %s (%s)\n\n" % (scene, PAPER_ELIMINATOR[scene]))
+        md.append("\n## %s (%s)\n\n" % (scene, paper_eliminator(a, scene)))
         md.append(writers.md_table(sr, ["voxel_mm", "force", "stable", "pos_err_max_mm", "gap_max_mm", "depth_max_mm",
                                         "contact_power_ratio", "t_contact_us", "why_unstable"],
                                    ["voxel (mm)", "force", "stable", "pos. error max (mm)", "gap max (mm)",
@@ -71,7 +79,7 @@ def run(a):
         f.write("\n".join(reasons))
     with open(os.path.join(a.results, "defaults.json"), "w") as f:
         json.dump({scene: ({"voxel_size": chosen[scene]["voxel_mm"] / 1e3, "force": chosen[scene]["force"],
-                            "eliminator": PAPER_ELIMINATOR[scene]} if chosen[scene] else None) for scene in SCENES},
+                            "eliminator": paper_eliminator(a, scene)} if chosen[scene] else None) for scene in scenes(a)},
                   f, indent=2, sort_keys=True)
         f.write("\n")
 
@@ -99,7 +107,7 @@ def plot_ablation(a, scene, rows):
     """Two heat maps (position error, gap) by force rule and voxel size; the stable settings
     outlined. Printed at the text width."""
     forces = [force_label(f) for f in ABLATION_FORCES]
-    voxels = [1e3 * v for v in ABLATION_VOXELS]
+    voxels = sorted({r["voxel_mm"] for r in rows}) or [1e3 * v for v in ABLATION_VOXELS]
     panels = [("pos_err_max_mm", "largest position error (mm)"), ("gap_max_mm", "largest gap (mm)")]
     plt = style.pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(style.TEXT, 2.35), layout="constrained")
@@ -118,12 +126,12 @@ def plot_ablation(a, scene, rows):
         if k == 0:
             ax.set_ylabel("voxel size (mm)")
     fig.suptitle("%s, %s eliminator; outlined: stable (%d of %d); >1 m: blown up" % (
-        scene.replace("_", " "), PAPER_ELIMINATOR[scene], sum(r["stable"] == "yes" for r in rows), len(rows)))
+        scene.replace("_", " "), paper_eliminator(a, scene), sum(r["stable"] == "yes" for r in rows), len(rows)))
     style.save(fig, figure_path(a, "ablation_%s" % scene), width=style.TEXT)
 
 
 def plots(a):
     """The heat maps again from ablation.csv (nothing is run)."""
     rows = read_rows(a, "ablation.csv")
-    for scene in SCENES:
+    for scene in scenes(a):
         plot_ablation(a, scene, [r for r in rows if r["scene"] == scene])

@@ -14,8 +14,8 @@ import os
 from .. import reader, rules, runner, style, writers
 from ..rules import INJECTION_LIMIT, MARGIN
 from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
-from .common import (PARETO_CAP_MM, PENALTY, SCENES, STUDY_EVERY, combine, config_sets, figure_path,
-                     folder_name, force_label, read_rows, table_path)
+from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, combine, config_sets, figure_path, folder_name,
+                     footing_voxels, force_label, read_rows, scenes, table_path)
 
 # The equal-footing comparison: the paper's voxel model with voxels at or above the host's node
 # spacing (host mean surface edge: sphere 3.0 mm, layer 5.7 mm, implant 6.1 mm; the smallest power
@@ -31,10 +31,10 @@ BOUND = "references.volume=true"
 NO_FORCE = "no contact force"
 
 
-def method_configs(scene):
+def method_configs(a, scene):
     """(label, detector, voxel size or None, eliminator, force, extra sets) of the comparison."""
     out = []
-    voxels = FOOTING_VOXELS[scene]
+    voxels = footing_voxels(a, scene, FOOTING_VOXELS)
     for v in voxels:
         label = "voxel %g mm" % (1e3 * v)
         for e in ["line", "plane"]:
@@ -60,9 +60,9 @@ def method_configs(scene):
     return out
 
 
-def method_extra(scene, label, det, voxel, elim, force):
+def method_extra(a, scene, label, det, voxel, elim, force):
     """The extra --set overrides of one configuration of method_configs."""
-    return next(c[5] for c in method_configs(scene) if c[:5] == (label, det, voxel, elim, force))
+    return next(c[5] for c in method_configs(a, scene) if c[:5] == (label, det, voxel, elim, force))
 
 
 def bound_time_us(folder):
@@ -77,15 +77,15 @@ def bound_time_us(folder):
 
 def run(a):
     rows, jobs, index = [], [], []
-    for scene in SCENES:
-        for label, det, voxel, elim, force, extra in method_configs(scene):
+    for scene in scenes(a):
+        for label, det, voxel, elim, force, extra in method_configs(a, scene):
             js = runner.repeated(a, scene, "accuracy/" + folder_name(scene, label, elim, force),
                                  config_sets(det, voxel, elim, force, extra))
             index.append((scene, label, det, voxel, elim, force, len(jobs), len(js)))
             jobs += js
     sums = runner.run_all(a, jobs)
     for scene, label, det, voxel, elim, force, i, n in index:
-        extra = method_extra(scene, label, det, voxel, elim, force)
+        extra = method_extra(a, scene, label, det, voxel, elim, force)
         rows.append(dict(combine(sums[i:i + n]), scene=scene, config=label, detector=det, eliminator=elim,
                          force=force_label(force) if elim != "projection" else "positions",
                          voxel_mm=1e3 * voxel if voxel else float("nan"),
@@ -101,7 +101,7 @@ def run(a):
         r["front"] = ""
     md = ["# What accuracy costs in time\n\n",
           "Every method on every scenario, judged by its error against the scenario's reference solution "
-          "(`results/references/`) over the run's final window (`time.window` steps after every driver and "
+          "(`references/`) over the run's final window (`time.window` steps after every driver and "
           "load has finished; CGAL every %d steps): pos_err_max: largest distance of a surface vertex from "
           "the reference, window mean (max and chatter amplitude beside it); gap_max: largest gap where the "
           "reference has contact, window mean; depth_max: deepest node inside the other body, window maximum; "
@@ -114,7 +114,7 @@ def run(a):
           "is drawn from the stable rows only; every row is listed with its rho and reason. Made by "
           "`scripts/study.py accuracy`.\n"
           % (STUDY_EVERY, a.repeats, MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN)]
-    for scene in SCENES:
+    for scene in scenes(a):
         sr = [r for r in rows if r["scene"] == scene]
         front = rules.pareto([r for r in sr if r["config"] != NO_FORCE])
         for r in front:
@@ -226,6 +226,6 @@ def plot_pareto(a, scene, rows, front):
 def plots(a):
     """The Pareto figures again from accuracy_time.csv (nothing is run)."""
     rows = read_rows(a, "accuracy_time.csv")
-    for scene in SCENES:
+    for scene in scenes(a):
         sr = [r for r in rows if r["scene"] == scene]
         plot_pareto(a, scene, sr, [r for r in sr if r["front"] == "yes"])

@@ -4,6 +4,8 @@ and a run's row (its window figures with the stability judgement)."""
 import json
 import math
 import os
+import subprocess
+import tempfile
 
 from .. import reader, rules
 
@@ -19,6 +21,62 @@ CONSTANT = "0.01"
 STUDY_EVERY = 10
 # Errors above this (1 m) are runs that blew up: drawn at the top edge (or capped) in the figures.
 PARETO_CAP_MM = 1000.0
+
+
+# ---------------------------------------------------------------------------------------------
+# The scenes a study runs: the bundled three, or one scene of the user's (study.py --scene FILE|NAME
+# --out DIR: a.user, set by set_user_scene) with its own eliminator, footing voxels and reference.
+def scenes(a):
+    """The scenes' names this study runs (and the rows of its CSV are keyed by)."""
+    return [a.user["name"]] if getattr(a, "user", None) else SCENES
+
+
+def scene_arg(a, scene):
+    """What `harness run` is given for a scene: the user's file, or the bundled name."""
+    user = getattr(a, "user", None)
+    return user["path"] if user and scene == user["name"] else scene
+
+
+def paper_eliminator(a, scene):
+    """The paper's eliminator of a bundled scene; a user's scene's own (contacts.0.eliminator)."""
+    user = getattr(a, "user", None)
+    return user["eliminator"] if user and scene == user["name"] else PAPER_ELIMINATOR[scene]
+
+
+def footing_voxels(a, scene, bundled):
+    """The voxels at and above the host's node spacing: `bundled` (a study's table) for the bundled
+    scenes; for a user's scene the smallest power of two at or above the host's mean surface edge
+    (the harness's `auto` voxel) and twice it."""
+    user = getattr(a, "user", None)
+    return user["footing"] if user and scene == user["name"] else bundled[scene]
+
+
+def set_user_scene(a, scene, out, reference=None):
+    """study.py --scene: a.user for `scene` (a file or bundled name), every output in `out` (a.results),
+    the reference `reference`, else out/references/<name> (made by the study that needs it)."""
+    name = json.load(open(scene if os.path.isfile(scene) else
+                          os.path.join(reader.SOURCE, "experiments", "scenes", scene + ".json")))["name"]
+    with tempfile.TemporaryDirectory() as tmp:  # the auto voxel of the voxel detector, from a 0-step run
+        subprocess.run([a.harness, "run", scene, "--steps", "0", "--quiet", "--out", tmp,
+                        "--set", 'contacts.0.detector="voxel"', "--set", 'contacts.0.voxel_size="auto"',
+                        "--set", "references.solvers=[]", "--set", "output.frames_every=0"],
+                       check=True, stderr=subprocess.DEVNULL)
+        s = reader.load_summary(tmp)
+    v = reader.num(reader.pair(s).get("voxel_size_used"))
+    elim = (reader.resolved(s).get("contacts") or [{}])[0].get("eliminator", "line")
+    a.results = out
+    a.user = {"name": name, "path": os.path.abspath(scene) if os.path.isfile(scene) else scene,
+              "eliminator": elim if elim in ("line", "plane") else "line", "footing": [v, 2 * v],
+              "reference": reference or os.path.join(out, "references", name)}
+    for d in ["figures", "tables"]:
+        os.makedirs(os.path.join(out, d), exist_ok=True)
+    return a.user
+
+
+def reference_dir(a, scene):
+    """The folder of a scene's reference: the user's, or --results/references/<scene>."""
+    user = getattr(a, "user", None)
+    return user["reference"] if user and scene == user["name"] else os.path.join(a.results, "references", scene)
 
 
 def force_label(f):

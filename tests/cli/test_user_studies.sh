@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# A scene of the user's through the studies that take one (scripts/study.py accuracy ablation
+# --scene FILE --out DIR) and its card: the tutorial's scene (docs/tutorial.md), --quick runs, its
+# reference made by the study; every output in DIR, nothing written into the repository's results/.
+# Usage: test_user_studies.sh HARNESS SOURCE_DIR
+set -u
+H="$1"; SRC="$2"
+PY="${PYTHON:-/usr/bin/python3}"
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+# The tutorial's scene, as the tutorial writes it.
+"$PY" - "$SRC/docs/tutorial.md" "$T/my_press.json" <<'PY' || { echo "FAIL: no scene in the tutorial"; exit 1; }
+import re, sys
+body = re.search(r"```json file=my_press.json\n(.*?)```", open(sys.argv[1]).read(), re.S).group(1)
+open(sys.argv[2], "w").write(body)
+PY
+before=$(find "$SRC/results" -type f -newer "$T/my_press.json" | wc -l)
+cd "$T"
+"$PY" "$SRC/scripts/study.py" accuracy ablation --harness "$H" --scene my_press.json --out st --quick -j 2 --repeats 1 \
+  > log 2>&1 || { bad "study.py accuracy ablation --scene"; tail -20 log; }
+for f in st/accuracy_time.csv st/ablation.csv st/defaults.json st/tables/accuracy_time.md st/tables/ablation.md \
+         st/figures/pareto_my_press.png st/figures/ablation_my_press.png st/references/my_press/summary.json; do
+  [[ -s "$f" ]] || bad "no $f"
+done
+"$PY" - st <<'PY' || bad "the studies' rows"
+import csv, json, sys
+acc = list(csv.DictReader(open(sys.argv[1] + "/accuracy_time.csv")))
+abl = list(csv.DictReader(open(sys.argv[1] + "/ablation.csv")))
+assert acc and abl and {r["scene"] for r in acc} == {"my_press"} == {r["scene"] for r in abl}
+# the footing voxels from the tissue's node spacing (5 mm edges: 7.8125 and 15.625 mm)
+assert {r["voxel_mm"] for r in acc if r["detector"] == "voxel"} == {"7.8125", "15.625"}, acc[0]
+assert "no contact force" in {r["config"] for r in acc}
+assert all(r["stability"] in ("stable", "marginal", "unstable", "failed") for r in acc + abl)
+assert list(json.load(open(sys.argv[1] + "/defaults.json"))) == ["my_press"]
+PY
+"$PY" "$SRC/scripts/study.py" card --harness "$H" --scene my_press.json --reference st/references/my_press --out card \
+  --set time.settle=null >> log 2>&1 && grep -q "^| no contact force |" card/card.md || bad "the card"
+after=$(find "$SRC/results" -type f -newer "$T/my_press.json" | wc -l)
+[[ $after -eq $before ]] || bad "files written into results/: $((after - before))"
+"$PY" "$SRC/scripts/study.py" realtime --scene my_press.json --out x > err 2>&1; rc=$?
+[[ $rc -eq 2 ]] && grep -q "bundled scenes only" err || bad "a study without --scene support is refused: exit $rc"
+[[ $fail -eq 0 ]] && echo "user scene: accuracy, ablation and card in $(du -sh st | cut -f1)"
+exit $fail
