@@ -19,9 +19,8 @@ are in harness_results/rules.py.
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import claims, runs, writers  # noqa: E402
-from harness_results.claims.common import Context  # noqa: E402
+from harness_results import claims, runs, writers
+from harness_results.claims.common import Context
 
 # claims_macros.tex in the order the report has had it: a macro's name, or a claim's module (the rest
 # of its macros, in its own order); the macros of a claim named nowhere follow at the end.

@@ -5,11 +5,9 @@ and from which files, is said in scripts/harness_results/counts.py.
 Usage: counts.py [RESULTS_DIR]     (default: results; writes RESULTS_DIR/tables/counts.tex)
 """
 
-import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import counts  # noqa: E402
+from harness_results import counts
 
 
 def main():

@@ -21,17 +21,16 @@ a 300 dpi PNG. Deterministic: fixed run order, no dates, fixed sizes and resolut
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import reader, rules, runs, style  # noqa: E402
+from harness_results import reader, rules, runs, style
 
 plt = style.pyplot()
-import matplotlib  # noqa: E402
-import matplotlib.lines  # noqa: E402
-import matplotlib.patches  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.collections import LineCollection  # noqa: E402
-from matplotlib.ticker import MaxNLocator  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection  # noqa: E402
+import matplotlib
+import matplotlib.lines
+import matplotlib.patches
+import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.ticker import MaxNLocator
+from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
 HOST_COLOR = "#8fb3d9"
 GUEST_COLOR = "#e8b27a"

@@ -24,8 +24,7 @@ import os
 import re
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import reader, style  # noqa: E402
+from harness_results import reader, style
 
 plt = style.pyplot()
 

@@ -6,8 +6,7 @@ tables.py uses for displacements). Usage: prune_frames.py [RESULTS_DIR]"""
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import reader, runs  # noqa: E402
+from harness_results import reader, runs
 
 
 def main():

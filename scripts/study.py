@@ -40,9 +40,8 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import card, counts, reader, rules, runner, studies  # noqa: E402
-from harness_results.studies import common  # noqa: E402
+from harness_results import card, counts, reader, rules, runner, studies
+from harness_results.studies import common
 
 # The studies that run on a user's scene (--scene FILE|NAME --out DIR): the same code as the
 # bundled ones, the scene's own eliminator, footing voxels from its host's node spacing, its

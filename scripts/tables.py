@@ -22,8 +22,7 @@ import os
 import re
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import reader, rules, runs, writers  # noqa: E402
+from harness_results import reader, rules, runs, writers
 
 
 def tex_prose(s):

@@ -26,9 +26,8 @@ import os
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness_results import reader, runner  # noqa: E402
-from harness_results.studies.common import SCENES, STUDY_EVERY, force_setting  # noqa: E402
+from harness_results import reader, runner
+from harness_results.studies.common import SCENES, STUDY_EVERY, force_setting
 
 SETTLE = 4000
 EVERY = STUDY_EVERY  # the one sampling rule of runs, sweeps and studies (rules.py)
