@@ -17,9 +17,10 @@
   study.py orient       orient.csv, tables/orient.md: claim (a) without its confound
   study.py bullet       bullet.csv, tables/bullet.{md,tex}: Bullet's soft bodies beside the harness
   study.py all          every one of them, in this order (or name several: study.py accuracy realtime)
-  study.py accuracy ablation --scene FILE --out DIR
+  study.py all --scene FILE --out DIR   (or name some of accuracy ablation convergence refinement realtime swap)
                         the same studies on a scene of your own: the same tables, figures and CSV files in DIR
                         (its reference: --reference REF, else made into DIR/references/<name>); nothing in results/
+                        (references, region, orient and bullet are about the bundled scenes and claims)
   study.py card         one scene's verdict at a glance: --scene FILE|NAME --out DIR (card.md, card.csv,
                         card.{png,pdf}, the runs and, unless --reference DIR is given, the reference in DIR);
                         without --scene every bundled scene's into results/cards/<scene>/
@@ -46,7 +47,7 @@ from harness_results.studies import common
 # The studies that run on a user's scene (--scene FILE|NAME --out DIR): the same code as the
 # bundled ones, the scene's own eliminator, footing voxels from its host's node spacing, its
 # reference (--reference DIR, or made into DIR/references/<name>).
-USER_STUDIES = ["accuracy", "ablation"]
+USER_STUDIES = ["accuracy", "ablation", "convergence", "refinement", "realtime", "swap"]
 
 
 def main():
@@ -78,6 +79,8 @@ def main():
         card.run(a)
         return
     if a.scene:  # a user's scene: the studies that take one, everything in --out
+        if "all" in a.what:
+            a.what = [w for w in studies.ORDER if w in USER_STUDIES]
         other = [w for w in a.what if w not in USER_STUDIES]
         if other:
             ap.error("--scene: %s run on the bundled scenes only (with --scene: %s)" % (", ".join(other), ", ".join(USER_STUDIES)))

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# A scene of the user's through the studies that take one (scripts/study.py accuracy ablation
-# --scene FILE --out DIR) and its card: the tutorial's scene (docs/tutorial.md), --quick runs, its
+# A scene of the user's through every study that takes one (scripts/study.py all --scene FILE --out
+# DIR: accuracy, ablation, convergence, refinement, realtime, swap) and its card: the tutorial's scene (docs/tutorial.md), --quick runs, its
 # reference made by the study; every output in DIR, nothing written into the repository's results/.
 # Usage: test_user_studies.sh HARNESS SOURCE_DIR
 set -u
@@ -17,10 +17,11 @@ open(sys.argv[2], "w").write(body)
 PY
 before=$(find "$SRC/results" -type f -newer "$T/my_press.json" | wc -l)
 cd "$T"
-"$PY" "$SRC/scripts/study.py" accuracy ablation --harness "$H" --scene my_press.json --out st --quick -j 2 --repeats 1 \
-  > log 2>&1 || { bad "study.py accuracy ablation --scene"; tail -20 log; }
+"$PY" "$SRC/scripts/study.py" all --harness "$H" --scene my_press.json --out st --quick -j 2 --repeats 1 \
+  > log 2>&1 || { bad "study.py all --scene"; tail -20 log; }
 for f in st/accuracy_time.csv st/ablation.csv st/defaults.json st/tables/accuracy_time.md st/tables/ablation.md \
-         st/figures/pareto_my_press.png st/figures/ablation_my_press.png st/references/my_press/summary.json; do
+         st/figures/pareto_my_press.png st/figures/ablation_my_press.png st/references/my_press/summary.json \
+         st/convergence.csv st/refinement.csv st/realtime.csv st/swap.csv st/tables/realtime.md st/tables/swap.md; do
   [[ -s "$f" ]] || bad "no $f"
 done
 "$PY" - st <<'PY' || bad "the studies' rows"
@@ -33,12 +34,19 @@ assert {r["voxel_mm"] for r in acc if r["detector"] == "voxel"} == {"7.8125", "1
 assert "no contact force" in {r["config"] for r in acc}
 assert all(r["stability"] in ("stable", "marginal", "unstable", "failed") for r in acc + abl)
 assert list(json.load(open(sys.argv[1] + "/defaults.json"))) == ["my_press"]
+for name in ["convergence", "refinement", "realtime", "swap"]:
+    rows = list(csv.DictReader(open("%s/%s.csv" % (sys.argv[1], name))))
+    assert rows and {r["scene"] for r in rows} == {"my_press"}, name
+rt = list(csv.DictReader(open(sys.argv[1] + "/realtime.csv")))
+assert {r["method"] for r in rt if r["kind"] == "exact"} == {"cgal both ways, penalty"}  # set in full, not the scene's own
+swap = list(csv.DictReader(open(sys.argv[1] + "/swap.csv")))
+assert {(r["host"], r["swapped"]) for r in swap} == {("tissue", "no"), ("probe", "yes")}
 PY
 "$PY" "$SRC/scripts/study.py" card --harness "$H" --scene my_press.json --reference st/references/my_press --out card \
   --set time.settle=null >> log 2>&1 && grep -q "^| no contact force |" card/card.md || bad "the card"
 after=$(find "$SRC/results" -type f -newer "$T/my_press.json" | wc -l)
 [[ $after -eq $before ]] || bad "files written into results/: $((after - before))"
-"$PY" "$SRC/scripts/study.py" realtime --scene my_press.json --out x > err 2>&1; rc=$?
+"$PY" "$SRC/scripts/study.py" region --scene my_press.json --out x > err 2>&1; rc=$?
 [[ $rc -eq 2 ]] && grep -q "bundled scenes only" err || bad "a study without --scene support is refused: exit $rc"
-[[ $fail -eq 0 ]] && echo "user scene: accuracy, ablation and card in $(du -sh st | cut -f1)"
+[[ $fail -eq 0 ]] && echo "user scene: six studies and the card in $(du -sh st | cut -f1)"
 exit $fail

@@ -63,14 +63,33 @@ def set_user_scene(a, scene, out, reference=None):
                        check=True, stderr=subprocess.DEVNULL)
         s = reader.load_summary(tmp)
     v = reader.num(reader.pair(s).get("voxel_size_used"))
-    elim = (reader.resolved(s).get("contacts") or [{}])[0].get("eliminator", "line")
+    contact = (reader.resolved(s).get("contacts") or [{}])[0]
+    elim = contact.get("eliminator", "line")
     a.results = out
     a.user = {"name": name, "path": os.path.abspath(scene) if os.path.isfile(scene) else scene,
               "eliminator": elim if elim in ("line", "plane") else "line", "footing": [v, 2 * v],
-              "reference": reference or os.path.join(out, "references", name)}
+              "reference": reference or os.path.join(out, "references", name), "doc": reader.resolved(s),
+              "bodies": (contact.get("host"), contact.get("guest"))}
     for d in ["figures", "tables"]:
         os.makedirs(os.path.join(out, d), exist_ok=True)
     return a.user
+
+
+def scene_doc(a, scene):
+    """The scene's document: the user's (resolved), or the bundled file's."""
+    user = getattr(a, "user", None)
+    return user["doc"] if user and scene == user["name"] else reader.bundled_scene(scene)
+
+
+def pair_bodies(a, scene, bundled):
+    """(host, guest) of the scene's first pair: `bundled` (a study's table) or the user's scene's."""
+    user = getattr(a, "user", None)
+    return tuple(user["bodies"]) if user and scene == user["name"] else bundled[scene]
+
+
+def scene_voxel(a, scene):
+    """The voxel size a study keeps for the scene: SCENE_VOXEL, or the user's footing voxel."""
+    return footing_voxels(a, scene, {k: [v] for k, v in SCENE_VOXEL.items()})[0]
 
 
 def reference_dir(a, scene):
@@ -133,9 +152,10 @@ def combine(summaries):
     return f
 
 
-def refine_sets(scene, r):
-    """The --set overrides that make the scene's meshes r times finer (r a power of two)."""
-    s = reader.bundled_scene(scene)
+def refine_sets(scene, r, doc=None):
+    """The --set overrides that make the scene's meshes r times finer (r a power of two); `doc`:
+    the scene's document (default: the bundled file's)."""
+    s = doc or reader.bundled_scene(scene)
     sets = []
     for i, b in enumerate(s["bodies"]):
         sh = b["shape"]

@@ -6,7 +6,7 @@ its paper eliminator -> convergence.csv, figures/convergence.{png,pdf}, tables/c
 import os
 
 from .. import reader, runner, style, writers
-from .common import (PAPER_ELIMINATOR, PENALTY, SCENES, config_sets, figure_path, figures, force_label,
+from .common import (PENALTY, config_sets, paper_eliminator, scenes, figure_path, figures, force_label,
                      force_setting, read_rows, table_path)
 
 CONVERGENCE_VOXELS = [0.032, 0.016, 0.008, 0.004, 0.002]
@@ -23,7 +23,7 @@ def plot_convergence(a, rows):
     axes = [fig.add_subplot(gs[0, k]) for k in range(3)]
     keyax = fig.add_subplot(gs[1, :])
     keyax.axis("off")
-    for k, scene in enumerate(SCENES):
+    for k, scene in enumerate(scenes(a)):
         sr = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["voxel_mm"])
         x = [r["voxel_mm"] for r in sr]
         c = style.PALETTE[k]
@@ -50,12 +50,12 @@ def plot_convergence(a, rows):
 def run(a):
     d = reader.read_defaults(a.results)
     rows, jobs, index = [], [], []
-    for scene in SCENES:
+    for scene in scenes(a):
         force = d.get(scene) and d[scene]["force"]
         f = force_setting(force) if force else PENALTY  # no default: the scene's own penalty
         for v in CONVERGENCE_VOXELS:
             js = [(scene, os.path.join(a.results, "sweeps", "convergence", scene, "v%g" % (1e3 * v)),
-                   config_sets("voxel", v, PAPER_ELIMINATOR[scene], f, []))]
+                   config_sets("voxel", v, paper_eliminator(a, scene), f, []))]
             index.append((scene, v, force_label(f), len(jobs)))
             jobs += js
     sums = runner.run_all(a, jobs)

@@ -12,12 +12,13 @@ Timings exclude the references' measurement where the run measured (summary timi
 step's own). -> realtime.csv, tables/realtime.{md,tex}. Cached like every study run.
 """
 
+import json
 import math
 import os
 import shlex
 
 from .. import reader, runner, writers
-from .common import SCENES, STUDY_EVERY, figures, table_path
+from .common import PENALTY, STUDY_EVERY, figures, reference_dir, scene_arg, scene_doc, scenes, table_path
 
 HAPTIC_BUDGET_US = 1000.0
 # (label, kind, --set overrides): kind "exact" (an exact detector), "completed" (voxel_exact), "paper".
@@ -30,6 +31,19 @@ REALTIME_METHODS = [
 ]
 
 
+def realtime_methods(a, scene):
+    """REALTIME_METHODS; on a user's scene (whose own contact may be anything) the exact and the
+    completed methods are set in full: both ways, the scene's penalty (or k = 500 N/m)."""
+    if not getattr(a, "user", None):
+        return REALTIME_METHODS
+    force = (scene_doc(a, scene).get("contacts") or [{}])[0].get("force")
+    penalty = json.dumps(force) if isinstance(force, dict) else PENALTY
+    both = ["contacts.0.two_sided=true", "contacts.0.force=" + penalty]
+    return [("cgal both ways, penalty", "exact", ['contacts.0.detector="cgal"'] + both),
+            ("voxel_exact both ways, penalty", "completed", ['contacts.0.detector="voxel_exact"'] + both),
+            REALTIME_METHODS[2]]
+
+
 def shell_args(args):
     """The arguments as one shell-quoted string."""
     return " ".join(shlex.quote(x) for x in args)
@@ -39,8 +53,8 @@ def realtime_run(a, scene, folder, args, threads, compare):
     """`harness run SCENE ARGS` with `threads` threads (its summary), measured against the reference
     by CGAL every STUDY_EVERY steps when compare, without references otherwise."""
     out = os.path.join(a.results, "sweeps", "realtime", folder)
-    cmd = ["run", scene, "--out", out, "--quiet", "--set", "output.frames_every=0"] + args
-    ref = os.path.join(a.results, "references", scene)
+    cmd = ["run", scene_arg(a, scene), "--out", out, "--quiet", "--set", "output.frames_every=0"] + args
+    ref = reference_dir(a, scene)
     if compare and os.path.exists(os.path.join(ref, "surfaces.csv")):
         cmd += ["--set", 'references.solvers=["cgal"]', "--set", "references.every=%d" % STUDY_EVERY, "--compare", ref]
     else:
@@ -50,10 +64,10 @@ def realtime_run(a, scene, folder, args, threads, compare):
     return runner.harness(a, cmd, out, threads=str(threads))
 
 
-def modes(scene, base, first):
+def modes(a, scene, base, first):
     """(mode, arguments) of one method: the scene's dt, 0.9 of the smallest dt_crit the run at the
     scene's dt met (when it reported one), implicit Euler at ten times the scene's dt."""
-    dt0 = reader.bundled_scene(scene)["time"]["dt"]
+    dt0 = scene_doc(a, scene)["time"]["dt"]
     dt_crit_min = reader.num((first.get("stability") or {}).get("dt_crit_min"))
     out = [("scene dt", base)]
     if dt_crit_min > 0:
@@ -85,14 +99,14 @@ def run(a):
     # settling and without the references (they step the same state bit for bit as one thread, so
     # their error is the one-thread run's).
     plan = []
-    for scene in SCENES:
-        for label, kind, sets in REALTIME_METHODS:
+    for scene in scenes(a):
+        for label, kind, sets in realtime_methods(a, scene):
             tag = label.split(" (")[0].replace(" ", "_").replace(",", "")
             plan.append((scene, label, kind, runner.sets_args(sets), tag))
     firsts = runner.parallel(a, lambda p: realtime_run(a, p[0], "%s/%s_scene_dt_t1" % (p[0], p[4]), p[3], 1, True), plan)
     jobs = []
     for (scene, label, kind, base, tag), first in zip(plan, firsts):
-        for mode, args in modes(scene, base, first):
+        for mode, args in modes(a, scene, base, first):
             stem = "%s/%s_%s" % (scene, tag, mode.split(",")[0].replace(" ", "_").replace(".", ""))
             for threads in [1, 2]:
                 jobs.append((scene, label, kind, mode, threads, args, stem + "_t%d" % threads,
@@ -102,7 +116,7 @@ def run(a):
     for j in jobs:
         if j[4] == 2:
             done[j[6]] = realtime_run(a, j[0], j[6], j[5] + ["--set", "time.settle=null"], 2, False)
-    for scene in SCENES:
+    for scene in scenes(a):
         srows = [row_of(scene, label, kind, mode, threads, args, first if first is not None else done[folder])
                  for (sc, label, kind, mode, threads, args, folder, first) in jobs if sc == scene]
         # Two threads step the same state as one (bit-identical): their error is the one-thread run's.
@@ -138,7 +152,7 @@ def device_rows(a, cpu_rows):
     CPU's over the steps both ran (results/device/state_check.csv), not beyond."""
     label, kind, stem = DEVICE_METHOD
     out = []
-    for scene in SCENES:
+    for scene in scenes(a):
         path = os.path.join(a.results, "device", "runs", "%s_%s" % (scene, stem), "summary.json")
         if not os.path.isfile(path):
             continue

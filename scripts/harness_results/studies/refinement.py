@@ -6,18 +6,18 @@ time) -> refinement.csv, tables/refinement.{md,tex}.
 import os
 
 from .. import reader, runner, writers
-from .common import SCENES, refine_sets, table_path
+from .common import refine_sets, scene_arg, scene_doc, scenes, table_path
 
 
 def run(a):
     factors = [1, 2] if not a.quick else [1]
     rows = []
-    for scene in SCENES:
+    for scene in scenes(a):
         for r in factors:
             out = os.path.join(a.results, "sweeps", "refinement", scene, "x%d" % r)
-            s = runner.harness(a, ["run", scene, "--out", out, "--quiet", "--dt-divide", str(r), "--set",
+            s = runner.harness(a, ["run", scene_arg(a, scene), "--out", out, "--quiet", "--dt-divide", str(r), "--set",
                                    "output.frames_every=0", "--set", 'references.solvers=["cgal"]'] +
-                               runner.sets_args(refine_sets(scene, r) + a.extra_sets), out)
+                               runner.sets_args(refine_sets(scene, r, scene_doc(a, scene)) + a.extra_sets), out)
             disp = reader.largest_displacements(out)
             for body, d in disp.items():
                 rows.append({"scene": scene, "resolution": "x%d" % r, "nodes": reader.nodes(s), "body": body,

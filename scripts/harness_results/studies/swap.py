@@ -7,7 +7,7 @@ tables/swap.md.
 import os
 
 from .. import reader, runner, writers
-from .common import (PAPER_ELIMINATOR, SCENE_VOXEL, SCENES, STUDY_EVERY, config_sets, figures, force_label,
+from .common import (STUDY_EVERY, config_sets, pair_bodies, paper_eliminator, scene_voxel, scenes, figures, force_label,
                      force_setting, table_path)
 
 SWAP_BODIES = {"sphere_collision": ("left", "right"), "cylinder_press": ("layer", "cylinder"),
@@ -17,7 +17,7 @@ SWAP_BODIES = {"sphere_collision": ("left", "right"), "cylinder_press": ("layer"
 def swap_configs(a, scene):
     """The voxel model's default of the scene (defaults.json) when there is one, and the paper's
     eliminator with the automatic force at the scene's voxel size."""
-    out = [(PAPER_ELIMINATOR[scene], "auto", SCENE_VOXEL[scene])]
+    out = [(paper_eliminator(a, scene), "auto", scene_voxel(a, scene))]
     d = reader.read_defaults(a.results).get(scene)
     if d:
         cfg = (d["eliminator"], force_setting(d["force"]), d["voxel_size"])
@@ -28,8 +28,8 @@ def swap_configs(a, scene):
 
 def run(a):
     rows, configs = [], []
-    for scene in SCENES:
-        host, guest = SWAP_BODIES[scene]
+    for scene in scenes(a):
+        host, guest = pair_bodies(a, scene, SWAP_BODIES)
         for elim, force, voxel in swap_configs(a, scene):
             for swapped in (False, True):
                 h, g = (guest, host) if swapped else (host, guest)
