@@ -11,11 +11,13 @@
 #                 results/sweeps/, so an interrupted study resumes). Without it the study CSV files
 #                 committed in results/ are used as they are.
 #   --paper-only  builds paper/main.pdf from the committed results alone: no build, no harness, no
-#                 runs (minutes, not hours). Installs LaTeX and matplotlib if missing
-#                 (install-deps.sh --latex), redraws every figure from the committed runs and CSVs
-#                 (figures.py; plot_bench.py; study.py accuracy ablation convergence realtime --plots-only),
-#                 rewrites results/tables/counts.tex (counts.py), then runs latexmk in paper/.
-#                 The tables are the committed ones.
+#                 runs (minutes, not hours), and nothing written into results/ or paper/ but
+#                 paper/main.pdf: in a folder of its own (build/paper-only/, a copy of results/ and
+#                 paper/) it redraws every figure from the committed runs and CSVs (figures.py;
+#                 plot_bench.py; study.py accuracy ablation convergence realtime --plots-only),
+#                 rewrites tables/counts.tex (counts.py) and runs latexmk, then copies main.pdf to
+#                 paper/. Installs LaTeX and matplotlib if missing (install-deps.sh --latex). The
+#                 tables are the committed ones.
 # The runs go two at a time (this machine has two cores); each is one thread.
 # Environment: PYTHON (default /usr/bin/python3: Debian's matplotlib and numpy);
 #   HARNESS=path uses that harness binary and skips the install and build steps.
@@ -42,21 +44,27 @@ PYTHON="${PYTHON:-/usr/bin/python3}"
 export PYTHON
 start=$(date +%s)
 
-# build_paper: paper/main.pdf from what results/ holds now (LaTeX installed when missing).
+# build_paper [DIR]: DIR/main.pdf (default paper/) from what DIR/../results holds now (LaTeX
+# installed when missing).
 build_paper() {
+  local dir="${1:-paper}"
   if ! command -v latexmk >/dev/null || ! command -v pdflatex >/dev/null; then
     scripts/install-deps.sh --latex || echo "reproduce: LaTeX could not be installed" >&2
   fi
   if command -v latexmk >/dev/null && command -v pdflatex >/dev/null; then
-    (cd paper && latexmk -pdf -interaction=nonstopmode -halt-on-error -quiet main.tex)
-    echo "reproduce: paper/main.pdf built"
+    # The same sources and results give the same PDF: its dates are those of the last commit of
+    # results/ and paper/ sources (pdfTeX's SOURCE_DATE_EPOCH), not the build's.
+    local epoch
+    epoch=$(git log -1 --format=%ct -- results paper/main.tex 2>/dev/null || true)
+    (cd "$dir" && SOURCE_DATE_EPOCH="${epoch:-0}" FORCE_SOURCE_DATE=1 latexmk -pdf -interaction=nonstopmode -halt-on-error -quiet main.tex)
+    echo "reproduce: $dir/main.pdf built"
     # A rendered page of the claims section (its first page, from the label in main.aux).
     local page
-    page=$(sed -n 's/^\\newlabel{sec:claims}{{[^}]*}{\([0-9]*\)}.*/\1/p' paper/main.aux | head -1)
+    page=$(sed -n 's/^\\newlabel{sec:claims}{{[^}]*}{\([0-9]*\)}.*/\1/p' "$dir/main.aux" | head -1)
     if [[ -n "$page" ]] && command -v pdftoppm >/dev/null; then
-      mkdir -p paper/preview
-      pdftoppm -f "$page" -l "$page" -r 90 -png -singlefile paper/main.pdf paper/preview/claims
-      echo "reproduce: paper/preview/claims.png (page $page)"
+      mkdir -p "$dir/preview"
+      pdftoppm -f "$page" -l "$page" -r 90 -png -singlefile "$dir/main.pdf" "$dir/preview/claims"
+      echo "reproduce: $dir/preview/claims.png (page $page)"
     fi
   else
     echo "reproduce: latexmk/pdflatex missing: paper/main.pdf not built (results/ are complete)" >&2
@@ -69,14 +77,21 @@ if [[ $paper_only -eq 1 ]]; then
      ! "$PYTHON" -c "import matplotlib, numpy" 2>/dev/null; then
     scripts/install-deps.sh --latex
   fi
+  # A folder of its own: the committed results and the report's sources copied (not the cards'
+  # or the studies' cached runs), everything drawn and built there; only main.pdf comes back.
+  stage=build/paper-only
+  rm -rf "$stage" && mkdir -p "$stage"
+  tar -cf - --exclude='results/cards/*/runs/*/*' --exclude='results/sweeps' --exclude='paper/*.aux' results paper \
+    | tar -C "$stage" -xf -
   # Figures from the committed data only (none of these needs the harness), drawn at the size
   # the report prints them; then the counts the text quotes.
-  "$PYTHON" scripts/figures.py results
-  [[ -f results/bench.csv ]] && "$PYTHON" scripts/plot_bench.py results/bench.csv results
-  "$PYTHON" scripts/study.py accuracy ablation convergence realtime --plots-only --results results
-  "$PYTHON" scripts/counts.py results
-  build_paper
-  echo "reproduce: done in $(( $(date +%s) - start )) s (from the committed results)"
+  "$PYTHON" scripts/figures.py "$stage/results"
+  [[ -f "$stage/results/bench.csv" ]] && "$PYTHON" scripts/plot_bench.py "$stage/results/bench.csv" "$stage/results"
+  "$PYTHON" scripts/study.py accuracy ablation convergence realtime --plots-only --results "$stage/results"
+  "$PYTHON" scripts/counts.py "$stage/results"
+  build_paper "$stage/paper"
+  cp "$stage/paper/main.pdf" paper/main.pdf
+  echo "reproduce: paper/main.pdf from $stage/; done in $(( $(date +%s) - start )) s (from the committed results)"
   exit 0
 fi
 if [[ -n "${HARNESS:-}" ]]; then
