@@ -219,7 +219,7 @@ const std::vector<std::pair<std::string, std::string>>& merged_figures() {
       {"error_window_mean", error_window("mean")},
       {"error_window_max", error_window("max")},
       {"error_window_chatter", error_window("amplitude")},
-      {"depth_window_max", pair0(k::kErrorVsReference) + "/window/depth_max/max"},
+      {"depth_window_max", pair0(k::kErrorVsReference) + k::kDepthWindow + "/max"},
       {"reference_converged", k::kCompareConverged},
   };
   return figures;
@@ -238,10 +238,11 @@ double number_at(const json& s, const std::string& ptr) {
 std::vector<json> judged_columns(const json& s, const json* base) {
   namespace k = summary_key;
   const std::string ev = k::pair_key(0, k::kErrorVsReference);
-  const double err = number_at(s, ev + k::kErrorWindow + "/mean"), depth = number_at(s, ev + "/window/depth_max/max");
+  // The figures the studies' rule reads: the window's mean error and its deepest penetration.
+  auto error = [&](const json* x) { return x ? number_at(*x, ev + k::kErrorWindow + "/mean") : std::nan(""); };
+  auto deepest = [&](const json* x) { return x ? number_at(*x, ev + k::kDepthWindow + "/max") : std::nan(""); };
+  const double err = error(&s), depth = deepest(&s), base_err = error(base), base_depth = deepest(base);
   const double tunnelled = number_at(s, k::pair_key(0, k::kTunnelled)) + number_at(s, k::pair_key(0, k::kTunnelledHost));
-  double base_err = std::nan(""), base_depth = std::nan("");
-  if (base) base_err = number_at(*base, ev + k::kErrorWindow + "/mean"), base_depth = number_at(*base, ev + "/window/depth_max/max");
   json helps;  // null: not judged (no no-force run, or no error: run without --compare)
   if (std::isfinite(err) && std::isfinite(base_err))
     helps = err <= kHelpsShare * base_err ||

@@ -62,6 +62,8 @@ inline constexpr const char* kErrorFigures[] = {"pos_err_max", "pos_err_rms", "g
 // Under kErrorVsReference: the largest position error over the final window (stat_json: mean,
 // max, amplitude = max - min, the chatter).
 inline constexpr const char* kErrorWindow = "/window/pos_err_max";
+// Under kErrorVsReference: the deepest true penetration over the final window (stat_json).
+inline constexpr const char* kDepthWindow = "/window/depth_max";
 
 // The pointer of a key of pair p.
 inline std::string pair_key(int p, const char* key) { return std::string(kPairs) + "/" + std::to_string(p) + key; }

@@ -13,16 +13,10 @@ import os
 import subprocess
 
 from . import reader, rules, style, writers
+from .reader import scene_name
 
 METHODS = ["voxel", "voxel_exact", "cgal"]
 EVERY = 10  # CGAL measures every run every EVERY steps, as in every study (studies/common.py STUDY_EVERY)
-
-
-def scene_name(scene):
-    """The scene's name field (a bundled name or a file)."""
-    path = scene if os.path.isfile(scene) else os.path.join(reader.SOURCE, "experiments", "scenes", scene + ".json")
-    with open(path) as f:
-        return __import__("json").load(f)["name"]
 
 
 def find_reference(a, scene, out):

@@ -340,6 +340,13 @@ def bundled_scene(scene):
         return json.load(f)
 
 
+def scene_name(scene):
+    """The `name` of a scene given as a file or a bundled scene's name."""
+    path = scene if os.path.isfile(scene) else os.path.join(SOURCE, "experiments", "scenes", scene + ".json")
+    with open(path) as f:
+        return json.load(f)["name"]
+
+
 def read_defaults(results):
     """results/defaults.json (the ablation's defaults per scene, None where none qualifies); {} when missing."""
     path = os.path.join(results, "defaults.json")

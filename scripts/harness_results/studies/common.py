@@ -54,8 +54,7 @@ def footing_voxels(a, scene, bundled):
 def set_user_scene(a, scene, out, reference=None):
     """study.py --scene: a.user for `scene` (a file or bundled name), every output in `out` (a.results),
     the reference `reference`, else out/references/<name> (made by the study that needs it)."""
-    name = json.load(open(scene if os.path.isfile(scene) else
-                          os.path.join(reader.SOURCE, "experiments", "scenes", scene + ".json")))["name"]
+    name = reader.scene_name(scene)
     with tempfile.TemporaryDirectory() as tmp:  # the auto voxel of the voxel detector, from a 0-step run
         subprocess.run([a.harness, "run", scene, "--steps", "0", "--quiet", "--out", tmp,
                         "--set", 'contacts.0.detector="voxel"', "--set", 'contacts.0.voxel_size="auto"',
