@@ -85,15 +85,9 @@ class BulletEngine final : public StepEngine {
   nlohmann::json describe_;
 };
 
+// The body's mean surface edge at its current positions (world.hpp, the one definition).
 double mean_surface_edge_of(const World& w, const Body& b) {
-  double sum = 0.0;
-  int n = 0;
-  for (const Tri& t : b.faces)
-    for (int k = 0; k < 3; ++k) {
-      sum += (w.x[b.surface_node(t[k])] - w.x[b.surface_node(t[(k + 1) % 3])]).norm();
-      ++n;
-    }
-  return n ? sum / n : 0.0;
+  return mean_surface_edge(w, static_cast<int>(&b - w.bodies.data()), w.x);
 }
 
 // A soft body of a world's body: its nodes at their positions with their lumped masses.
