@@ -84,7 +84,7 @@ def power_of_ten(n):
 
 
 def collect(root):
-    """[(name, value)] in a fixed order."""
+    """[(name, value)] in a fixed order: one section per source of the report's figures."""
     out = []
 
     def count(name, n):
@@ -94,7 +94,29 @@ def collect(root):
     def text(name, v):
         out.append((name, "?" if v is None else v))
 
-    # The runs of the report (scripts/reproduce.sh).
+    acc = rows_of(root, "accuracy_time.csv")
+    run_counts(root, count)
+    accuracy_counts(acc, count, text)
+    ablation_counts(rows_of(root, "ablation.csv"), count, text)
+    # Convergence (scripts/study.py convergence).
+    conv = rows_of(root, "convergence.csv")
+    count("ConvPoints", None if conv is None else len(conv))
+    v = sorted({float(r["voxel_mm"]) for r in conv}) if conv else []
+    count("ConvVoxels", len(v) if conv else None)
+    text("ConvVoxelRange", "%g to %g" % (v[-1], v[0]) if v else None)
+    # Real time by method, mode and threads (scripts/study.py realtime).
+    rt = rows_of(root, "realtime.csv")
+    count("RealtimeScenes", None if rt is None else len({r["scene"] for r in rt}))
+    count("RealtimeMethods", None if rt is None or (rt and "method" not in rt[0]) else len({r["method"] for r in rt}))
+    reference_counts(root, text)
+    best_counts(acc, text)
+    bench_counts(rows_of(root, "bench.csv"), text)
+    gpu_counts(root, text)
+    return out
+
+
+def run_counts(root, count):
+    """The runs of the report (scripts/reproduce.sh)."""
     runs = runs_.existing_runs(root)
     count("NumRuns", len(runs))
     count("NumRunSettings", len({r[0] for r in runs}))
@@ -108,8 +130,9 @@ def collect(root):
         count("NumInstants", None)
         count("MeasureEvery", None)
 
-    # What accuracy costs in time (scripts/study.py accuracy).
-    acc = rows_of(root, "accuracy_time.csv")
+
+def accuracy_counts(acc, count, text):
+    """What accuracy costs in time (scripts/study.py accuracy): configurations, stable ones, the front."""
     scenes = [] if acc is None else sorted({r["scene"] for r in acc}, key=lambda s: list(SCENE_TAG).index(s)
                                            if s in SCENE_TAG else len(SCENE_TAG))
     count("AccConfigs", None if acc is None else len(acc))
@@ -135,8 +158,9 @@ def collect(root):
                   and r["config"].startswith("voxel ")}) if acc else []
     text("AccVoxelSizes", listing(vox) if vox else None)
 
-    # Ablation (scripts/study.py ablation).
-    abl = rows_of(root, "ablation.csv")
+
+def ablation_counts(abl, count, text):
+    """Ablation (scripts/study.py ablation): points, forces, voxel sizes, stable ones."""
     count("AblPoints", None if abl is None else len(abl))
     per = sorted({sum(r["scene"] == s for r in abl) for s in {r["scene"] for r in abl}}) if abl else []
     text("AblPerScene", ("%d" % per[0] if len(per) == 1 else "%d--%d" % (per[0], per[-1])) if per else None)
@@ -157,19 +181,9 @@ def collect(root):
         for n in ("AblVoxelRange", "AblConstRange", "AblPenaltyRange"):
             text(n, None)
 
-    # Convergence (scripts/study.py convergence).
-    conv = rows_of(root, "convergence.csv")
-    count("ConvPoints", None if conv is None else len(conv))
-    v = sorted({float(r["voxel_mm"]) for r in conv}) if conv else []
-    count("ConvVoxels", len(v) if conv else None)
-    text("ConvVoxelRange", "%g to %g" % (v[-1], v[0]) if v else None)
 
-    # Real time by method, mode and threads (scripts/study.py realtime).
-    rt = rows_of(root, "realtime.csv")
-    count("RealtimeScenes", None if rt is None else len({r["scene"] for r in rt}))
-    count("RealtimeMethods", None if rt is None or (rt and "method" not in rt[0]) else len({r["method"] for r in rt}))
-
-    # The references (scripts/study.py references): floors, convergence, one way against both ways.
+def reference_counts(root, text):
+    """The references (scripts/study.py references): floors, convergence, one way against both ways."""
     ref = rows_of(root, "references.csv")
     for name, tag in REFERENCE_TAG.items():
         last = [r for r in ref if r["reference"] == name] if ref else []
@@ -185,30 +199,42 @@ def collect(root):
         row = next((r for r in diff or [] if r["comparison"].startswith(key)), None)
         text("Ref" + tag, mm(row and row["difference_mm"]))
 
-    # What accuracy costs: the best stable error of each family per scene, the baseline's, times.
+
+def best_of(rows):
+    """The stable row of least error, the fastest (t_contact_us) among equal errors; None if none."""
+    def key(r):
+        t = r.get("t_contact_us")
+        return (float(r["pos_err_max_mm"]), float(t) if reader.present(t) else float("inf"))
+    return min(rows, key=key) if rows else None
+
+
+def best_counts(acc, text):
+    """What accuracy costs: the best stable error of each family per scene, the baseline's, times."""
     for scene, tag in SCENE_TAG.items():
         sr = [r for r in acc or [] if r["scene"] == scene]
         base = next((r for r in sr if r["config"] == "no contact force"), None)
         text("AccNoForce" + tag, mm(base and base.get("pos_err_max_mm")))
         for fam, name in (("voxel", "Voxel"), ("voxel_exact", "VoxelExact"), ("exact", "Exact")):
             dets = ("cgal", "hash") if fam == "exact" else (fam,)
-            ok = [r for r in sr if r["detector"] in dets and r["stable"] == "yes" and r["config"] != "no contact force"
-                  and reader.present(r.get("pos_err_max_mm"))]
-            best = min(ok, key=lambda r: float(r["pos_err_max_mm"])) if ok else None
+            best = best_of([r for r in sr if r["detector"] in dets and r["stable"] == "yes"
+                            and r["config"] != "no contact force" and reader.present(r.get("pos_err_max_mm"))])
             text("AccBest%s%s" % (name, tag), None if not sr else mm(best["pos_err_max_mm"]) if best else "--")
             text("AccBest%s%sTime" % (name, tag), None if not sr else num3(best.get("t_contact_us")) if best else "--")
             text("AccBest%s%sMethod" % (name, tag), None if not sr else "--" if not best else
                  "%s, %s, %s" % (best["config"], best["eliminator"], best["force"]))
 
-    # harness bench (scripts/plot_bench.py).
-    b = rows_of(root, "bench.csv")
-    if b:  # the CPU's rows (the GPU rows: scripts/plot_bench.py, tables/bench_gpu.tex)
+
+def bench_counts(b, text):
+    """harness bench (scripts/plot_bench.py), the CPU's rows (the GPU's: gpu_counts): per size, one
+    thread, ns per spring of the step, the step against the streaming pass over what it reads and
+    writes and against the force pass floor, and the energy audit's share (step_audited against
+    step), in percent."""
+    if b:
         b = [r for r in b if r.get("device") in (None, "", "cpu")]
     sizes = sorted({int(r["nodes"]) for r in b}) if b else []
     text("BenchSizeMin", power_of_ten(sizes[0]) if sizes else None)
     text("BenchSizeMax", power_of_ten(sizes[-1]) if sizes else None)
-    # Per size, one thread: ns per spring of the step, the step against the streaming pass over what
-    # it reads and writes, and the energy audit's share (step_audited against step), in percent.
+
     def at(method, n, threads=1):
         return next((float(r["us_per_step"]) for r in b or [] if r["method"] == method and int(r["nodes"]) == n
                      and int(r["threads"]) == threads and reader.present(r.get("us_per_step"))), None)
@@ -228,8 +254,6 @@ def collect(root):
              if step and at("step", n, 2) else "--")
     th = sorted({int(r["threads"]) for r in b}) if b else []
     text("BenchThreads", " and ".join(WORDS[t] if t < len(WORDS) else "%d" % t for t in th) if th else None)
-    gpu_counts(root, text)
-    return out
 
 
 GPU_SIZE_WORD = {**SIZE_WORD, 10000000: "TenMillion"}

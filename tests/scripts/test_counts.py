@@ -1,0 +1,28 @@
+"""The report's counts (harness_results/counts.py): the best setting of a family is the least error,
+the fastest among equal errors; the committed counts.tex is what counts.py writes from the committed
+results."""
+
+import os
+
+from harness_results import counts
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+
+
+def test_best_is_least_error_then_fastest():
+    rows = [{"pos_err_max_mm": "0.5", "t_contact_us": "146", "config": "hash"},
+            {"pos_err_max_mm": "0.5", "t_contact_us": "41.1", "config": "cgal"},
+            {"pos_err_max_mm": "0.7", "t_contact_us": "1", "config": "voxel"}]
+    assert counts.best_of(rows)["config"] == "cgal"
+    assert counts.best_of(list(reversed(rows)))["config"] == "cgal"
+    rows.append({"pos_err_max_mm": "0.4", "t_contact_us": "", "config": "untimed"})
+    assert counts.best_of(rows)["config"] == "untimed"  # error first; a missing time is no reason to drop it
+    assert counts.best_of([]) is None
+
+
+def test_committed_counts_are_written_from_the_results():
+    committed = os.path.join(ROOT, "results", "tables", "counts.tex")
+    with open(committed) as f:
+        lines = [l for l in f.read().splitlines() if l.startswith("\\newcommand")]
+    written = ["\\newcommand{\\%s}{%s}" % (n, v) for n, v in counts.collect(os.path.join(ROOT, "results"))]
+    assert lines == written
