@@ -62,8 +62,9 @@ def mm(v):
 
 
 def num3(v):
-    """A figure with three significant digits for prose."""
-    return figure(v, "%.3g")
+    """A figure with three significant digits for prose, never in exponent form (1484 -> "1480")."""
+    s = figure(v, "%.3g")
+    return "%.0f" % float(s) if s not in (None, "--") and "e" in s else s
 
 
 def rows_of(root, name):

@@ -26,3 +26,10 @@ def test_committed_counts_are_written_from_the_results():
         lines = [l for l in f.read().splitlines() if l.startswith("\\newcommand")]
     written = ["\\newcommand{\\%s}{%s}" % (n, v) for n, v in counts.collect(os.path.join(ROOT, "results"))]
     assert lines == written
+
+
+def test_times_for_prose_have_no_exponent():
+    assert counts.num3("1483.92") == "1480"
+    assert counts.num3("41.091") == "41.1"
+    assert counts.num3("0.00123") == "0.00123"
+    assert counts.num3("") is None and counts.num3("nan") == "--"
