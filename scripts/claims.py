@@ -19,12 +19,12 @@ are in harness_results/rules.py.
 import os
 import sys
 
-from harness_results import claims, runs, writers
+from harness_results import claims, robustness, rules, runs, writers
 from harness_results.claims.common import Context
 
 # claims_macros.tex in the order the report has had it: a macro's name, or a claim's module (the rest
 # of its macros, in its own order); the macros of a claim named nowhere follow at the end.
-MACRO_ORDER = ["RunsNote", "ClaimRunSteps", "a_plane", "b_episodes", "c_restrictions", "d_voxel_speed", "e_region",
+MACRO_ORDER = ["RobustVariants", "RunsNote", "ClaimRunSteps", "a_plane", "b_episodes", "c_restrictions", "d_voxel_speed", "e_region",
                "swap", "realtime", "completed"]
 
 
@@ -41,7 +41,7 @@ def header(ctx):
     md += ["Penetrations are counted by CGAL (exact predicates) on every measured step; "
            "`pen.` = truly penetrating guest + host nodes.", ""]
     steps = ctx.steps_run
-    macros = [("RunsNote", "\\textbf{Warning: shortened runs (reproduce.sh --quick); the numbers and verdicts below "
+    macros = [("RobustVariants", str(len(robustness.VARIANTS))), ("RunsNote", "\\textbf{Warning: shortened runs (reproduce.sh --quick); the numbers and verdicts below "
                            "are not meaningful.}" if short else ""),
               ("ClaimRunSteps", "; ".join(
                   "%s: %s steps" % (writers.tex_escape(t), "/".join(str(steps[(k, e)]) for e in runs.ELIMINATORS
@@ -61,12 +61,16 @@ TITLES = {"a_plane": "(a) the plane works better than the line (implant)",
 
 
 def verdict_table(records):
-    """The verdicts at the top of claims.md, one line per verdict, with its counts."""
-    md = ["## Verdicts", "", "| claim | verdict | for | against | within noise | not judged |", "|---|---|---:|---:|---:|---:|"]
-    for title, verdict, counts in verdict_rows(records):
-        md.append("| %s | %s | %s |" % (title, verdict, " | ".join(counts)))
-    return md + ["", "The rules: scripts/harness_results/rules.py (noise, comparison, verdict); each section below "
-                 "states its test and gives its numbers.", ""]
+    """The verdicts at the top of claims.md, one line per verdict, with its counts and robustness."""
+    md = ["## Verdicts", "", "| claim | verdict | for | against | within noise | not judged | robustness |",
+          "|---|---|---:|---:|---:|---:|---|"]
+    for title, verdict, counts, robust in verdict_rows(records):
+        md.append("| %s | %s | %s | %s |" % (title, verdict, " | ".join(counts), robust))
+    return md + ["", "The rules: scripts/harness_results/rules.py (evidence, noise, comparison, verdict); each section "
+                 "below states its test and gives its numbers. The counts are the rule's as written. Robustness: the "
+                 "verdict judged again under %d variants of the rule's free choices (results/robustness.csv, "
+                 "harness_results/robustness.py); a verdict that any variant changes is stated fragile. Not varied: "
+                 "%s." % (len(robustness.VARIANTS), robustness.NOT_VARIED), ""]
 
 
 def verdict_rows(records):
@@ -78,20 +82,48 @@ def verdict_rows(records):
         verdicts = [n[:-len("Verdict")] for n, _v in r.macros if n.endswith("Verdict")]
         if not verdicts:
             counts = [m.get(k, "") for k in ("SwapSceneWins", "SwapSwappedWins", "SwapNoise", "SwapNotJudged")]
-            rows.append((TITLES.get(r.key, r.key), r.verdict or "finding", counts))
+            rows.append((TITLES.get(r.key, r.key), r.verdict or "finding", counts, "-"))
             continue
         for p in verdicts:
-            title = TITLES.get(r.key, r.key)
-            if len(verdicts) > 1:
-                title += " (%s)" % {"ClaimRTUnit": "collision unit", "ClaimRTSim": "simulator"}.get(p, p)
-            rows.append((title, m[p + "Verdict"], [m.get(p + k, "") for k in ("For", "Against", "Noise", "NotJudged")]))
+            rows.append((title_of(r.key, p, len(verdicts)), m[p + "Verdict"],
+                         [m.get(p + k, "") for k in ("For", "Against", "Noise", "NotJudged")], m.get(p + "Robust", "-")))
     return rows
+
+
+def title_of(key, prefix, n):
+    """A verdict's title: its claim's, with the part for a claim of several verdicts."""
+    title = TITLES.get(key, key)
+    if n > 1:
+        title += " (%s)" % {"ClaimRTUnit": "collision unit", "ClaimRTSim": "simulator"}.get(prefix, prefix)
+    return title
+
+
+def with_robustness(records, results):
+    """The records with each verdict as stated (robustness.stated_verdict) in its macro, its
+    robustness in <prefix>Robust and a line after its section."""
+    summ = robustness.summary(results)
+    for r in records:
+        names = [n for n, _v in r.macros if n.endswith("Verdict")]
+        lines = []
+        for i, (name, value) in enumerate(r.macros):
+            p = name[:-len("Verdict")]
+            if name.endswith("Verdict") and p in summ:
+                r.macros[i] = (name, robustness.stated_verdict(summ[p]))
+                text = robustness.robustness_text(summ[p])
+                r.macros.append((p + "Robust", text))
+                lines.append("**Robustness%s:** %s." % ("" if len(names) == 1 else " (%s)" % title_of(r.key, p, 2).split(
+                    " (")[-1].rstrip(")"), text))
+        if lines:
+            if len(names) == 1 and r.verdict is not None:
+                r.verdict = robustness.stated_verdict(summ[names[0][:-len("Verdict")]])
+            r.md += lines + [""]
+    return records
 
 
 def verdict_tex(records):
     """tables/claims_verdicts.tex: the same table for the report."""
     body = "".join("%s & %s & %s \\\\\n" % (writers.tex_escape(t), writers.tex_escape(v), " & ".join(c))
-                   for t, v, c in verdict_rows(records))
+                   for t, v, c, _r in verdict_rows(records))
     return ("% generated by scripts/claims.py; do not edit\n\\begin{tabular}{llrrrr}\n\\toprule\n"
             "claim & verdict & for & against & within noise & not judged \\\\\n\\midrule\n" + body +
             "\\bottomrule\n\\end{tabular}\n")
@@ -112,7 +144,7 @@ EXTRA_DEFAULTS = ["ClaimAGridFor", "ClaimAGridAgainst", "ClaimAGridNoise", "Clai
 def defaults():
     out = []
     for p in TALLY_PREFIXES:
-        out += [(p + "Verdict", "not tested")] + [(p + k, "--") for k in ("For", "Against", "Noise", "NotJudged")]
+        out += [(p + "Verdict", "not tested")] + [(p + k, "--") for k in ("For", "Against", "Noise", "NotJudged", "Robust")]
     return out + [(n, "--") for n in EXTRA_DEFAULTS]
 
 
@@ -143,6 +175,18 @@ def main():
     if not ctx.runs:
         sys.exit("claims: no runs under %s" % runs.runs_dir(root))
     records = claims.judge_all(ctx)
+    results = robustness.judge_variants(root, claims.judge_all, Context)
+    records = with_robustness(records, results)
+    print("claims: wrote %s" % robustness.write_csv(root, results))
+    labels = {}
+    for r in records:
+        ps = [n[:-len("Verdict")] for n, _v in r.macros if n.endswith("Verdict")]
+        for p in ps:
+            labels[p] = title_of(r.key, p, len(ps))
+    try:
+        print("claims: wrote %s" % robustness.plot(root, results, labels))
+    except ImportError:
+        print("claims: matplotlib missing: figures/robustness.pdf not drawn", file=sys.stderr)
     md, first = header(ctx)
     md += verdict_table(records)
     for r in records:

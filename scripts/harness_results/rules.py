@@ -34,17 +34,35 @@ Definitions:
                 and the floor of the reference they are measured against (reader.reference_floor: its
                 last level's change, or the largest of its last two when the loop is not asymptotic).
                 Times differ only when their ranges over the repeats do not overlap.
+  evidence      (claims) a run is evidence only when it is stable, it helps (the defaults' rule
+                `useful`: at least 10 % closer to the reference than the same scene with no contact
+                force, results/accuracy_time.csv's "no contact force" row; or 10 % shallower and no
+                farther) and it tunnels nothing over the window (tunnelled = 0): a run that does
+                nothing, or whose nodes went through, says nothing about how well a method works.
   comparison    (claims) two runs by a figure, smaller better: "a" or "b" when one is smaller by more
-                than the noise, "within noise" otherwise, "not stable" when either run is not stable
-                (the comparison is not judged), "missing" without the figure.
-  verdict       (claims) over a claim's comparisons: "not supported" when any decisive one goes
-                against the claim, "supported" when at least one goes for it and none against,
-                "inconclusive" when none is decisive (every run that would decide it is unstable or
-                within the noise), "not tested" without any comparison. Each verdict is printed with
-                its counts (for, against, within noise, not judged).
+                than the noise, "within noise" otherwise; not judged when either run is not evidence
+                ("not stable", "tunnels", "no better than no force") or a figure is missing. A
+                comparison between two runs that are evidence is decisive (for, against or within
+                the noise).
+  verdict       (claims) over a claim's decisive comparisons D = for + against + within the noise:
+                "inconclusive" when D < MIN_DECISIVE (3: one comparison, however clear, is one
+                configuration, and the studies' grids are built to give a claim at least three);
+                "supported" when the comparisons for it are at least 1 - MIXED_SHARE (80 %) of D;
+                "not supported" when they are at most MIXED_SHARE (20 %) of D (a claim that predicts
+                a difference is not borne out by comparisons that find none); "mixed" in between;
+                "not tested" without any comparison. For and against are weighed alike. Each verdict
+                is printed with its counts (for, against, within noise, not judged).
+  robustness    (claims, harness_results/robustness.py) every verdict is judged again under every
+                combination of the rule's free choices (VARIANTS: the rho limits halved and doubled,
+                the marginal band counted stable, the relative tie 0 or 5 % instead of 10 %, the
+                reference's floor or its Richardson estimate or twice the floor, up to 10 nodes
+                tunnelled over the window instead of none); a verdict is stated
+                as it is only when every variant agrees, else "fragile (...)": the variants under
+                which it flips are named (results/robustness.csv).
 """
 
 import math
+import re
 
 from . import reader
 
@@ -59,6 +77,54 @@ STABLE, MARGINAL, UNSTABLE, FAILED = "stable", "marginal", "unstable", "failed"
 WITHIN = 1.10
 USEFUL = 0.9
 INCONCLUSIVE = "inconclusive"
+
+
+class Variant:
+    """One choice of the rule's free parameters (robustness above): rho_scale multiplies the
+    stability limits (INJECTION_LIMIT with its MARGIN band), marginal says whether the marginal band
+    counts as stable, tie is the relative tie of the noise, floor which floor of the reference the
+    noise takes ("floor": reader.reference_floor, "richardson": the last level's Richardson estimate,
+    "double": twice the floor)."""
+
+    def __init__(self, rho_scale=1.0, marginal="unstable", tie=0.10, floor="floor", tunnel_limit=0):
+        self.rho_scale, self.marginal, self.tie, self.floor = rho_scale, marginal, tie, floor
+        self.tunnel_limit = tunnel_limit  # nodes a run may tunnel over the window and still be evidence
+
+    def name(self):
+        """"rho x0.5, marginal stable, tie 5 %, floor richardson": the choices that differ from the default."""
+        parts = []
+        if self.rho_scale != 1.0:
+            parts.append("rho limits x%g" % self.rho_scale)
+        if self.marginal != "unstable":
+            parts.append("marginal counted %s" % self.marginal)
+        if self.tie != 0.10:
+            parts.append("tie %g %%" % (100 * self.tie))
+        if self.floor != "floor":
+            parts.append({"richardson": "floor = Richardson estimate", "double": "floor x2"}.get(self.floor, self.floor))
+        if self.tunnel_limit:
+            parts.append("up to %d tunnelled nodes" % self.tunnel_limit)
+        return ", ".join(parts) or "the rule as written"
+
+
+DEFAULT = Variant()
+CURRENT = DEFAULT
+
+
+class using:
+    """with rules.using(variant): the rule's choices are the variant's inside the block."""
+
+    def __init__(self, variant):
+        self.variant = variant
+
+    def __enter__(self):
+        global CURRENT
+        self.saved, CURRENT = CURRENT, self.variant
+        return self.variant
+
+    def __exit__(self, *exc):
+        global CURRENT
+        CURRENT = self.saved
+        return False
 
 
 # ---------------------------------------------------------------------------------------------
@@ -79,26 +145,95 @@ def classify(s):
         reasons.append("kinetic energy grows over the window (x%.3g)" % x["growth"])
     if x["kicked"]:
         reasons.append("contact kicked the bodies (net work %.3g J still held as motion)" % x["net_contact_work"])
-    if not math.isnan(rho) and rho > INJECTION_LIMIT * MARGIN:
+    limit = INJECTION_LIMIT * CURRENT.rho_scale
+    if not math.isnan(rho) and rho > limit * MARGIN:
         reasons.append("contact power %.3g of the power put in" % rho)
     if abs(x["balance_error"]) > BALANCE:
         reasons.append("energy audit open")
     if reasons:
         return UNSTABLE, reasons
-    if verdict != "settled" and not math.isnan(rho) and rho > INJECTION_LIMIT / MARGIN:
-        return MARGINAL, ["contact power %.3g of the power put in (within a factor %g of %g)" % (rho, MARGIN, INJECTION_LIMIT)]
+    if verdict != "settled" and not math.isnan(rho) and rho > limit / MARGIN:
+        return MARGINAL, ["contact power %.3g of the power put in (within a factor %g of %g)" % (rho, MARGIN, limit)]
     return STABLE, []
+
+
+def counts_stable(cls):
+    """Whether a stability class counts as stable under the current rule (marginal: the variant's)."""
+    return cls == STABLE or (cls == MARGINAL and CURRENT.marginal == "stable")
+
+
+def reclassify_row(row):
+    """A study row (CSV) judged again under the current rule from what it records: its class, its
+    reasons (why_unstable), settled and rho (contact_power_ratio). Reasons other than the contact's
+    power (dt, growth, a kick, the audit, a failure) stand; the power is judged against the current
+    limits. A copy with stable, stability and why_unstable rewritten; rows without a stability
+    column are returned as they are. Under the rule as written it reproduces the study's columns
+    (tests/scripts/test_robustness.py)."""
+    cls = row.get("stability")
+    if cls in (None, "") or cls == FAILED:
+        return row
+    out = dict(row)
+    if "why_unstable" not in row:  # nothing to judge again from (realtime.csv): the class stands
+        if "stable" not in row or cls == MARGINAL:
+            out["stable"] = "yes" if counts_stable(cls) else "no"
+        return out
+    said = [x for x in str(row.get("why_unstable") or "").split("; ") if x]
+    reasons = [x for x in said if not x.startswith("contact power")]
+    # rho: its column, else the figure its reason gives (a stable row of a file without the column
+    # keeps an unknown rho: it stays stable under every limit, a limit of these files' variants)
+    rho = reader.num(row.get("contact_power_ratio"))
+    if math.isnan(rho):
+        for x in said:
+            m = re.match(r"contact power ([-+0-9.eE]+) of the power put in", x)
+            if m:
+                rho = float(m.group(1))
+    limit = INJECTION_LIMIT * CURRENT.rho_scale
+    if "settled" in row and str(row.get("settled")) not in ("", "nan"):
+        settled = str(row.get("settled")) in ("True", "true", "yes", "1")
+    else:  # not recorded: a stable row whose rho lies above the band was settled
+        settled = cls == STABLE and not math.isnan(rho) and rho > INJECTION_LIMIT / MARGIN
+    if not math.isnan(rho) and rho > limit * MARGIN:
+        reasons.append("contact power %.3g of the power put in" % rho)
+    if reasons:
+        new = UNSTABLE
+    elif not settled and not math.isnan(rho) and rho > limit / MARGIN:
+        new, reasons = MARGINAL, ["contact power %.3g of the power put in (within a factor %g of %g)" % (rho, MARGIN, limit)]
+    else:
+        new = STABLE
+    out["stability"], out["why_unstable"] = new, "; ".join(reasons)
+    out["stable"] = "yes" if counts_stable(new) else "no"
+    return out
 
 
 def stability_fields(s):
     """The stability columns of a study's row: stable (yes/no), stability (the class), why_unstable."""
     cls, reasons = classify(s)
-    return {"stable": "yes" if cls == STABLE else "no", "stability": cls, "why_unstable": "; ".join(reasons)}
+    return {"stable": "yes" if counts_stable(cls) else "no", "stability": cls, "why_unstable": "; ".join(reasons)}
 
 
 def is_stable(row):
-    """A study's row (CSV or figures) that the rule called stable."""
-    return row.get("stable") == "yes"
+    """A study's row (CSV or figures) that the rule called stable (its `stable` column, else its
+    class under the current rule)."""
+    if "stable" in row:
+        return row.get("stable") == "yes"
+    return counts_stable(row.get("stability"))
+
+
+def evidence_gap(row):
+    """Why a row is not evidence (evidence above): "not stable", "tunnels", "no better than no
+    force"; None when it is. A row that does not record tunnelling or helping is not held to it."""
+    if not is_stable(row):
+        return NOT_STABLE
+    if reader.num(row.get("tunnelled"), 0.0) > CURRENT.tunnel_limit:
+        return TUNNELS
+    if row.get("helps") == "no":
+        return NO_HELP
+    return None
+
+
+def is_evidence(row):
+    """A row that a claim may rest on (evidence above)."""
+    return evidence_gap(row) is None
 
 
 # ---------------------------------------------------------------------------------------------
@@ -160,25 +295,31 @@ def nearest_rank(sorted_vals, q):
 # The claims on equal footing: comparisons beyond the noise, four verdicts
 TIE = 0.10
 WITHIN_NOISE, NOT_STABLE, MISSING = "within noise", "not stable", "missing"
-SUPPORTED, NOT_SUPPORTED, NOT_TESTED = "supported", "not supported", "not tested"
-VERDICTS = (SUPPORTED, NOT_SUPPORTED, INCONCLUSIVE, NOT_TESTED)
+TUNNELS, NO_HELP = "tunnels", "no better than no force"
+NOT_JUDGED = (NOT_STABLE, MISSING, TUNNELS, NO_HELP)
+SUPPORTED, NOT_SUPPORTED, NOT_TESTED, MIXED = "supported", "not supported", "not tested", "mixed"
+VERDICTS = (SUPPORTED, NOT_SUPPORTED, MIXED, INCONCLUSIVE, NOT_TESTED)
+MIN_DECISIVE = 3
+MIXED_SHARE = 0.2
 
 
-def noise(a, b, key="pos_err_max_mm", floor=0.0, tie=TIE):
+def noise(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
     """How far apart two rows' figures `key` must be to differ (noise above): the largest of `tie`
     times the larger figure, the two rows' chatter amplitudes summed (pos_err_amp_mm; position
     error only) and the reference's floor (same unit as the figure)."""
+    tie = CURRENT.tie if tie is None else tie
     amp = 0.0
     if key == "pos_err_max_mm":
         amp = reader.num(a.get("pos_err_amp_mm"), 0.0) + reader.num(b.get("pos_err_amp_mm"), 0.0)
     return max(tie * max(a[key], b[key]), amp, reader.num(floor, 0.0))
 
 
-def decide(a, b, key="pos_err_max_mm", floor=0.0, tie=TIE):
-    """Two rows by `key`, smaller better (comparison above): "a", "b", WITHIN_NOISE, NOT_STABLE or
-    MISSING."""
-    if not (is_stable(a) and is_stable(b)):
-        return NOT_STABLE
+def decide(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
+    """Two rows by `key`, smaller better (comparison above): "a", "b", WITHIN_NOISE, or why it is not
+    judged (evidence_gap of either row: NOT_STABLE, TUNNELS, NO_HELP; MISSING)."""
+    gap = evidence_gap(a) or evidence_gap(b)
+    if gap:
+        return gap
     if not (reader.present(a.get(key)) and reader.present(b.get(key))):
         return MISSING
     m = noise(a, b, key, floor, tie)
@@ -205,17 +346,23 @@ def time_decide(a, b, key="t_contact", factor=1.0):
     return WITHIN_NOISE
 
 
-def claim_verdict(outcomes, expected="a"):
+def claim_verdict(outcomes, expected="a", minimum=None):
     """A claim's verdict over its comparisons' outcomes (verdict above); `expected` the outcome the
-    claim predicts. Outcomes other than `expected`, WITHIN_NOISE, NOT_STABLE and MISSING go against it."""
+    claim predicts; `minimum` the decisive comparisons it needs (MIN_DECISIVE unless the claim states
+    and argues its own). Outcomes other than `expected`, WITHIN_NOISE and the not-judged ones go
+    against it."""
     outcomes = list(outcomes)
     if not outcomes:
         return NOT_TESTED
-    if any(o not in (expected, WITHIN_NOISE, NOT_STABLE, MISSING) for o in outcomes):
-        return NOT_SUPPORTED
-    if expected in outcomes:
+    t = tally(outcomes, expected)
+    decisive = t["for"] + t["against"] + t["noise"]
+    if decisive < (MIN_DECISIVE if minimum is None else minimum):
+        return INCONCLUSIVE
+    if t["for"] >= (1.0 - MIXED_SHARE) * decisive:
         return SUPPORTED
-    return INCONCLUSIVE
+    if t["for"] <= MIXED_SHARE * decisive:
+        return NOT_SUPPORTED
+    return MIXED
 
 
 def tally(outcomes, expected="a"):
@@ -227,7 +374,7 @@ def tally(outcomes, expected="a"):
             t["for"] += 1
         elif o == WITHIN_NOISE:
             t["noise"] += 1
-        elif o in (NOT_STABLE, MISSING):
+        elif o in NOT_JUDGED:
             t["not judged"] += 1
         else:
             t["against"] += 1
@@ -235,6 +382,6 @@ def tally(outcomes, expected="a"):
 
 
 def tally_text(t):
-    """"2 for, 1 against, 3 within the noise, 4 not judged (a run not stable)"."""
-    return "%d for, %d against, %d within the noise, %d not judged (a run not stable or a figure missing)" % (
+    """"2 for, 1 against, 3 within the noise, 4 not judged (a run not evidence or a figure missing)"."""
+    return "%d for, %d against, %d within the noise, %d not judged (a run not evidence or a figure missing)" % (
         t["for"], t["against"], t["noise"], t["not judged"])

@@ -36,11 +36,45 @@ def test_a_verdict_rests_on_decisive_comparisons(tmp_path):
     # implant: plane 50 % better; cylinder: 5 %, within the noise; sphere: the line is marginal.
     out = [outcome(s) for s in ["implant_expansion", "cylinder_press", "sphere_collision"]]
     assert out == ["a", rules.WITHIN_NOISE, rules.NOT_STABLE]
-    assert rules.claim_verdict(out) == "supported"
+    # two decisive comparisons: fewer than MIN_DECISIVE (3), however clear the one for
+    assert rules.claim_verdict(out) == "inconclusive"
     assert rules.claim_verdict(out[1:]) == "inconclusive"
-    assert rules.claim_verdict(out + ["b"]) == "not supported"
     assert rules.claim_verdict([]) == "not tested"
     assert rules.tally(out + ["b"]) == {"for": 1, "against": 1, "noise": 1, "not judged": 1}
+
+
+def test_a_verdict_needs_evidence_and_weighs_for_and_against_alike():
+    a, b, n, s = "a", "b", rules.WITHIN_NOISE, rules.NOT_STABLE
+    assert rules.claim_verdict([a, a, a, s, s]) == "supported"
+    assert rules.claim_verdict([a, a, a, a, n]) == "supported"          # 80 % for
+    assert rules.claim_verdict([a, a, a, n, n]) == "mixed"              # 60 %
+    assert rules.claim_verdict([a, a, b, b]) == "mixed"
+    assert rules.claim_verdict([b, b, b, a, b]) == "not supported"      # 20 % for
+    assert rules.claim_verdict([n, n, n]) == "not supported"            # no difference where one is predicted
+    assert rules.claim_verdict([a, b, s, rules.TUNNELS, rules.NO_HELP]) == "inconclusive"
+    assert rules.claim_verdict([a, a]) == "inconclusive"
+    assert rules.claim_verdict([a, a], minimum=2) == "supported"        # a claim's own stated minimum
+    # symmetric: swapping for and against swaps supported and not supported
+    for o in ([a, a, a, a, b], [a, a, a, b, b], [a, b, b, b, b]):
+        flip = {"supported": "not supported", "not supported": "supported", "mixed": "mixed"}
+        assert rules.claim_verdict([b if x == a else a for x in o]) == flip[rules.claim_verdict(o)]
+
+
+def test_a_run_that_tunnels_or_does_not_help_is_not_evidence():
+    good = row(1.0, tunnelled=0, helps="yes")
+    assert rules.decide(good, row(2.0, tunnelled=0, helps="yes")) == "a"
+    assert rules.decide(good, row(2.0, tunnelled=12)) == rules.TUNNELS
+    assert rules.decide(row(2.0, helps="no"), good) == rules.NO_HELP
+    assert rules.decide(row(2.0, stable="no", tunnelled=3), good) == rules.NOT_STABLE
+    assert rules.tally([rules.TUNNELS, rules.NO_HELP]) == {"for": 0, "against": 0, "noise": 0, "not judged": 2}
+
+
+def test_helps_is_marked_against_the_scene_without_contact_force(tmp_path):
+    write(tmp_path, "accuracy_time.csv", "scene,config,stable,stability,pos_err_max_mm,depth_max_mm\n"
+          "s,no contact force,yes,stable,10,5\ns,voxel 8 mm,yes,stable,8.9,5\ns,voxel 16 mm,yes,stable,9.5,5\n"
+          "s,cgal,yes,stable,9.5,4\n")
+    rows = Context(str(tmp_path)).csv("accuracy_time.csv", ["pos_err_max_mm", "depth_max_mm"])
+    assert [r["helps"] for r in rows] == ["no", "yes", "no", "yes"]     # the baseline itself does nothing
 
 
 def row(e, stable="yes", amp=0.0, **kw):
@@ -99,16 +133,23 @@ def test_claim_a_grid_best_and_oriented(tmp_path):
     # grid (8 mm F=0.003, 8 mm auto, 16 mm F=0.003): for, not judged, within noise; best: plane 2.0
     # against line 2.0: within noise
     assert v.data == ["a", rules.NOT_STABLE, rules.WITHIN_NOISE, rules.WITHIN_NOISE]
-    assert v.verdict == "supported"
+    assert v.verdict == "mixed"  # three decisive, one for: a third
     # oriented the same way, the line better beyond the noise: against the claim
     # (an orient.csv without the window figures, the `stability` column, is not judged at all)
     write(tmp_path, "orient.csv", "scene,eliminator,orient,force,voxel_mm,stable,pos_err_max_mm,pos_err_amp_mm\n"
           "implant_expansion,line,guest,F=0.003,8,yes,1.0,0\nimplant_expansion,plane,guest,F=0.003,8,yes,2.0,0\n")
-    assert a_plane.judge(Context(str(tmp_path))).verdict == "supported"
+    assert a_plane.judge(Context(str(tmp_path))).data == v.data
     write(tmp_path, "orient.csv", "scene,eliminator,orient,force,voxel_mm,stable,stability,pos_err_max_mm,pos_err_amp_mm\n"
           "implant_expansion,line,guest,F=0.003,8,yes,stable,1.0,0\n"
           "implant_expansion,plane,guest,F=0.003,8,yes,stable,2.0,0\n")
-    assert a_plane.judge(Context(str(tmp_path))).verdict == "not supported"
+    v = a_plane.judge(Context(str(tmp_path)))
+    assert v.data == ["a", rules.NOT_STABLE, rules.WITHIN_NOISE, rules.WITHIN_NOISE, "b"]
+    assert v.verdict == "mixed"
+    # the plane's run tunnels: that pair is not judged
+    write(tmp_path, "orient.csv", "scene,eliminator,orient,force,voxel_mm,stable,stability,pos_err_max_mm,pos_err_amp_mm,"
+          "tunnelled\nimplant_expansion,line,guest,F=0.003,8,yes,stable,1.0,0,0\n"
+          "implant_expansion,plane,guest,F=0.003,8,yes,stable,2.0,0,40\n")
+    assert a_plane.judge(Context(str(tmp_path))).data[-1] == rules.TUNNELS
 
 
 def test_claim_c_counts_the_bound(tmp_path):
@@ -121,7 +162,7 @@ def test_claim_c_counts_the_bound(tmp_path):
     rows[1] = rows[1][:16] + (1000,) + rows[1][17:]
     write(tmp_path, "accuracy_time.csv", acc(*rows))
     v = c_restrictions.judge(Context(str(tmp_path)))
-    assert v.data == ["a"] and v.verdict == "supported"
+    assert v.data == ["a"] and v.verdict == "inconclusive"  # one decisive comparison: too few
 
 
 REGION = ("scene,force,region,margin,stable,stability,outside_share,outside_mean,outside_peak,pen_guest_mean,recall,"
@@ -129,11 +170,12 @@ REGION = ("scene,force,region,margin,stable,stability,outside_share,outside_mean
 
 
 def test_claim_e(tmp_path):
-    def table(half_share, full_recall):
-        return REGION + "".join("claims/region_wrap,F=0,%s,%d,yes,settled,%s,1,1,10,%s,1,1,10\n" % r for r in [
-            ("half", 0, half_share, 0.6), ("full", 0, 0.0, full_recall), ("overlap", 0, 0.0, 1.0)])
+    def table(half_share, full_recall, overlap_recall=1.0):
+        return REGION + "".join("claims/region_wrap,F=0,%s,%d,yes,settled,%s,1,1,10,%s,1,1,10\n" % r for m in (0, 1) for r in [
+            ("half", m, half_share, 0.6), ("full", m, 0.0, full_recall), ("overlap", m, 0.0, overlap_recall)])
     assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.4, 1.0)))).verdict == "supported"
-    assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.4, 0.9)))).verdict == "not supported"
+    assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.4, 0.9)))).verdict == "mixed"
+    assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.4, 0.9, 0.9)))).verdict == "not supported"
     # nothing left the half region: the scene does not exercise the claim
     assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.0, 1.0)))).verdict == "not tested"
 

@@ -47,7 +47,7 @@ def judge(ctx):
     # Matched: each at its best stable setting.
     best = {}
     for e in ["line", "plane"]:
-        st = [r for (v, f, ee), r in grid.items() if ee == e and rules.is_stable(r)]
+        st = [r for (v, f, ee), r in grid.items() if ee == e and rules.is_evidence(r)]
         best[e] = min(st, key=lambda r: r["pos_err_max_mm"]) if st else None
     if not grid and not orient:
         return Verdict("a_plane", rules.NOT_TESTED, md + ["Not tested: results/accuracy_time.csv and "
@@ -56,12 +56,12 @@ def judge(ctx):
     if best["line"] and best["plane"]:
         o = rules.decide(best["plane"], best["line"], floor=floor)
         outcomes.append(o)
-        md.append("The most accurate stable line setting: %g mm, %s: %s mm; plane: %g mm, %s: %s mm. Better: %s." % (
+        md.append("The most accurate line setting that is evidence (stable, helps, tunnels nothing): %g mm, %s: %s mm; plane: %g mm, %s: %s mm. Better: %s." % (
             best["line"]["voxel_mm"], best["line"]["force"], figure(best["line"]), best["plane"]["voxel_mm"],
             best["plane"]["force"], figure(best["plane"]), word(o, "plane", "line")))
     else:
         outcomes.append(rules.NOT_STABLE)
-        md.append("Not judged: %s has no stable setting in the grid." % " and ".join(
+        md.append("Not judged: %s has no setting in the grid that is evidence (stable, helps, tunnels nothing)." % " and ".join(
             e for e in ["line", "plane"] if not best[e]))
     # Oriented the same way.
     cell = {(r["force"], r["voxel_mm"], r["eliminator"], r["orient"]): r for r in orient}
@@ -89,7 +89,6 @@ def judge(ctx):
         ("ClaimAOrientFor", str(t_orient["for"])), ("ClaimAOrientAgainst", str(t_orient["against"])),
         ("ClaimAOrientNoise", str(t_orient["noise"])), ("ClaimAOrientNotJudged", str(t_orient["not judged"])),
         ("ClaimAFloor", "%.2g" % floor)]
-    both = best["line"] and best["plane"]
-    macros += [("ClaimABestLine", "%.3g" % best["line"]["pos_err_max_mm"] if both else "--"),
-               ("ClaimABestPlane", "%.3g" % best["plane"]["pos_err_max_mm"] if both else "--")]
+    macros += [("ClaimABest" + e.capitalize(), "%.3g~mm" % best[e]["pos_err_max_mm"] if best[e] else "none")
+               for e in ("line", "plane")]
     return Verdict("a_plane", verdict, md, macros, data=outcomes)

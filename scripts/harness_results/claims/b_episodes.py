@@ -8,7 +8,8 @@ model leaves them inside by design). The claim holds for a body's nodes in a run
   separate points   at most 5 % of the body's nodes penetrate at the peak (CGAL, measured steps);
   several steps     the 90th percentile of the episode length is at most 100 steps (5 ms);
   eliminated        at most 5 % of the episodes are still open when the run ends.
-A run that is not stable (rules.classify) is not judged. Percentiles are nearest-rank; lengths are
+A run that is not stable (rules.classify), or whose nodes tunnelled through over the window (its
+episodes then close by passage, not elimination), is not judged. Percentiles are nearest-rank; lengths are
 measured every references.every steps (10), so an episode shorter than that may be missed.
 Writes tables/claims_b.tex.
 """
@@ -49,10 +50,14 @@ def episode_stats(episodes, body, nodes, peak):
     return st
 
 
-def run_rows(ctx):
-    """Per run: (title, eliminator, stability, guest stats, host stats)."""
-    out = []
-    for key, _scene, title, _force, elim, path in ctx.runs:
+# The episodes' figures of a run by its folder: they do not depend on the rule (robustness.py judges
+# the claims again under each of its variants; reading steps.csv is the slow part).
+_FIGURES = {}
+
+
+def run_figures(path):
+    """(summary, guest stats, host stats) of the run in `path`, read once."""
+    if path not in _FIGURES:
         s = reader.load_summary(path)
         c = (s.get("resolved_scene") or {}).get("contacts", [{}])[0]
         guest, host = c.get("guest"), c.get("host")
@@ -60,32 +65,54 @@ def run_rows(ctx):
         _, g = reader.measured(cols, "true_pen_guest")
         _, h = reader.measured(cols, "true_pen_host")
         ep = reader.load_episodes(path)
-        stab = rules.classify(s)[0]
-        out.append((title, elim, stab, episode_stats(ep, guest, body_nodes(s, guest), int(max(g, default=0))),
-                    episode_stats(ep, host, body_nodes(s, host), int(max(h, default=0)))))
+        gs = episode_stats(ep, guest, body_nodes(s, guest), int(max(g, default=0)))
+        gs["tunnelled"] = reader.num(reader.window_figures(s).get("tunnelled"), 0.0)
+        _FIGURES[path] = (s, gs, episode_stats(ep, host, body_nodes(s, host), int(max(h, default=0))))
+    return _FIGURES[path]
+
+
+def run_rows(ctx):
+    """Per run: (title, eliminator, stability under the current rule, guest stats, host stats)."""
+    out = []
+    for key, _scene, title, _force, elim, path in ctx.runs:
+        s, gs, hs = run_figures(path)
+        out.append((title, elim, rules.classify(s)[0], gs, hs))
     return out
+
+
+def outcome(stab, g):
+    """For (a), against (b), or why the run is not judged: not stable, or its nodes went through
+    (an episode closed by tunnelling is not one eliminated)."""
+    if not rules.counts_stable(stab):
+        return rules.NOT_STABLE
+    if g.get("tunnelled", 0) > rules.CURRENT.tunnel_limit:
+        return rules.TUNNELS
+    return "a" if g["holds"] else "b"
 
 
 def judge(ctx):
     rows = run_rows(ctx)
-    outcomes = [rules.NOT_STABLE if stab != rules.STABLE else ("a" if g["holds"] else "b") for _t, _e, stab, g, _h in rows]
+    outcomes = [outcome(stab, g) for _t, _e, stab, g, _h in rows]
     verdict = rules.claim_verdict(outcomes, "a")
     fmt = writers.fmt
     md = ["## (b) Penetrating points are few and eliminated within several iterations", "",
           "An episode: a node found truly penetrating on consecutive measured steps (every 10 steps); its length in "
           "steps. Criteria per body: peak penetrating nodes <= %g %% of its nodes, 90th percentile of the episodes "
           "<= %d steps, open (still penetrating at the end) <= %g %% of its episodes. The claim is judged on the "
-          "guest's nodes (the paper's model keeps those out); the host's are shown beside. A run that is not stable "
-          "is not judged." % (100 * SEPARATE_MAX_FRACTION, P90_MAX_STEPS, 100 * OPEN_MAX_FRACTION), "",
+          "guest's nodes (the paper's model keeps those out); the host's are shown beside. A run that is not stable, "
+          "or whose nodes tunnelled through over the window (its episodes then close by passage), is not judged "
+          "(stability: its class, and the nodes tunnelled over the window when any)." % (
+              100 * SEPARATE_MAX_FRACTION, P90_MAX_STEPS, 100 * OPEN_MAX_FRACTION), "",
           "| scenario | elim. | stability | nodes | episodes | median | p90 | open (%) | peak (% of nodes) | holds |",
           "|---|---|---|---|---:|---:|---:|---:|---:|---|"]
     for title, elim, stab, g, h in rows:
         for who, st in (("guest", g), ("host", h)):
             md.append("| %s | %s | %s | %s | %d | %s | %s | %.1f | %s | %s |" % (
-                title, elim, stab, who, st["episodes"], fmt(st["median"], "d"), fmt(st["p90"], "d"),
+                title, elim, stab + (", %d tunnelled" % g["tunnelled"] if g.get("tunnelled", 0) > 0 else ""), who,
+                st["episodes"], fmt(st["median"], "d"), fmt(st["p90"], "d"),
                 100 * st["open_frac"], fmt(None if st["peak_frac"] is None else 100 * st["peak_frac"], ".2f"),
                 ("yes" if st["holds"] else "no: " + st["why"]) + ("" if who == "guest" else " (not the model's)")))
-    md += ["", verdict_line("(b)", verdict, outcomes, rule="on the guest's nodes of each stable run"), ""]
+    md += ["", verdict_line("(b)", verdict, outcomes, rule="on the guest's nodes of each run that is stable and tunnels nothing"), ""]
     tex = ["%% generated by scripts/claims.py; do not edit\n",
            "\\begin{tabular}{lllrrrrrl}\n\\toprule\n",
            "scenario & elim. & nodes & episodes & median & p90 & open (\\%) & peak (\\% nodes) & holds \\\\\n"

@@ -40,8 +40,9 @@ def with_bound(r):
 
 def outcome(proj, pen, floor):
     """'a' (for the claim), 'b' (against), or not judged; and the figures behind it."""
-    if not rules.is_stable(pen):
-        return rules.NOT_STABLE, None
+    gap = rules.evidence_gap(pen)
+    if gap:
+        return gap, None
     if not rules.is_stable(proj):
         return "a", "improper: the restriction is not stable"
     p = with_bound(proj)

@@ -2,6 +2,7 @@
 the runs of scripts/reproduce.sh and the studies' CSV files) and the penetration series of a run."""
 
 import json
+import math
 import os
 
 from .. import reader, rules, runs
@@ -9,6 +10,8 @@ from .. import reader, rules, runs
 # The scenes of the studies, in the order the claims list them; the exact detectors.
 SCENE_ORDER = ["sphere_collision", "cylinder_press", "implant_expansion"]
 EXACT = ["hash", "cgal", "fcl"]
+# The accuracy study's baseline: contact detected, never pushed.
+NO_FORCE = "no contact force"
 
 
 class Verdict:
@@ -43,15 +46,37 @@ class Context:
         for key, _scene, _title, _force, elim, path in self.runs:
             self.steps_run[(key, elim)] = int(reader.steps_run(reader.load_summary(path)))
         self._csv = {}
+        self._base = None
 
     def csv(self, name, numbers=()):
         """A CSV file of the results (reader.read_csv; `numbers` NaN where the file lacks them); []
-        when missing."""
-        k = (name, tuple(numbers))
+        when missing. Each row judged under the current rule (rules.reclassify_row) and marked
+        `helps` (yes/no: rules.useful against no_force(scene)) where its scene has a baseline."""
+        k = (name, tuple(numbers), id(rules.CURRENT))
         if k not in self._csv:
-            self._csv[k] = reader.read_csv(os.path.join(self.root, name), numbers=numbers, text=reader.STUDY_TEXT,
-                                           missing=[])
+            rows = reader.read_csv(os.path.join(self.root, name), numbers=numbers, text=reader.STUDY_TEXT, missing=[])
+            out = []
+            for r in rows:
+                r = rules.reclassify_row(r)
+                base = self.no_force(r.get("scene"))
+                if base is not None and reader.present(r.get("pos_err_max_mm")):
+                    fig = {key: reader.num(r.get(key), math.nan) for key in ("pos_err_max_mm", "depth_max_mm")}
+                    nothing = r.get("config") == NO_FORCE
+                    r["helps"] = "no" if nothing or not rules.useful(fig, base) else "yes"
+                out.append(r)
+            self._csv[k] = out
         return self._csv[k]
+
+    def no_force(self, scene):
+        """{pos_err_max_mm, depth_max_mm} of `scene` with no contact force (accuracy_time.csv's
+        NO_FORCE row), None without one."""
+        if self._base is None:
+            rows = reader.read_csv(os.path.join(self.root, "accuracy_time.csv"),
+                                   numbers=("pos_err_max_mm", "depth_max_mm"), text=reader.STUDY_TEXT, missing=[])
+            self._base = {r["scene"]: {"pos_err_max_mm": reader.num(r.get("pos_err_max_mm"), math.nan),
+                                       "depth_max_mm": reader.num(r.get("depth_max_mm"), math.nan)}
+                          for r in rows if r.get("config") == NO_FORCE}
+        return self._base.get(scene)
 
     def window_csv(self, name, numbers=()):
         """csv(name) when it holds the window figures (a `stability` column, scripts/study.py since
@@ -102,8 +127,18 @@ def pen_series(path):
 
 
 def floor_mm(ctx, name):
-    """The floor (mm) of results/references/<name> (reader.reference_floor; NaN when missing)."""
-    return reader.reference_floor_mm(ctx.root, name)
+    """The floor (mm) of results/references/<name> that the noise takes under the current rule
+    (rules.Variant.floor): reader.reference_floor, twice it, or the last level's Richardson estimate
+    (results/references.csv error_estimate_mm; the floor where there is none). NaN when missing."""
+    floor = reader.reference_floor_mm(ctx.root, name)
+    how = rules.CURRENT.floor
+    if how == "double":
+        return 2.0 * floor
+    if how == "richardson":
+        est = [reader.num(r.get("error_estimate_mm")) for r in ctx.csv("references.csv")
+               if r.get("reference") == name and reader.present(r.get("error_estimate_mm"))]
+        return est[-1] if est else floor
+    return floor
 
 
 def word(outcome, a_name, b_name):
@@ -118,11 +153,15 @@ def word(outcome, a_name, b_name):
 
 
 def figure(r, key="pos_err_max_mm", fmt="%.3g"):
-    """A row's figure with its stability when it is not stable: "1.23" or "1.23 (unstable)"."""
+    """A row's figure with why it is not evidence (rules.evidence_gap): "1.23", "1.23 (unstable)",
+    "1.23 (tunnels)", "1.23 (no better than no force)"."""
     v = r.get(key)
     if not reader.present(v):
         return "-"
-    return (fmt % v) + ("" if r.get("stable") == "yes" else " (%s)" % (r.get("stability") or "not stable"))
+    gap = rules.evidence_gap(r)
+    if gap == rules.NOT_STABLE:
+        gap = r.get("stability") or gap
+    return (fmt % v) + ("" if gap is None else " (%s)" % gap)
 
 
 def verdict_line(label, verdict, outcomes, expected="a", rule=""):

@@ -43,13 +43,13 @@ def judge(ctx):
         floor = floor_mm(ctx, scene)
         sr = [r for r in rows if r["scene"] == scene]
         base = next((r for r in sr if r["config"] == NO_FORCE), None)
-        vox = [r for r in paper_rows(rows, scene) if rules.is_stable(r) and not math.isnan(r["pos_err_max_mm"])
+        vox = [r for r in paper_rows(rows, scene) if rules.is_evidence(r) and not math.isnan(r["pos_err_max_mm"])
                and (base is None or rules.useful(r, base))]
         md.append("### %s" % scene)
         md.append("")
         if not vox:
             outcomes.append(rules.NOT_STABLE)
-            md += ["Not judged: no setting of the paper's model is stable and helps (run without contact force: %s mm)."
+            md += ["Not judged: no setting of the paper's model is evidence: stable, helps, tunnels nothing (run without contact force: %s mm)."
                    % ("%.3g" % base["pos_err_max_mm"] if base else "-"), ""]
             continue
         best = min(vox, key=lambda r: (r["pos_err_max_mm"], r["t_contact_us"]))
@@ -61,7 +61,7 @@ def judge(ctx):
                "|---|---|---:|---:|---|---:|"]
         fastest = {}
         for det, name in FAMILIES:
-            fam = [r for r in sr if r["detector"] == det and r["config"] != NO_FORCE and rules.is_stable(r)
+            fam = [r for r in sr if r["detector"] == det and r["config"] != NO_FORCE and rules.is_evidence(r)
                    and not math.isnan(r["pos_err_max_mm"])]
             at = [r for r in fam if r["pos_err_max_mm"] <= limit]
             f = min(at, key=lambda r: r["t_contact_us"]) if at else None

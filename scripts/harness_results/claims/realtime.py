@@ -49,7 +49,7 @@ def judge(ctx):
         paper = [r for r in sr if r["kind"] == "paper" and r["mode"] == "scene dt" and r["threads"] == 1]
         u = paper[0]["t_contact_us"] if paper else math.nan
         unit.append(("a" if u < BUDGET_US else "b") if paper else rules.MISSING)
-        ok = [r for r in sr if r["stability"] == rules.STABLE and not math.isnan(r["error_over_best"])
+        ok = [r for r in sr if rules.is_evidence(r) and not math.isnan(r["error_over_best"])
               and r["error_over_best"] <= ACCURATE and r["realtime_factor"] > 0]
         best = max(ok, key=lambda r: r["realtime_factor"]) if ok else None
         sim.append(("a" if best["realtime_factor"] >= 1.0 else "b") if best else rules.NOT_STABLE)

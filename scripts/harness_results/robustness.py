@@ -1,0 +1,165 @@
+"""Every claim's verdict judged again under every combination of the rule's free choices (rules.py,
+"robustness"): the rho limits halved and doubled, the marginal band counted stable, the relative tie
+of the noise 10 %, 5 % or none, the reference's floor, its Richardson estimate or twice the floor,
+and a run that tunnels up to 10 nodes over the window still evidence (the rule: none): VARIANTS,
+2 x 3 x 2 x 3 x 3 = 108, the first the rule as written.
+
+A verdict is stated as it is only when every variant gives it; otherwise it is "fragile", with the
+verdicts it flips to and the choices under which it does (stated_verdict). The choices the committed
+study files cannot vary are said (NOT_VARIED): the window's length and the reference's kind need the
+runs again; a stable row of a file without a contact_power_ratio column keeps an unknown rho, so it
+stays stable under every limit (rules.reclassify_row).
+
+results/robustness.csv: one row per claim's verdict and variant (the variant's choices, its verdict,
+its counts and its share for: the comparisons for the claim over its decisive ones). The
+specification curve (figures/robustness.pdf and .png): per verdict, the share for over the variants,
+sorted, coloured by the variant's verdict.
+"""
+
+import os
+
+from . import rules, writers
+
+VARIANTS = [rules.Variant(rho, marginal, tie, floor, tunnel)
+            for tunnel in (0, 10) for rho in (1.0, 0.5, 2.0) for marginal in ("unstable", "stable")
+            for tie in (0.10, 0.05, 0.0) for floor in ("floor", "richardson", "double")]
+NOT_VARIED = ("the window's length (halved, doubled) and the reference's kind (one-sided against both ways): "
+              "they need the studies run again")
+COLUMNS = ["claim", "variant", "rho_scale", "marginal", "tie", "floor", "tunnel_limit", "verdict", "for", "against",
+           "noise", "not_judged", "share_for"]
+
+
+def verdicts_of(records):
+    """{prefix: (verdict, {"for", "against", "noise", "not judged"})} from the claims' macros (a claim's
+    verdict macro <prefix>Verdict and its counts)."""
+    out = {}
+    for r in records:
+        m = dict(r.macros)
+        for name, value in r.macros:
+            if name.endswith("Verdict"):
+                p = name[:-len("Verdict")]
+                counts = {k: int(m[p + key]) if str(m.get(p + key, "")).isdigit() else 0
+                          for k, key in (("for", "For"), ("against", "Against"), ("noise", "Noise"),
+                                         ("not judged", "NotJudged"))}
+                out[p] = (value, counts)
+    return out
+
+
+def judge_variants(root, judge_all, make_context, variants=VARIANTS):
+    """[(variant, verdicts_of(records))] with the claims judged under each variant."""
+    out = []
+    for v in variants:
+        with rules.using(v):
+            out.append((v, verdicts_of(judge_all(make_context(root)))))
+    return out
+
+
+def share_for(t):
+    """The comparisons for over the decisive ones (None without any decisive)."""
+    d = t["for"] + t["against"] + t["noise"]
+    return t["for"] / d if d else None
+
+
+def summary(results):
+    """{prefix: {"verdict": as written, "agree": n, "total": n, "flips": [(variant, verdict)]}}."""
+    base = results[0][1]
+    out = {}
+    for p, (verdict, _t) in base.items():
+        flips = [(v, got[p][0]) for v, got in results[1:] if p in got and got[p][0] != verdict]
+        out[p] = {"verdict": verdict, "total": len(results), "agree": len(results) - len(flips), "flips": flips}
+    return out
+
+
+def _choices_behind(flips):
+    """The choices every flipping variant shares and the rule as written does not make (text), or
+    None when they share none."""
+    d = rules.DEFAULT
+    parts = []
+    for attr, say in (("rho_scale", lambda x: "rho limits x%g" % x), ("marginal", lambda x: "marginal counted %s" % x),
+                      ("tie", lambda x: "tie %g %%" % (100 * x)), ("floor", lambda x: "floor %s" % x),
+                      ("tunnel_limit", lambda x: "up to %d tunnelled nodes" % x)):
+        vals = {getattr(v, attr) for v, _ in flips}
+        if getattr(d, attr) not in vals:
+            parts.append(" or ".join(say(x) for x in sorted(vals, key=str)))
+    return "; ".join(parts) or None
+
+
+def robustness_text(s):
+    """"robust: 54 of 54 variants" or "fragile: 36 of 54 variants agree; flips to inconclusive (18:
+    rho limits x0.5)"."""
+    if not s["flips"]:
+        return "robust: %d of %d variants" % (s["agree"], s["total"])
+    by = {}
+    for v, verdict in s["flips"]:
+        by.setdefault(verdict, []).append((v, verdict))
+    parts = []
+    for verdict, fl in sorted(by.items()):
+        behind = _choices_behind(fl)
+        parts.append("to %s in %d (%s)" % (verdict, len(fl), behind or "e.g. " + fl[0][0].name()))
+    return "fragile: %d of %d variants agree; flips %s" % (s["agree"], s["total"], ", ".join(parts))
+
+
+def stated_verdict(s):
+    """The verdict as claims.md and the report state it: as written when every variant agrees, else
+    "fragile (<as written> as written)"."""
+    if not s["flips"] or s["verdict"] in (rules.NOT_TESTED,):
+        return s["verdict"]
+    return "fragile (%s as written)" % s["verdict"]
+
+
+def write_csv(root, results):
+    """results/robustness.csv."""
+    rows = []
+    for v, got in results:
+        for p, (verdict, t) in sorted(got.items()):
+            sf = share_for(t)
+            rows.append(dict(zip(COLUMNS, [p, v.name(), "%g" % v.rho_scale, v.marginal, "%g" % v.tie, v.floor,
+                                           v.tunnel_limit, verdict,
+                                           t["for"], t["against"], t["noise"], t["not judged"],
+                                           "" if sf is None else "%.4g" % sf])))
+    path = os.path.join(root, "robustness.csv")
+    writers.write_csv(path, rows, COLUMNS)
+    return path
+
+
+COLOURS = {rules.SUPPORTED: "#1b7837", rules.NOT_SUPPORTED: "#b2182b", rules.MIXED: "#e08214",
+           rules.INCONCLUSIVE: "0.6", rules.NOT_TESTED: "0.85"}
+
+
+def plot(root, results, labels):
+    """figures/robustness.{pdf,png}: per verdict (labels: {prefix: title}), the share for over the
+    variants, sorted (a variant without decisive comparisons at 0, hollow), coloured by verdict, the
+    verdict rule's bounds dashed."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    prefixes = [p for p in labels if p in results[0][1]]
+    fig, axes = plt.subplots(len(prefixes), 1, figsize=(7.0, 1.05 * len(prefixes) + 0.6), sharex=True, squeeze=False)
+    for ax, p in zip(axes[:, 0], prefixes):
+        pts = []
+        for v, got in results:
+            verdict, t = got[p]
+            sf = share_for(t)
+            pts.append((-1.0 if sf is None else sf, verdict, sf is None))
+        pts.sort(key=lambda x: x[0])
+        for i, (y, verdict, none) in enumerate(pts):
+            c = COLOURS.get(verdict, "k")
+            ax.plot([i], [max(y, 0.0)], "o", ms=3.5, mfc="none" if none else c, mec=c, mew=0.8)
+        for b in (rules.MIXED_SHARE, 1.0 - rules.MIXED_SHARE):
+            ax.axhline(b, color="0.5", lw=0.6, ls="--")
+        ax.set_ylim(-0.08, 1.08)
+        ax.set_yticks([0, 0.5, 1])
+        ax.set_ylabel("share for", fontsize=7)
+        ax.set_title(labels[p], fontsize=8, loc="left")
+        ax.tick_params(labelsize=7)
+    axes[-1, 0].set_xlabel("variant of the rule (sorted by share for)", fontsize=8)
+    handles = [plt.Line2D([], [], marker="o", ls="", color=c, label=k, ms=4) for k, c in COLOURS.items()]
+    handles.append(plt.Line2D([], [], marker="o", ls="", mfc="none", mec="k", label="no decisive comparison", ms=4))
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    d = os.path.join(root, "figures")
+    os.makedirs(d, exist_ok=True)
+    for ext in ("pdf", "png"):
+        fig.savefig(os.path.join(d, "robustness." + ext), dpi=130)
+    plt.close(fig)
+    return os.path.join(d, "robustness.pdf")

@@ -1,0 +1,75 @@
+"""The verdicts' robustness (harness_results/robustness.py): a study row judged again under the rule
+as written gives the study's own columns; under a variant, the limits it states; a verdict that a
+variant changes is stated fragile, naming the choices behind it; the committed robustness.csv is
+what the claims give under each variant."""
+
+import csv
+import os
+
+from harness_results import reader, robustness, rules
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+RESULTS = os.path.join(ROOT, "results")
+STUDIES = ["accuracy_time.csv", "ablation.csv", "orient.csv", "region.csv", "convergence.csv", "swap.csv", "realtime.csv"]
+
+
+def test_the_rule_as_written_gives_the_studies_own_columns():
+    n = 0
+    for name in STUDIES:
+        for r in reader.read_csv(os.path.join(RESULTS, name), numbers=(), text=reader.STUDY_TEXT, missing=[]):
+            again = rules.reclassify_row(r)
+            assert again.get("stability") == r.get("stability"), (name, r)
+            if "stable" in r:
+                assert again["stable"] == r["stable"], (name, r)
+            n += 1
+    assert n > 200
+
+
+def chatter(rho, settled="False"):
+    return {"stable": "yes", "stability": "stable", "why_unstable": "", "settled": settled, "contact_power_ratio": rho}
+
+
+def test_a_variant_moves_the_limits():
+    for rho, default, halved, doubled in [(0.005, "stable", "stable", "stable"), (0.015, "marginal", "marginal", "stable"),
+                                          (0.025, "marginal", "unstable", "marginal"), (0.05, "unstable", "unstable", "marginal")]:
+        with rules.using(rules.DEFAULT):
+            assert rules.reclassify_row(chatter(rho))["stability"] == default, rho
+        with rules.using(rules.Variant(rho_scale=0.5)):
+            assert rules.reclassify_row(chatter(rho))["stability"] == halved, rho
+        with rules.using(rules.Variant(rho_scale=2.0)):
+            assert rules.reclassify_row(chatter(rho))["stability"] == doubled, rho
+    with rules.using(rules.Variant(marginal="stable")):
+        r = rules.reclassify_row(chatter(0.015))
+        assert r["stability"] == "marginal" and r["stable"] == "yes"
+    # a settled run is never marginal; a reason other than the power stands under every limit
+    with rules.using(rules.Variant(rho_scale=0.5)):
+        assert rules.reclassify_row(chatter(0.015, "True"))["stability"] == "stable"
+        grows = dict(chatter(0.001), why_unstable="kinetic energy grows over the window (x3)")
+        assert rules.reclassify_row(grows)["stability"] == "unstable"
+    assert rules.CURRENT is rules.DEFAULT
+
+
+def test_fragile_names_the_choices_that_flip_it():
+    t = {"for": 3, "against": 0, "noise": 0, "not judged": 0}
+    flat = {"for": 1, "against": 0, "noise": 0, "not judged": 2}
+    results = [(v, {"ClaimX": ("supported", t) if v.rho_scale != 0.5 else ("inconclusive", flat),
+                    "ClaimY": ("not supported", t)}) for v in robustness.VARIANTS]
+    s = robustness.summary(results)
+    assert robustness.stated_verdict(s["ClaimY"]) == "not supported"
+    assert robustness.robustness_text(s["ClaimY"]) == "robust: 108 of 108 variants"
+    assert robustness.stated_verdict(s["ClaimX"]) == "fragile (supported as written)"
+    assert robustness.robustness_text(s["ClaimX"]) == ("fragile: 72 of 108 variants agree; flips to inconclusive "
+                                                      "in 36 (rho limits x0.5)")
+
+
+def test_the_committed_table_is_what_the_claims_give():
+    from harness_results import claims
+    from harness_results.claims.common import Context
+    with open(os.path.join(RESULTS, "robustness.csv")) as f:
+        committed = list(csv.DictReader(f))
+    some = robustness.VARIANTS[:1] + [v for v in robustness.VARIANTS if v.rho_scale == 0.5][:2]
+    for v, got in robustness.judge_variants(RESULTS, claims.judge_all, Context, some):
+        for p, (verdict, t) in got.items():
+            row = next(r for r in committed if r["claim"] == p and r["variant"] == v.name())
+            assert (row["verdict"], int(row["for"]), int(row["against"]), int(row["noise"]), int(row["not_judged"])) == (
+                verdict, t["for"], t["against"], t["noise"], t["not judged"])
