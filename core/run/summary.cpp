@@ -68,6 +68,7 @@ json window_json(const StabilityJudgement& j) {
           {"after_forcing", w.after_forcing},
           {"contact_power_W", num_or_null(j.contact_power)},
           {"input_power_W", num_or_null(j.input_power)},
+          {"input_period_s", num_or_null(j.input_period)},
           {key::kContactPowerRatio, num_or_null(j.ratio)},
           {"injection_ratio_limit", kInjectionRatio},
           {"kinetic_growth", num_or_null(j.growth)},

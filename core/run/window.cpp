@@ -71,7 +71,13 @@ StabilityJudgement judge_stability(const Scene& sc, const std::vector<StepEnergy
   j.residual = res.over(j.span);
   const StepEnergy before = from > 1 ? energy[from - 2] : StepEnergy{};
   const double T = j.span.steps() * sc.dt;
-  const double t_in = from > 1 ? (from - 1) * sc.dt : T;
+  // The time the energy was put in over: the loading period where the scene is forced and the
+  // window starts after it (not the time before the window: a run settled twice as long would read
+  // half the input power); the window's own length where nothing forces the scene (energy given at
+  // the start: initial velocities); the time before the window for a run still forced.
+  const bool loaded = j.span.forcing_end > 0 && j.span.forcing_end != INT_MAX && j.span.after_forcing;
+  const double t_in = loaded ? j.span.forcing_end * sc.dt : (j.span.forcing_end == 0 || from <= 1 ? T : (from - 1) * sc.dt);
+  j.input_period = t_in;
   j.contact_power = (energy[to - 1].work_contact - before.work_contact) / T;
   j.energy_in = initial_energy + std::max(0.0, before.work_external);
   if (j.energy_in > 0.0) {

@@ -12,12 +12,17 @@
 //
 // Stability as a rate. Over the window the contact's mean power is
 //   P_contact = (W_contact(to) - W_contact(from - 1)) / T,  T = (to - from + 1) dt,
-// (energy audit, energy.hpp: positive when contact injects energy), against the mean power the
-// scene put in before the window,
-//   P_in = (E_initial + W_external(from - 1)) / t_in,  t_in = (from - 1) dt (T when from = 1),
+// (energy audit, energy.hpp: positive when contact injects energy), against the mean power with
+// which the scene put its energy in,
+//   P_in = (E_initial + W_external(from - 1)) / t_in,
+//   t_in = forcing_end dt, the loading period, when the scene is forced and the window follows it;
+//          T when nothing forces it (energy given at the start, as initial velocities);
+//          (from - 1) dt for a run still forced at its end (not judged: "forced"),
 // or, where nothing was put in, the elastic energy at the window's end over T. Their ratio
-// rho = P_contact / P_in is independent of the run's length (a cumulative share is not: a
-// constant injection crosses any share if the run is long enough). The verdict:
+// rho = P_contact / P_in does not depend on how long the run went on after its forcing: neither
+// the window's power nor the loading's does (a cumulative share would: a constant injection crosses
+// any share if the run is long enough; and so did P_in over the whole time before the window, which
+// read a run settled twice as long as putting its energy in half as fast). The verdict:
 //   settled    the run settled (time.settle: the force residual stayed within its tolerance);
 //   forced     it ended before its forcing did (after_forcing false): still loaded, not judged;
 //   injects    rho > kInjectionRatio: the contact keeps feeding energy into the bodies; or it
@@ -95,6 +100,7 @@ struct StabilityJudgement {
   WindowSpan span;
   double contact_power = 0.0;  // W, mean over the window
   double input_power = 0.0;    // W, P_in
+  double input_period = 0.0;   // s, t_in
   double ratio = 0.0;          // rho
   double growth = 0.0;         // largest KE of the second half / of the first half
   double net_contact_work = 0.0;  // J, W_contact at the end

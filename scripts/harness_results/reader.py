@@ -193,12 +193,33 @@ def window_stat(d, key, what="mean"):
     return num(v.get(what)) if isinstance(v, dict) else NAN
 
 
-def stability_inputs(s):
-    """What the stability rule (rules.classify) reads from a summary, by name."""
+def rho_over(s, norm):
+    """The run's rho with the input power over the loading period ("loading": the harness's rule
+    since the window's input_period_s is recorded) or over the whole time before the window
+    ("before": the rule the committed studies were run under), from the summary's window figures;
+    the recorded rho where they do not give it."""
+    w = window(s)
+    rho = num(w.get("contact_power_ratio"))
+    recorded = "loading" if present(w.get("input_period_s")) else "before"
+    if norm == recorded:
+        return rho
+    dt = num(((s.get("resolved_scene") or {}).get("time") or {}).get("dt"))
+    pc, e_in = num(w.get("contact_power_W")), num(w.get("energy_in_J"))
+    forcing, start = num(w.get("forcing_ends_step")), num(w.get("from_step"))
+    if not (present(dt) and present(pc) and present(e_in) and e_in > 0 and present(forcing) and forcing > 0
+            and present(start) and start > forcing and w.get("after_forcing")):
+        return rho
+    return pc * (forcing if norm == "loading" else start - 1) * dt / e_in
+
+
+def stability_inputs(s, norm=None):
+    """What the stability rule (rules.classify) reads from a summary, by name; rho over the input
+    period `norm` (rho_over; None: as recorded)."""
     w = window(s)
     return {"status": s.get("status"), "error": s.get("error"), "finite": s.get("finite"),
             "verdict": s.get("stability_verdict"),
-            "rho": num(w.get("contact_power_ratio")), "growth": num(w.get("kinetic_growth")),
+            "rho": num(w.get("contact_power_ratio")) if norm is None else rho_over(s, norm),
+            "growth": num(w.get("kinetic_growth")),
             "kicked": w.get("kicked"), "net_contact_work": num(w.get("net_contact_work_J")),
             "guard_violations": num((s.get("stability") or {}).get("guard_violations"), 0),
             "balance_error": num((s.get("energy") or {}).get("energy_balance_error"), 0.0)}

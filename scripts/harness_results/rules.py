@@ -12,6 +12,8 @@ Definitions:
                 window maximum, and its peak over the whole run; tunnelled nodes (through the other
                 body) window maximum.
   stable        by the run's contact power over the window against the power the scene put in
+                (over its loading period since input_period_s is recorded; the committed studies were run
+                with the power over the whole time before the window: robustness varies it)
                 (rho, summary.json window.contact_power_ratio; the harness calls a run "injects"
                 above 0.02) with a stated margin of a factor 2 either way: stable when the run
                 settled or chatters with rho <= 0.01; unstable when rho > 0.04, when its kinetic
@@ -48,15 +50,24 @@ Definitions:
                 "inconclusive" when D < MIN_DECISIVE (3: one comparison, however clear, is one
                 configuration, and the studies' grids are built to give a claim at least three);
                 "supported" when the comparisons for it are at least 1 - MIXED_SHARE (80 %) of D;
-                "not supported" when they are at most MIXED_SHARE (20 %) of D (a claim that predicts
-                a difference is not borne out by comparisons that find none); "mixed" in between;
-                "not tested" without any comparison. For and against are weighed alike. Each verdict
-                is printed with its counts (for, against, within noise, not judged).
+                "not supported" when they are at most MIXED_SHARE (20 %) of D; "mixed" in between;
+                "not tested" without any comparison. What is not for the claim is against it or
+                within the noise, and both count as not for (a claim that predicts a difference is
+                not borne out by comparisons that find none): 0-3-0 and 0-0-3 are both "not
+                supported", and 1-0-2 is "mixed" with nothing against. The rule is symmetric in
+                that the share for decides both ways. Each verdict is printed with its counts (for,
+                against, within noise, not judged). Claims with rules of their own, stated in their
+                modules: (e) is about detection alone (force 0: nothing pushes, so stability,
+                helping and tunnelling do not apply); (c) counts a restriction that is not stable
+                where the penalty is evidence as improper (for the claim); (b) counts a run that
+                tunnelled and fails its criteria against (tunnelling can only make it pass).
   robustness    (claims, harness_results/robustness.py) every verdict is judged again under every
                 combination of the rule's free choices (VARIANTS: the rho limits halved and doubled,
                 the marginal band counted stable, the relative tie 0 or 5 % instead of 10 %, the
                 reference's floor or its Richardson estimate or twice the floor, up to 10 nodes
-                tunnelled over the window instead of none); a verdict is stated
+                tunnelled over the window instead of none, two decisive comparisons sufficing instead
+                of three, a run helping at 80 % of the no-force run's figures instead of 90 %); a
+                verdict is stated
                 as it is only when every variant agrees, else "fragile (...)": the variants under
                 which it flips are named (results/robustness.csv).
 """
@@ -86,9 +97,15 @@ class Variant:
     noise takes ("floor": reader.reference_floor, "richardson": the last level's Richardson estimate,
     "double": twice the floor)."""
 
-    def __init__(self, rho_scale=1.0, marginal="unstable", tie=0.10, floor="floor", tunnel_limit=0):
+    def __init__(self, rho_scale=1.0, marginal="unstable", tie=0.10, floor="floor", tunnel_limit=0, min_decisive=3,
+                 helps=0.9, rho_norm="before"):
         self.rho_scale, self.marginal, self.tie, self.floor = rho_scale, marginal, tie, floor
         self.tunnel_limit = tunnel_limit  # nodes a run may tunnel over the window and still be evidence
+        self.min_decisive = min_decisive  # decisive comparisons a verdict needs (MIN_DECISIVE)
+        self.helps = helps                # a run helps at this share of the no-force run's figures (USEFUL)
+        # rho's input power over the time before the window ("before": the committed studies' rule)
+        # or over the loading period ("loading": the harness's since; reader.rho_over, loading_rho)
+        self.rho_norm = rho_norm
 
     def name(self):
         """"rho x0.5, marginal stable, tie 5 %, floor richardson": the choices that differ from the default."""
@@ -103,6 +120,12 @@ class Variant:
             parts.append({"richardson": "floor = Richardson estimate", "double": "floor x2"}.get(self.floor, self.floor))
         if self.tunnel_limit:
             parts.append("up to %d tunnelled nodes" % self.tunnel_limit)
+        if self.min_decisive != 3:
+            parts.append("%d decisive comparisons suffice" % self.min_decisive)
+        if self.helps != 0.9:
+            parts.append("helps at %g %% of no force" % (100 * self.helps))
+        if self.rho_norm != "before":
+            parts.append("rho over the loading period")
         return ", ".join(parts) or "the rule as written"
 
 
@@ -132,7 +155,7 @@ class using:
 def classify(s):
     """(class, reasons) of one run's summary by the written rule (stable above): "stable",
     "marginal", "unstable" or "failed"."""
-    x = reader.stability_inputs(s)
+    x = reader.stability_inputs(s, CURRENT.rho_norm)
     rho, verdict = x["rho"], x["verdict"]
     if x["status"] != "ok":
         if x["status"] == "refused":  # runner.harness: the harness refused the configuration (exit 2)
@@ -155,6 +178,50 @@ def classify(s):
     if verdict != "settled" and not math.isnan(rho) and rho > limit / MARGIN:
         return MARGINAL, ["contact power %.3g of the power put in (within a factor %g of %g)" % (rho, MARGIN, limit)]
     return STABLE, []
+
+
+def scene_window(scene):
+    """A bundled scene's time.window (default 1000)."""
+    try:
+        return int((reader.bundled_scene(scene).get("time") or {}).get("window", 1000))
+    except (OSError, ValueError):
+        return 1000
+
+
+def forcing_end(scene):
+    """The last forced step of a bundled scene (core/run/window.cpp forcing_end_step: a moving
+    driver's to_step, a load's or a pressure's ramp), None when unknown (a scene not bundled, a
+    driver that never stops)."""
+    try:
+        sc = reader.bundled_scene(scene)
+    except (OSError, ValueError):
+        return None
+    end = 0
+    for b in sc.get("bodies", []):
+        for d in b.get("drivers") or []:
+            if any(v != 0 for v in d.get("velocity", [0, 0, 0])):
+                if int(d.get("to_step", -1)) < 0:
+                    return None
+                end = max(end, int(d["to_step"]))
+        for l in b.get("loads") or []:
+            end = max(end, int(l.get("ramp_steps", 0)))
+        p = b.get("pressure")
+        if p and p.get("from") != p.get("to"):
+            end = max(end, int(p.get("ramp_steps", 0)))
+    return end
+
+
+def loading_rho(row, rho):
+    """A study row's rho (recorded over the time before its window) over its scene's loading period
+    instead: rho forcing_end / (from - 1), from = max(steps - window + 1, forcing_end + 1), where the
+    row records its steps and its scene is bundled and forced; else rho as recorded (said in
+    robustness.NOT_VARIED)."""
+    steps = reader.num(row.get("steps"))
+    f = forcing_end(row.get("scene") or "")
+    if math.isnan(rho) or not reader.present(steps) or not f:
+        return rho
+    start = max(steps - scene_window(row["scene"]) + 1, f + 1)
+    return rho * f / (start - 1) if steps > f else rho
 
 
 def counts_stable(cls):
@@ -187,6 +254,8 @@ def reclassify_row(row):
             m = re.match(r"contact power ([-+0-9.eE]+) of the power put in", x)
             if m:
                 rho = float(m.group(1))
+    if CURRENT.rho_norm == "loading":
+        rho = loading_rho(row, rho)
     limit = INJECTION_LIMIT * CURRENT.rho_scale
     if "settled" in row and str(row.get("settled")) not in ("", "nan"):
         settled = str(row.get("settled")) in ("True", "true", "yes", "1")
@@ -238,13 +307,14 @@ def is_evidence(row):
 
 # ---------------------------------------------------------------------------------------------
 # The defaults and the front
-def useful(r, base):
+def useful(r, base, share=None):
     """At least 10 % closer to the reference than the run without contact force in position, or
     at least 10 % shallower in depth without being farther from the reference in position (a
     setting that removes penetration by holding the bodies apart, farther from where the reference
     has them than doing nothing, is not useful: depth alone would reward that wrong answer)."""
-    return (r["pos_err_max_mm"] <= USEFUL * base["pos_err_max_mm"]
-            or (r["depth_max_mm"] <= USEFUL * base["depth_max_mm"]
+    u = CURRENT.helps if share is None else share
+    return (r["pos_err_max_mm"] <= u * base["pos_err_max_mm"]
+            or (r["depth_max_mm"] <= u * base["depth_max_mm"]
                 and r["pos_err_max_mm"] <= base["pos_err_max_mm"]))
 
 
@@ -356,7 +426,7 @@ def claim_verdict(outcomes, expected="a", minimum=None):
         return NOT_TESTED
     t = tally(outcomes, expected)
     decisive = t["for"] + t["against"] + t["noise"]
-    if decisive < (MIN_DECISIVE if minimum is None else minimum):
+    if decisive < (CURRENT.min_decisive if minimum is None else minimum):
         return INCONCLUSIVE
     if t["for"] >= (1.0 - MIXED_SHARE) * decisive:
         return SUPPORTED

@@ -96,19 +96,42 @@ TEST_CASE("window: contact power as a rate over the window, a kick, growth", "[w
     CHECK(judge_stability(sc, rec, e0, true).verdict == "settled");
   }
   SECTION("a steady injection: its rate, whatever the run's length") {
-    // W_c = P t: the contact's mean power over the window is P; the power put in before it is
-    // e0 over the 3 s before the window.
+    // W_c = P t: the contact's mean power over the window is P. Nothing forces the scene: the
+    // energy given at the start is taken over the window's own length (1 s), not over the 3 s
+    // before it.
     const double P = 0.05;
     for (int s = 1; s <= N; ++s) rec[s - 1].work_contact = P * s * sc.dt, rec[s - 1].kinetic = 1e-3;
     const StabilityJudgement j = judge_stability(sc, rec, e0, false);
     CHECK(j.contact_power == Approx(P).epsilon(1e-9));
-    CHECK(j.input_power == Approx(e0 / 3.0).epsilon(1e-12));
-    CHECK(j.ratio == Approx(P / (e0 / 3.0)).epsilon(1e-9));
+    CHECK(j.input_period == Approx(1.0).epsilon(1e-12));
+    CHECK(j.input_power == Approx(e0 / 1.0).epsilon(1e-12));
+    CHECK(j.ratio == Approx(P / e0).epsilon(1e-9));
     CHECK(j.verdict == "injects");
-    // Twice as long a run: the same power (a cumulative share would have doubled).
+    // Twice as long a run: the same power and the same rho (over the time before the window it
+    // would have read 7/3 as much).
     std::vector<StepEnergy> longer(2 * N);
     for (int s = 1; s <= 2 * N; ++s) longer[s - 1].work_contact = P * s * sc.dt, longer[s - 1].kinetic = 1e-3;
-    CHECK(judge_stability(sc, longer, e0, false).contact_power == Approx(P).epsilon(1e-9));
+    const StabilityJudgement jl = judge_stability(sc, longer, e0, false);
+    CHECK(jl.contact_power == Approx(P).epsilon(1e-9));
+    CHECK(jl.ratio == Approx(j.ratio).epsilon(1e-12));
+  }
+  SECTION("a forced scene: the input power over its loading period, whatever the run's length") {
+    // A driver moves the nodes for 500 steps (0.5 s) and puts in W_ext = 2 J; then the contact
+    // trickles P in. rho = P / ((e0 + 2) / 0.5) at 4000 steps and at 8000.
+    const Scene forced = scene_with(R"(, "window": 1000)",
+                                    R"(, "drivers": [{"select": {"all": true}, "velocity": [0, 0, 1], "from_step": 1, "to_step": 500}])");
+    REQUIRE(forcing_end_step(forced) == 500);
+    const double P = 0.01;
+    for (int n : {N, 2 * N}) {
+      std::vector<StepEnergy> r(n);
+      for (int s = 1; s <= n; ++s)
+        r[s - 1].work_contact = P * s * forced.dt, r[s - 1].work_external = 2.0 * std::min(s, 500) / 500.0,
+        r[s - 1].kinetic = 1e-3;
+      const StabilityJudgement j = judge_stability(forced, r, e0, false);
+      CHECK(j.input_period == Approx(0.5).epsilon(1e-12));
+      CHECK(j.input_power == Approx((e0 + 2.0) / 0.5).epsilon(1e-12));
+      CHECK(j.ratio == Approx(P / ((e0 + 2.0) / 0.5)).epsilon(1e-9));
+    }
   }
   SECTION("a kick before the window that the bodies still move with: injects") {
     for (int s = 1; s <= N; ++s) {

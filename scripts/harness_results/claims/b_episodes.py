@@ -82,10 +82,11 @@ def run_rows(ctx):
 
 def outcome(stab, g):
     """For (a), against (b), or why the run is not judged: not stable, or its nodes went through
-    (an episode closed by tunnelling is not one eliminated)."""
+    while its episodes meet the criteria (an episode closed by tunnelling is not one eliminated, so
+    tunnelling can only make a run pass: one that fails all the same counts against)."""
     if not rules.counts_stable(stab):
         return rules.NOT_STABLE
-    if g.get("tunnelled", 0) > rules.CURRENT.tunnel_limit:
+    if g["holds"] and g.get("tunnelled", 0) > rules.CURRENT.tunnel_limit:
         return rules.TUNNELS
     return "a" if g["holds"] else "b"
 
@@ -99,8 +100,9 @@ def judge(ctx):
           "An episode: a node found truly penetrating on consecutive measured steps (every 10 steps); its length in "
           "steps. Criteria per body: peak penetrating nodes <= %g %% of its nodes, 90th percentile of the episodes "
           "<= %d steps, open (still penetrating at the end) <= %g %% of its episodes. The claim is judged on the "
-          "guest's nodes (the paper's model keeps those out); the host's are shown beside. A run that is not stable, "
-          "or whose nodes tunnelled through over the window (its episodes then close by passage), is not judged "
+          "guest's nodes (the paper's model keeps those out); the host's are shown beside. A run that is not stable "
+          "is not judged; nor is one whose nodes tunnelled through over the window and whose episodes meet the "
+          "criteria (they may have closed by passage); one that tunnelled and fails them counts against "
           "(stability: its class, and the nodes tunnelled over the window when any)." % (
               100 * SEPARATE_MAX_FRACTION, P90_MAX_STEPS, 100 * OPEN_MAX_FRACTION), "",
           "| scenario | elim. | stability | nodes | episodes | median | p90 | open (%) | peak (% of nodes) | holds |",

@@ -37,7 +37,8 @@ def judge(ctx):
                        untested_macros())
     md = head + ["From results/realtime.csv (the machine: two cores; one and two threads). Collision unit: the "
                  "paper's voxel model's detection + elimination at the scene's dt on one thread, against %g µs per "
-                 "step. Simulator: the fastest stable run of a method within %gx of the best exact method's error, "
+                 "step (judged only where that run is evidence: stable, helps, tunnels nothing). Simulator: the fastest "
+                 "run that is evidence of a method within %gx of the best exact method's error, "
                  "real-time factor = dt / median step." % (BUDGET_US, ACCURATE), "",
                  "| scenario | collision unit (µs) | within 1 ms | fastest accurate run | step (µs) | real-time factor | "
                  "error / best exact |", "|---|---:|---|---|---:|---:|---:|"]
@@ -48,7 +49,8 @@ def judge(ctx):
             continue
         paper = [r for r in sr if r["kind"] == "paper" and r["mode"] == "scene dt" and r["threads"] == 1]
         u = paper[0]["t_contact_us"] if paper else math.nan
-        unit.append(("a" if u < BUDGET_US else "b") if paper else rules.MISSING)
+        gap = rules.evidence_gap(paper[0]) if paper else rules.MISSING
+        unit.append(gap or ("a" if u < BUDGET_US else "b"))
         ok = [r for r in sr if rules.is_evidence(r) and not math.isnan(r["error_over_best"])
               and r["error_over_best"] <= ACCURATE and r["realtime_factor"] > 0]
         best = max(ok, key=lambda r: r["realtime_factor"]) if ok else None
@@ -56,7 +58,9 @@ def judge(ctx):
         if best:
             rtf.append(best["realtime_factor"])
         md.append("| %s | %s | %s | %s | %s | %s | %s |" % (
-            scene, "%.3g" % u if paper else "-", ("yes" if u < BUDGET_US else "no") if paper else "-",
+            scene, "%.3g" % u if paper else "-", (("yes" if u < BUDGET_US else "no") + (
+                "" if not gap else " (not judged: the paper's run %s)" % (
+                    paper[0].get("stability") if gap == rules.NOT_STABLE else gap))) if paper else "-",
             "%s, %s, %d thread%s" % (best["method"], best["mode"], best["threads"], "" if best["threads"] == 1 else "s")
             if best else "none stable and accurate", "%.3g" % best["t_step_us"] if best else "-",
             "%.3g" % best["realtime_factor"] if best else "-", "%.3g" % best["error_over_best"] if best else "-"))
