@@ -25,7 +25,7 @@ import os
 from . import rules, writers
 
 VARIANTS = [rules.Variant(rho, marginal, tie, floor, tunnel, minimum, helps, norm)
-            for norm in ("before", "loading") for minimum in (3, 2) for helps in (0.9, 0.8) for tunnel in (0, 10)
+            for norm in ("recorded", "loading") for minimum in (3, 2) for helps in (0.9, 0.8) for tunnel in (0, 10)
             for rho in (1.0, 0.5, 2.0)
             for marginal in ("unstable", "stable") for tie in (0.10, 0.05, 0.0) for floor in ("floor", "richardson", "double")]
 NOT_VARIED = ("the window's length (halved, doubled) and the reference's kind (one-sided against both ways), which "
@@ -92,7 +92,7 @@ def _choices_behind(flips):
                       ("tunnel_limit", lambda x: "up to %d tunnelled nodes" % x),
                       ("min_decisive", lambda x: "%d decisive comparisons suffice" % x),
                       ("helps", lambda x: "helps at %g %%" % (100 * x)),
-                      ("rho_norm", lambda x: "rho over the %s" % {"loading": "loading period"}.get(x, "time before the window"))):
+                      ("rho_norm", lambda x: {"loading": "rho over the loading period"}.get(x, "rho as recorded"))):
         vals = {getattr(v, attr) for v, _ in flips}
         if getattr(d, attr) not in vals:
             parts.append(" or ".join(say(x) for x in sorted(vals, key=str)))

@@ -13,7 +13,8 @@ Definitions:
                 body) window maximum.
   stable        by the run's contact power over the window against the power the scene put in
                 (over its loading period since input_period_s is recorded; the committed studies were run
-                with the power over the whole time before the window: robustness varies it)
+                with the power over the whole time before the window: each run is judged by the rho it
+                recorded, and robustness judges every verdict with rho over the loading period too)
                 (rho, summary.json window.contact_power_ratio; the harness calls a run "injects"
                 above 0.02) with a stated margin of a factor 2 either way: stable when the run
                 settled or chatters with rho <= 0.01; unstable when rho > 0.04, when its kinetic
@@ -98,13 +99,14 @@ class Variant:
     "double": twice the floor)."""
 
     def __init__(self, rho_scale=1.0, marginal="unstable", tie=0.10, floor="floor", tunnel_limit=0, min_decisive=3,
-                 helps=0.9, rho_norm="before"):
+                 helps=0.9, rho_norm="recorded"):
         self.rho_scale, self.marginal, self.tie, self.floor = rho_scale, marginal, tie, floor
         self.tunnel_limit = tunnel_limit  # nodes a run may tunnel over the window and still be evidence
         self.min_decisive = min_decisive  # decisive comparisons a verdict needs (MIN_DECISIVE)
         self.helps = helps                # a run helps at this share of the no-force run's figures (USEFUL)
-        # rho's input power over the time before the window ("before": the committed studies' rule)
-        # or over the loading period ("loading": the harness's since; reader.rho_over, loading_rho)
+        # rho as each run recorded it ("recorded": the committed studies and runs over the time before
+        # the window, runs since over the loading period) or over the loading period for all that
+        # allow it ("loading": reader.rho_over, loading_rho)
         self.rho_norm = rho_norm
 
     def name(self):
@@ -124,7 +126,7 @@ class Variant:
             parts.append("%d decisive comparisons suffice" % self.min_decisive)
         if self.helps != 0.9:
             parts.append("helps at %g %% of no force" % (100 * self.helps))
-        if self.rho_norm != "before":
+        if self.rho_norm == "loading":
             parts.append("rho over the loading period")
         return ", ".join(parts) or "the rule as written"
 
@@ -155,7 +157,7 @@ class using:
 def classify(s):
     """(class, reasons) of one run's summary by the written rule (stable above): "stable",
     "marginal", "unstable" or "failed"."""
-    x = reader.stability_inputs(s, CURRENT.rho_norm)
+    x = reader.stability_inputs(s, None if CURRENT.rho_norm == "recorded" else CURRENT.rho_norm)
     rho, verdict = x["rho"], x["verdict"]
     if x["status"] != "ok":
         if x["status"] == "refused":  # runner.harness: the harness refused the configuration (exit 2)
