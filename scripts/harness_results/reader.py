@@ -205,11 +205,15 @@ def rho_over(s, norm):
         return rho
     dt = num(((s.get("resolved_scene") or {}).get("time") or {}).get("dt"))
     pc, e_in = num(w.get("contact_power_W")), num(w.get("energy_in_J"))
-    forcing, start = num(w.get("forcing_ends_step")), num(w.get("from_step"))
-    if not (present(dt) and present(pc) and present(e_in) and e_in > 0 and present(forcing) and forcing > 0
-            and present(start) and start > forcing and w.get("after_forcing")):
+    forcing, start, steps = num(w.get("forcing_ends_step")), num(w.get("from_step")), num(w.get("steps"))
+    if not (present(dt) and present(pc) and present(e_in) and e_in > 0 and present(forcing) and present(start)
+            and start > 1 and start > forcing and w.get("after_forcing")):
         return rho
-    return pc * (forcing if norm == "loading" else start - 1) * dt / e_in
+    # the loading period: the forcing's steps, or the window's where nothing forces the scene
+    loading = forcing if forcing > 0 else steps
+    if not present(loading):
+        return rho
+    return pc * (loading if norm == "loading" else start - 1) * dt / e_in
 
 
 def stability_inputs(s, norm=None):

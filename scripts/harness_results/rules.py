@@ -220,10 +220,14 @@ def loading_rho(row, rho):
     robustness.NOT_VARIED)."""
     steps = reader.num(row.get("steps"))
     f = forcing_end(row.get("scene") or "")
-    if math.isnan(rho) or not reader.present(steps) or not f:
+    if math.isnan(rho) or not reader.present(steps) or f is None:
         return rho
-    start = max(steps - scene_window(row["scene"]) + 1, f + 1)
-    return rho * f / (start - 1) if steps > f else rho
+    window = scene_window(row["scene"])
+    start = max(steps - window + 1, f + 1)
+    if start <= 1 or steps <= f:
+        return rho
+    # forced: over the loading period f; unforced: over the window (the old rule: start - 1 steps)
+    return rho * (f if f > 0 else min(window, steps)) / (start - 1)
 
 
 def counts_stable(cls):

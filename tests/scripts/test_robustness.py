@@ -97,3 +97,12 @@ def test_rho_over_the_loading_period_by_hand():
     s2 = {"window": dict(w, input_period_s=0.12, contact_power_ratio=0.024), "resolved_scene": s["resolved_scene"]}
     assert reader.rho_over(s2, "loading") == 0.024
     assert abs(reader.rho_over(s2, "before") - 0.33) < 1e-12
+
+
+def test_an_unforced_run_is_taken_over_its_window():
+    # Nothing forces the scene: the new rule takes the energy given at the start over the window
+    # (1000 steps), the old one over the 29000 steps before it.
+    w = {"contact_power_W": 1e-4, "energy_in_J": 1e-3, "forcing_ends_step": 0, "from_step": 29001, "steps": 1000,
+         "after_forcing": True, "contact_power_ratio": 1e-4 * 29000 * 1e-3 / 1e-3}
+    s = {"window": w, "resolved_scene": {"time": {"dt": 1e-3}}}
+    assert abs(reader.rho_over(s, "loading") - 1e-4 * 1000 * 1e-3 / 1e-3) < 1e-15
