@@ -179,6 +179,7 @@ def plot(root, results, labels):
     d = os.path.join(root, "figures")
     os.makedirs(d, exist_ok=True)
     for ext in ("pdf", "png"):
-        fig.savefig(os.path.join(d, "robustness." + ext), dpi=130)
+        fig.savefig(os.path.join(d, "robustness." + ext), dpi=130,
+                    metadata={"CreationDate": None} if ext == "pdf" else None)
     plt.close(fig)
     return os.path.join(d, "robustness.pdf")
