@@ -75,8 +75,9 @@ StabilityJudgement judge_stability(const Scene& sc, const std::vector<StepEnergy
   // window starts after it (not the time before the window: a run settled twice as long would read
   // half the input power); the window's own length where nothing forces the scene (energy given at
   // the start: initial velocities); the time before the window for a run still forced.
-  const bool loaded = j.span.forcing_end > 0 && j.span.forcing_end != INT_MAX && j.span.after_forcing;
-  const double t_in = loaded ? j.span.forcing_end * sc.dt : (j.span.forcing_end == 0 || from <= 1 ? T : (from - 1) * sc.dt);
+  double t_in = T;                                 // nothing forces the scene (or no step before the window)
+  if (j.span.forcing_end > 0 && from > 1)          // forced
+    t_in = j.span.after_forcing && j.span.forcing_end != INT_MAX ? j.span.forcing_end * sc.dt : (from - 1) * sc.dt;
   j.input_period = t_in;
   j.contact_power = (energy[to - 1].work_contact - before.work_contact) / T;
   j.energy_in = initial_energy + std::max(0.0, before.work_external);

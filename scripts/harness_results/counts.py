@@ -26,7 +26,7 @@ after every study, scripts/reproduce.sh before it builds the report.
 
 import os
 
-from . import reader
+from . import reader, rules
 from . import runs as runs_
 
 WORDS = ["zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten", "eleven",
@@ -213,12 +213,12 @@ def best_counts(acc, text):
     """What accuracy costs: the best stable error of each family per scene, the baseline's, times."""
     for scene, tag in SCENE_TAG.items():
         sr = [r for r in acc or [] if r["scene"] == scene]
-        base = next((r for r in sr if r["config"] == "no contact force"), None)
+        base = next((r for r in sr if r["config"] == rules.NO_FORCE), None)
         text("AccNoForce" + tag, mm(base and base.get("pos_err_max_mm")))
         for fam, name in (("voxel", "Voxel"), ("voxel_exact", "VoxelExact"), ("exact", "Exact")):
             dets = ("cgal", "hash") if fam == "exact" else (fam,)
             best = best_of([r for r in sr if r["detector"] in dets and r["stable"] == "yes"
-                            and r["config"] != "no contact force" and reader.present(r.get("pos_err_max_mm"))])
+                            and r["config"] != rules.NO_FORCE and reader.present(r.get("pos_err_max_mm"))])
             text("AccBest%s%s" % (name, tag), None if not sr else mm(best["pos_err_max_mm"]) if best else "--")
             text("AccBest%s%sTime" % (name, tag), None if not sr else num3(best.get("t_contact_us")) if best else "--")
             text("AccBest%s%sMethod" % (name, tag), None if not sr else "--" if not best else

@@ -89,6 +89,14 @@ STABLE, MARGINAL, UNSTABLE, FAILED = "stable", "marginal", "unstable", "failed"
 WITHIN = 1.10
 USEFUL = 0.9
 INCONCLUSIVE = "inconclusive"
+# The accuracy study's baseline configuration: contact detected, never pushed (the run a setting
+# must beat to help).
+NO_FORCE = "no contact force"
+# The claims' relative tie, decisive comparisons a verdict needs, and the share for that separates
+# the verdicts (verdict above).
+TIE = 0.10
+MIN_DECISIVE = 3
+MIXED_SHARE = 0.2
 
 
 class Variant:
@@ -98,8 +106,8 @@ class Variant:
     noise takes ("floor": reader.reference_floor, "richardson": the last level's Richardson estimate,
     "double": twice the floor)."""
 
-    def __init__(self, rho_scale=1.0, marginal="unstable", tie=0.10, floor="floor", tunnel_limit=0, min_decisive=3,
-                 helps=0.9, rho_norm="recorded"):
+    def __init__(self, rho_scale=1.0, marginal="unstable", tie=TIE, floor="floor", tunnel_limit=0,
+                 min_decisive=MIN_DECISIVE, helps=USEFUL, rho_norm="recorded"):
         self.rho_scale, self.marginal, self.tie, self.floor = rho_scale, marginal, tie, floor
         self.tunnel_limit = tunnel_limit  # nodes a run may tunnel over the window and still be evidence
         self.min_decisive = min_decisive  # decisive comparisons a verdict needs (MIN_DECISIVE)
@@ -116,15 +124,15 @@ class Variant:
             parts.append("rho limits x%g" % self.rho_scale)
         if self.marginal != "unstable":
             parts.append("marginal counted %s" % self.marginal)
-        if self.tie != 0.10:
+        if self.tie != TIE:
             parts.append("tie %g %%" % (100 * self.tie))
         if self.floor != "floor":
             parts.append({"richardson": "floor = Richardson estimate", "double": "floor x2"}.get(self.floor, self.floor))
         if self.tunnel_limit:
             parts.append("up to %d tunnelled nodes" % self.tunnel_limit)
-        if self.min_decisive != 3:
+        if self.min_decisive != MIN_DECISIVE:
             parts.append("%d decisive comparisons suffice" % self.min_decisive)
-        if self.helps != 0.9:
+        if self.helps != USEFUL:
             parts.append("helps at %g %% of no force" % (100 * self.helps))
         if self.rho_norm == "loading":
             parts.append("rho over the loading period")
@@ -170,14 +178,22 @@ def classify(s):
         reasons.append("kinetic energy grows over the window (x%.3g)" % x["growth"])
     if x["kicked"]:
         reasons.append("contact kicked the bodies (net work %.3g J still held as motion)" % x["net_contact_work"])
+    if abs(x["balance_error"]) > BALANCE:
+        reasons.append("energy audit open")
+    return judge_power(rho, verdict == "settled", reasons)
+
+
+def judge_power(rho, settled, reasons):
+    """(class, reasons) from the contact's power ratio rho under the current limits, given whether
+    the run settled and its other reasons to be unstable (stable above): unstable with any reason or
+    rho above the band, marginal within the band unless it settled, stable otherwise."""
+    reasons = list(reasons)
     limit = INJECTION_LIMIT * CURRENT.rho_scale
     if not math.isnan(rho) and rho > limit * MARGIN:
         reasons.append("contact power %.3g of the power put in" % rho)
-    if abs(x["balance_error"]) > BALANCE:
-        reasons.append("energy audit open")
     if reasons:
         return UNSTABLE, reasons
-    if verdict != "settled" and not math.isnan(rho) and rho > limit / MARGIN:
+    if not settled and not math.isnan(rho) and rho > limit / MARGIN:
         return MARGINAL, ["contact power %.3g of the power put in (within a factor %g of %g)" % (rho, MARGIN, limit)]
     return STABLE, []
 
@@ -262,19 +278,11 @@ def reclassify_row(row):
                 rho = float(m.group(1))
     if CURRENT.rho_norm == "loading":
         rho = loading_rho(row, rho)
-    limit = INJECTION_LIMIT * CURRENT.rho_scale
     if "settled" in row and str(row.get("settled")) not in ("", "nan"):
         settled = str(row.get("settled")) in ("True", "true", "yes", "1")
     else:  # not recorded: a stable row whose rho lies above the band was settled
         settled = cls == STABLE and not math.isnan(rho) and rho > INJECTION_LIMIT / MARGIN
-    if not math.isnan(rho) and rho > limit * MARGIN:
-        reasons.append("contact power %.3g of the power put in" % rho)
-    if reasons:
-        new = UNSTABLE
-    elif not settled and not math.isnan(rho) and rho > limit / MARGIN:
-        new, reasons = MARGINAL, ["contact power %.3g of the power put in (within a factor %g of %g)" % (rho, MARGIN, limit)]
-    else:
-        new = STABLE
+    new, reasons = judge_power(rho, settled, reasons)
     out["stability"], out["why_unstable"] = new, "; ".join(reasons)
     out["stable"] = "yes" if counts_stable(new) else "no"
     return out
@@ -369,14 +377,11 @@ def nearest_rank(sorted_vals, q):
 
 # ---------------------------------------------------------------------------------------------
 # The claims on equal footing: comparisons beyond the noise, four verdicts
-TIE = 0.10
 WITHIN_NOISE, NOT_STABLE, MISSING = "within noise", "not stable", "missing"
 TUNNELS, NO_HELP = "tunnels", "no better than no force"
 NOT_JUDGED = (NOT_STABLE, MISSING, TUNNELS, NO_HELP)
 SUPPORTED, NOT_SUPPORTED, NOT_TESTED, MIXED = "supported", "not supported", "not tested", "mixed"
 VERDICTS = (SUPPORTED, NOT_SUPPORTED, MIXED, INCONCLUSIVE, NOT_TESTED)
-MIN_DECISIVE = 3
-MIXED_SHARE = 0.2
 
 
 def noise(a, b, key="pos_err_max_mm", floor=0.0, tie=None):

@@ -10,8 +10,7 @@ from .. import reader, rules, runs
 # The scenes of the studies, in the order the claims list them; the exact detectors.
 SCENE_ORDER = ["sphere_collision", "cylinder_press", "implant_expansion"]
 EXACT = ["hash", "cgal", "fcl"]
-# The accuracy study's baseline: contact detected, never pushed.
-NO_FORCE = "no contact force"
+NO_FORCE = rules.NO_FORCE
 
 
 class Verdict:

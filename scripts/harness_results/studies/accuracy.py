@@ -28,7 +28,7 @@ FOOTING_VOXELS = {"sphere_collision": [0.004, 0.008], "cylinder_press": [0.008, 
 FOOTING_FORCES = ["0.0005", "0.001", "0.003", "0.01", "auto"]
 BOTH_WAYS = ["contacts.0.two_sided=true"]
 BOUND = "references.volume=true"
-NO_FORCE = "no contact force"
+NO_FORCE = rules.NO_FORCE
 
 
 def method_configs(a, scene):
