@@ -29,8 +29,9 @@
 Options: --harness PATH (default build/bin/harness), --results DIR (default results),
          --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
          --repeats N (runs per configuration for the timings, default 5),
-         --plots-only (runs nothing: redraws the figures of accuracy, ablation and convergence from
-         accuracy_time.csv, ablation.csv and convergence.csv in --results; the others have none),
+         --plots-only (runs nothing: writes the tables and figures of accuracy, ablation,
+         convergence, orient, swap, region and realtime again from their CSVs in --results, judged
+         under the current rules: helps, useless and the front included; the others have none),
          --cached-only (runs nothing: writes a study's files from the runs already cached in
          results/sweeps/; a configuration not run yet is listed with status "not run").
 Every study ends by rewriting tables/counts.tex (the counts the report quotes).

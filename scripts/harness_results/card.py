@@ -72,8 +72,7 @@ def judge(rows, base):
     """Each row's helps / useless words, and the one-sentence verdict."""
     for r in rows:
         r["helps"] = "yes" if rules.useful(r, base) else "no"
-        words = (["tunnels"] if r["tunnelled_total"] > 0 else []) + ([] if r["helps"] == "yes" else ["no better than no force"])
-        r["useless"] = "; ".join(words)
+        r["useless"] = rules.useless_text(dict(r, tunnelled=r["tunnelled_total"]))  # both bodies' nodes
     good = [r for r in rows if r["stable"] == "yes" and not r["useless"]]
     if not good:
         return ("No method is stable, helps and keeps every node out here: the no-force run ends %.3g mm from the "

@@ -349,11 +349,57 @@ def choose(rows, baseline=None):
     return min(near, key=lambda r: r["t_contact_us"])
 
 
-def pareto(rows, x="t_contact_us", y="pos_err_max_mm"):
-    """The stable rows that no other stable row beats on both x and y (no worse on both, better on one)."""
-    ok = [r for r in rows if r["stable"] == "yes" and not math.isnan(r[x]) and not math.isnan(r[y])]
-    return [r for r in ok if not any(o is not r and o[x] <= r[x] and o[y] <= r[y] and (o[x] < r[x] or o[y] < r[y])
-                                     for o in ok)]
+def helps_word(row, base):
+    """"yes" when the row helps against `base` (useful: the scene's run without contact force),
+    "no" when it does not or is that run itself (config NO_FORCE), "" when there is no base or the
+    row has no position error."""
+    if base is None or not reader.present(row.get("pos_err_max_mm")):
+        return ""
+    if row.get("config") == NO_FORCE:
+        return "no"
+    fig = {k: reader.num(row.get(k), math.nan) for k in ("pos_err_max_mm", "depth_max_mm")}
+    return "yes" if useful(fig, base) else "no"
+
+
+def useless_text(row):
+    """What makes a run useless whatever its stability, as the tables print it beside the stability:
+    TUNNELS (more nodes through the other body than the rule allows, its `tunnelled` column) and
+    NO_HELP (its `helps` column is "no"), joined by "; "; "" when neither is known to hold."""
+    words = []
+    if reader.num(row.get("tunnelled"), 0.0) > CURRENT.tunnel_limit:
+        words.append(TUNNELS)
+    if row.get("helps") == "no":
+        words.append(NO_HELP)
+    return "; ".join(words)
+
+
+def mark_useless(rows, bases):
+    """Give every row its `helps` (helps_word against bases[its scene]) and `useless` (useless_text)
+    columns; a run without contact force (config NO_FORCE, or force "F=0": detection alone) reads
+    "baseline" (it is what helping is judged against). `bases`: {scene: {pos_err_max_mm,
+    depth_max_mm}}. Returns rows."""
+    for r in rows:
+        if r.get("config") == NO_FORCE or r.get("force") == "F=0":
+            r["helps"], r["useless"] = "", "baseline"
+            continue
+        r["helps"] = helps_word(r, bases.get(r.get("scene")))
+        r["useless"] = useless_text(r)
+    return rows
+
+
+def pareto(rows, floor=0.0, x="t_contact", y="pos_err_max_mm"):
+    """The front of error (`y`) against time (`x`_us, with `x`_min_us / `x`_max_us the range over
+    repeats) over the rows that are evidence (is_evidence: stable, nothing tunnelled beyond the
+    limit, not "no better than no force"). A row is beaten by another that is no worse on both
+    axes and better beyond the noise on one: error by decide (the noise: relative tie, the two
+    chatters, the reference's `floor` in mm), time by time_decide (medians apart and ranges
+    disjoint). Rows within the noise of each other on both axes stay on the front together."""
+    ok = [r for r in rows if is_evidence(r) and reader.present(r.get(x + "_us")) and reader.present(r.get(y))]
+
+    def beats(o, r):
+        e, t = decide(o, r, y, floor), time_decide(o, r, x)
+        return e in ("a", WITHIN_NOISE) and t in ("a", WITHIN_NOISE) and "a" in (e, t)
+    return [r for r in ok if not any(o is not r and beats(o, r) for o in ok)]
 
 
 # ---------------------------------------------------------------------------------------------

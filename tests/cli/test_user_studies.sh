@@ -37,6 +37,10 @@ assert list(json.load(open(sys.argv[1] + "/defaults.json"))) == ["my_press"]
 for name in ["convergence", "refinement", "realtime", "swap"]:
     rows = list(csv.DictReader(open("%s/%s.csv" % (sys.argv[1], name))))
     assert rows and {r["scene"] for r in rows} == {"my_press"}, name
+# useless beside stable, and a front of the evidence only (no stable run that tunnels or does not help)
+assert all(r["useless"] == "baseline" for r in acc if r["config"] == "no contact force")
+assert all(r["stable"] == "yes" and r["useless"] == "" for r in acc if r["front"] == "yes"), acc
+assert all("useless" in r and "helps" in r for r in abl)
 rt = list(csv.DictReader(open(sys.argv[1] + "/realtime.csv")))
 assert {r["method"] for r in rt if r["kind"] == "exact"} == {"cgal both ways, penalty"}  # set in full, not the scene's own
 swap = list(csv.DictReader(open(sys.argv[1] + "/swap.csv")))

@@ -156,13 +156,15 @@ def test_choose_when_no_tied_row_has_a_gap():
 
 
 # ---------------------------------------------------------------------------------------------
-# The Pareto front of error against time over the stable rows
-def point(name, t, err, stable="yes"):
-    return {"name": name, "t_contact_us": t, "pos_err_max_mm": err, "stable": stable}
+# The Pareto front of error against time over the evidence, with ties within the noise
+def point(name, t, err, stable="yes", lo=None, hi=None, tunnelled=0, helps="yes", amp=0.0):
+    return {"name": name, "t_contact_us": t, "t_contact_min_us": t if lo is None else lo,
+            "t_contact_max_us": t if hi is None else hi, "pos_err_max_mm": err, "pos_err_amp_mm": amp,
+            "stable": stable, "tunnelled": tunnelled, "helps": helps}
 
 
-def front(rows):
-    return sorted(r["name"] for r in rules.pareto(rows))
+def front(rows, floor=0.0):
+    return sorted(r["name"] for r in rules.pareto(rows, floor=floor))
 
 
 def test_pareto_front():
@@ -178,10 +180,52 @@ def test_pareto_ties_and_dominance_on_one_axis():
     assert front(rows) == ["a", "a2"]
 
 
-def test_pareto_only_stable_and_measured():
+def test_pareto_only_evidence_and_measured():
     rows = [point("unstable", 0.1, 0.1, stable="no"), point("nan", NAN, 0.1), point("nan err", 0.1, NAN),
-            point("a", 1.0, 1.0)]
+            point("tunnels", 0.1, 0.1, tunnelled=1), point("no help", 0.1, 0.1, helps="no"), point("a", 1.0, 1.0)]
     assert front(rows) == ["a"]
+    with rules.using(rules.Variant(tunnel_limit=10)):  # a tunnel allowance lets the tunnelling run in
+        assert front(rows) == ["tunnels"]
+
+
+def test_pareto_errors_within_the_noise_are_equal():
+    # 1.05 and 1.00 differ by less than 10 %: the faster one beats the slower, though its error is larger
+    rows = [point("fast", 1.0, 1.05), point("slow", 2.0, 1.00)]
+    assert front(rows) == ["fast"]
+    with rules.using(rules.Variant(tie=0.0)):  # strict: both stay
+        assert front(rows) == ["fast", "slow"]
+    # the reference's floor makes a difference beyond the relative tie equal too
+    rows = [point("fast", 1.0, 0.30), point("slow", 2.0, 0.10)]
+    assert front(rows) == ["fast", "slow"]
+    assert front(rows, floor=0.25) == ["fast"]
+    # so do the two runs' chatters
+    rows = [point("fast", 1.0, 0.30, amp=0.1), point("slow", 2.0, 0.10, amp=0.15)]
+    assert front(rows) == ["fast"]
+
+
+def test_pareto_times_within_their_ranges_are_equal():
+    # medians 1 and 2 but overlapping ranges: equal in time, so the more accurate one beats the other
+    rows = [point("fast", 1.0, 3.0, lo=0.5, hi=2.5), point("accurate", 2.0, 1.0, lo=1.5, hi=3.0)]
+    assert front(rows) == ["accurate"]
+    # equal on both axes within the noise: both stay
+    rows = [point("a", 1.0, 1.00, lo=0.5, hi=2.5), point("b", 2.0, 1.05, lo=1.5, hi=3.0)]
+    assert front(rows) == ["a", "b"]
+
+
+def test_useless_words_and_marks():
+    base = {"pos_err_max_mm": 10.0, "depth_max_mm": 5.0}
+    rows = [{"scene": "s", "config": "m", "pos_err_max_mm": 8.0, "depth_max_mm": 5.0, "tunnelled": 0},
+            {"scene": "s", "config": "m", "pos_err_max_mm": 9.5, "depth_max_mm": 5.0, "tunnelled": 0},
+            {"scene": "s", "config": "m", "pos_err_max_mm": 9.5, "depth_max_mm": 5.0, "tunnelled": 3},
+            {"scene": "s", "config": "m", "pos_err_max_mm": 1.0, "depth_max_mm": 1.0, "tunnelled": 1},
+            {"scene": "s", "config": rules.NO_FORCE, "pos_err_max_mm": 10.0, "depth_max_mm": 5.0, "tunnelled": 0},
+            {"scene": "other", "config": "m", "pos_err_max_mm": 1.0, "depth_max_mm": 1.0, "tunnelled": 0}]
+    rules.mark_useless(rows, {"s": base})
+    assert [r["helps"] for r in rows] == ["yes", "no", "no", "yes", "", ""]
+    assert [r["useless"] for r in rows] == ["", rules.NO_HELP, rules.TUNNELS + "; " + rules.NO_HELP, rules.TUNNELS,
+                                            "baseline", ""]
+    with rules.using(rules.Variant(tunnel_limit=10)):
+        assert rules.useless_text(rows[3]) == ""
 
 
 def test_median_and_nearest_rank():

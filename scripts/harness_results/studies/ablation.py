@@ -13,7 +13,7 @@ from .. import rules, runner, style, writers
 from ..rules import USEFUL
 from .accuracy import FOOTING_VOXELS
 from .common import (PARETO_CAP_MM, PENALTY, combine, config_sets, figure_path, figures, footing_voxels, force_label,
-                     paper_eliminator, read_rows, scenes, table_path)
+                     mark_useless, no_force_bases, paper_eliminator, read_rows, scenes, table_path)
 
 ABLATION_VOXELS = [0.004, 0.008, 0.016, 0.032]
 CONSTANT_FORCES = ["0.0005", "0.001", "0.003", "0.01", "0.03", "0.1"]
@@ -47,32 +47,44 @@ def run(a):
     for scene, v, f, i, n in index:
         rows.append(dict(combine(sums[i:i + n]), scene=scene, voxel_mm=1e3 * v, force=force_label(f),
                          eliminator=paper_eliminator(a, scene)))
+    write(a, rows, baseline)
+
+
+COLUMNS = ["scene", "eliminator", "voxel_mm", "force", "stable", "why_unstable", "settled", "pos_err_max_mm",
+           "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "contact_power_ratio", "stability",
+           "t_contact_us", "t_contact_range", "recall", "precision", "helps", "useless"]
+
+
+def write(a, rows, baseline):
+    """ablation.csv, tables/ablation.md, tables/ablation_defaults.tex, defaults.json and the heat
+    maps from the study's rows; `baseline`: {scene: its run without contact force}, what helps and
+    useless (common.mark_useless) and the default (rules.choose) are judged against."""
+    mark_useless(a, rows, baseline)
     md = ["# Ablation: force rule and magnitude by voxel size (the voxel model)\n\n",
           "The paper's voxel model with its eliminator for the scenario; constant force F (N per contact), "
           "`auto`, and the depth penalty k (N/m), by voxel size. Errors against the reference (mm) and "
-          "stability as in `accuracy_time.md`; time: the median step of one run (the accuracy study has the "
+          "stability as in `accuracy_time.md`; useless (whatever the stability): tunnels, or no better than "
+          "no force; time: the median step of one run (the accuracy study has the "
           "medians of several). Made by `scripts/study.py ablation`.\n"]
     reasons = ["% The voxel model's defaults chosen by the rule (made by scripts/study.py)\n"]
     chosen = {}
     for scene in scenes(a):
         sr = [r for r in rows if r["scene"] == scene]
         footing = min(footing_voxels(a, scene, FOOTING_VOXELS)) * 1e3 - 1e-9  # the default: on equal footing only
-        best = chosen[scene] = rules.choose([r for r in sr if r["voxel_mm"] >= footing], baseline[scene])
+        best = chosen[scene] = rules.choose([r for r in sr if r["voxel_mm"] >= footing], baseline.get(scene))
         md.append("\n## %s (%s)\n\n" % (scene, paper_eliminator(a, scene)))
-        md.append(writers.md_table(sr, ["voxel_mm", "force", "stable", "pos_err_max_mm", "gap_max_mm", "depth_max_mm",
-                                        "contact_power_ratio", "t_contact_us", "why_unstable"],
-                                   ["voxel (mm)", "force", "stable", "pos. error max (mm)", "gap max (mm)",
-                                    "depth max (mm)", "contact work / energy in", "detect+elim (µs)", "why unstable"]))
-        text = default_text(scene, sr, best, baseline[scene])
+        md.append(writers.md_table(sr, ["voxel_mm", "force", "stable", "useless", "pos_err_max_mm", "gap_max_mm",
+                                        "depth_max_mm", "tunnelled", "contact_power_ratio", "t_contact_us",
+                                        "why_unstable"],
+                                   ["voxel (mm)", "force", "stable", "useless", "pos. error max (mm)", "gap max (mm)",
+                                    "depth max (mm)", "tunnelled", "contact work / energy in", "detect+elim (µs)",
+                                    "why unstable"]))
+        text = default_text(scene, sr, best, baseline.get(scene))
         md.append("\n" + text + "\n")
         reasons.append("\\paragraph{Default of \\code{%s}.} %s\n" % (writers.tex_escape(scene),
                                                                       writers.tex_escape(text)))
         plot_ablation(a, scene, sr)
-    writers.write_csv(os.path.join(a.results, "ablation.csv"), rows,
-                      ["scene", "eliminator", "voxel_mm", "force", "stable", "why_unstable", "settled", "pos_err_max_mm",
-                       "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "contact_power_ratio", "stability",
-                       "t_contact_us",
-                       "t_contact_range", "recall", "precision"])
+    writers.write_csv(os.path.join(a.results, "ablation.csv"), rows, COLUMNS)
     with open(table_path(a, "ablation.md"), "w") as f:
         f.write("".join(md))
     with open(table_path(a, "ablation_defaults.tex"), "w") as f:
@@ -85,6 +97,9 @@ def run(a):
 
 
 def default_text(scene, rows, best, base):
+    if base is None:
+        return ("No run without contact force for this scenario (the accuracy study's): the default is not "
+                "judged against doing nothing.")
     stable = [r for r in rows if r["stable"] == "yes"]
     good = [r for r in stable if rules.useful(r, base)]
     out = ("Rule: among the stable settings with voxels at or above the host's node spacing that help (a position "
@@ -131,7 +146,7 @@ def plot_ablation(a, scene, rows):
 
 
 def plots(a):
-    """The heat maps again from ablation.csv (nothing is run)."""
-    rows = read_rows(a, "ablation.csv")
-    for scene in scenes(a):
-        plot_ablation(a, scene, [r for r in rows if r["scene"] == scene])
+    """The tables, defaults and heat maps again from ablation.csv (nothing is run), against the
+    accuracy study's runs without contact force (the same trajectory as the ablation's own: force 0
+    pushes nothing whatever the voxel or eliminator)."""
+    write(a, read_rows(a, "ablation.csv"), no_force_bases(a))

@@ -15,7 +15,7 @@ from .. import reader, rules, runner, style, writers
 from ..rules import INJECTION_LIMIT, MARGIN
 from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
 from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, combine, config_sets, figure_path, folder_name,
-                     footing_voxels, force_label, read_rows, scenes, table_path)
+                     footing_voxels, force_label, read_rows, reference_floor_mm, scenes, table_path)
 
 # The equal-footing comparison: the paper's voxel model with voxels at or above the host's node
 # spacing (host mean surface edge: sphere 3.0 mm, layer 5.7 mm, implant 6.1 mm; the smallest power
@@ -29,6 +29,7 @@ FOOTING_FORCES = ["0.0005", "0.001", "0.003", "0.01", "auto"]
 BOTH_WAYS = ["contacts.0.two_sided=true"]
 BOUND = "references.volume=true"
 NO_FORCE = rules.NO_FORCE
+USELESS_FILL = "0.8"  # the fill of a stable run that tunnels or is no better than no force
 
 
 def method_configs(a, scene):
@@ -91,14 +92,27 @@ def run(a):
                          voxel_mm=1e3 * voxel if voxel else float("nan"),
                          two_sided="yes" if BOTH_WAYS[0] in extra else "no",
                          t_bound_us=bound_time_us(jobs[i][1]) if BOUND in extra else float("nan")))
-    cols = ["scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "steps",
-            "pos_err_max_mm", "pos_err_max_max_mm", "pos_err_amp_mm", "pos_err_final_mm", "pos_err_rms_mm", "gap_max_mm",
-            "gap_mean_mm", "depth_max_mm", "depth_peak_mm", "tunnelled", "tunnelled_peak", "stability", "verdict",
-            "contact_power_ratio", "recall", "precision", "recall_host", "precision_host", "beyond_band_total",
-            "t_contact_us", "t_contact_range", "t_contact_min_us", "t_contact_max_us", "t_step_us", "t_step_min_us",
-            "t_step_max_us", "t_bound_us", "voxel_mm", "two_sided", "repeats"]
+    write(a, rows)
+
+
+COLUMNS = ["scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "steps",
+           "pos_err_max_mm", "pos_err_max_max_mm", "pos_err_amp_mm", "pos_err_final_mm", "pos_err_rms_mm", "gap_max_mm",
+           "gap_mean_mm", "depth_max_mm", "depth_peak_mm", "tunnelled", "tunnelled_peak", "stability", "verdict",
+           "contact_power_ratio", "recall", "precision", "recall_host", "precision_host", "beyond_band_total",
+           "t_contact_us", "t_contact_range", "t_contact_min_us", "t_contact_max_us", "t_step_us", "t_step_min_us",
+           "t_step_max_us", "t_bound_us", "voxel_mm", "two_sided", "repeats", "helps", "useless", "front"]
+
+
+def write(a, rows):
+    """accuracy_time.csv, tables/accuracy_time.md, tables/accuracy_time_front.tex and the Pareto
+    figures from the study's rows: each row marked helps / useless against its scene's run without
+    contact force (rules.mark_useless) and on the front or not (rules.pareto over the evidence, with
+    the scene's reference floor in the noise)."""
+    bases = {r["scene"]: r for r in rows if r["config"] == NO_FORCE}
+    rules.mark_useless(rows, bases)
     for r in rows:
         r["front"] = ""
+    repeats = int(max(reader.num(r.get("repeats"), a.repeats) for r in rows)) if rows else a.repeats
     md = ["# What accuracy costs in time\n\n",
           "Every method on every scenario, judged by its error against the scenario's reference solution "
           "(`references/`) over the run's final window (`time.window` steps after every driver and "
@@ -109,26 +123,34 @@ def run(a):
           "median of %d runs (range over them). Stability (scripts/study.py docstring): the contact's power "
           "over the window against the power put in, rho, with a margin of a factor %g around %g: stable "
           "(settled, or chatters with rho <= %g), marginal, unstable; chatter: the window's max - min of "
-          "the position error; tunnelled: nodes through the other body, window maximum. The Pareto front (error "
-          "against time) "
-          "is drawn from the stable rows only; every row is listed with its rho and reason. Made by "
+          "the position error; tunnelled: nodes through the other body, window maximum. Useless, whatever "
+          "the stability: \"%s\" (more than %d nodes through the other body) or \"%s\" (position error "
+          "not at least %g %% below the run without contact force's, nor depth %g %% below it at no larger "
+          "error). The Pareto front (error against time) is drawn from the evidence only: stable and not "
+          "useless. A row is off it when another is no worse on both and better beyond the noise on one "
+          "(error: the larger of %g %% of it, the two chatters summed and the reference's floor; time: the "
+          "medians apart and the ranges over the runs disjoint); rows within the noise of each other on both "
+          "stay on it together. Every row is listed with its rho and reason. Made by "
           "`scripts/study.py accuracy`.\n"
-          % (STUDY_EVERY, a.repeats, MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN)]
+          % (STUDY_EVERY, repeats, MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN, rules.TUNNELS,
+             rules.CURRENT.tunnel_limit, rules.NO_HELP, 100 * (1 - rules.USEFUL), 100 * (1 - rules.USEFUL),
+             100 * rules.CURRENT.tie)]
     for scene in scenes(a):
         sr = [r for r in rows if r["scene"] == scene]
-        front = rules.pareto([r for r in sr if r["config"] != NO_FORCE])
+        front = rules.pareto([r for r in sr if r["config"] != NO_FORCE], floor=reference_floor_mm(a, scene))
         for r in front:
             r["front"] = "yes"
-        md.append("\n## %s\n\n" % scene)
-        md.append(writers.md_table(sorted(sr, key=lambda r: (r["stable"] != "yes", r["pos_err_max_mm"])),
-                                   ["config", "eliminator", "force", "stability", "pos_err_max_mm", "pos_err_amp_mm",
-                                    "gap_max_mm", "depth_max_mm", "tunnelled", "t_contact_us", "t_contact_range",
-                                    "front", "why_unstable"],
-                                   ["method", "elim.", "force", "stability", "pos. error max (mm)", "chatter (mm)",
-                                    "gap max (mm)", "depth max (mm)", "tunnelled", "detect+elim (µs/step)", "range",
-                                    "front", "why unstable"]))
+        md.append("\n## %s\n\n%s\n\n" % (scene, front_text(sr, front, reference_floor_mm(a, scene))))
+        md.append(writers.md_table(sorted(sr, key=lambda r: (r["stable"] != "yes", bool(r["useless"]),
+                                                            r["pos_err_max_mm"])),
+                                   ["config", "eliminator", "force", "stability", "useless", "pos_err_max_mm",
+                                    "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "t_contact_us",
+                                    "t_contact_range", "front", "why_unstable"],
+                                   ["method", "elim.", "force", "stability", "useless", "pos. error max (mm)",
+                                    "chatter (mm)", "gap max (mm)", "depth max (mm)", "tunnelled",
+                                    "detect+elim (µs/step)", "range", "front", "why unstable"]))
         plot_pareto(a, scene, sr, front)
-    writers.write_csv(os.path.join(a.results, "accuracy_time.csv"), rows, cols + ["front"])
+    writers.write_csv(os.path.join(a.results, "accuracy_time.csv"), rows, COLUMNS)
     with open(table_path(a, "accuracy_time.md"), "w") as f:
         f.write("".join(md))
     fr = [dict(r, scene=r["scene"].replace("_", " ")) for r in rows if r["front"] == "yes"]
@@ -136,14 +158,30 @@ def run(a):
         f.write(writers.tex_table(fr, ["scene", "config", "eliminator", "force", "pos_err_max_mm", "gap_max_mm",
                                        "t_contact_us", "t_contact_range"],
                                   ["scenario", "method", "elim.", "force", "pos. err. (mm)", "gap (mm)",
-                                   "detect+elim ($\\mu$s)", "range (%d runs)" % a.repeats],
-                                  "Pareto front of error against time"))
+                                   "detect+elim ($\\mu$s)", "range (%d runs)" % repeats],
+                                  "Pareto front of error against time (evidence only; ties within the noise kept)"))
+
+
+def front_text(rows, front, floor):
+    """One scene's front in words: its size, the rows it is drawn from, and how it changes when up to
+    10 tunnelled nodes are allowed (the robustness study's variant) or when ties are strict."""
+    runs = [r for r in rows if r["config"] != NO_FORCE]
+    stable = [r for r in runs if r["stable"] == "yes"]
+    useless = [r for r in stable if r["useless"]]
+    with rules.using(rules.Variant(tunnel_limit=10)):
+        loose = rules.pareto(runs, floor=floor)
+    with rules.using(rules.Variant(tie=0.0)):
+        strict = rules.pareto(runs, floor=0.0)
+    return ("Front: %d points, from %d stable runs of %d less the %d useless ones (reference floor %.3g mm). "
+            "Allowing up to 10 tunnelled nodes it would have %d points; with no tie and no floor (chatter "
+            "still counts) %d." % (len(front), len(stable), len(runs), len(useless), floor, len(loose), len(strict)))
 
 
 def plot_pareto(a, scene, rows, front):
     """Error against time, one marker per configuration (colour: detector, shape: eliminator,
-    hollow: unstable); the front of the stable ones as a staircase with its points numbered
-    1, 2, ... by time and named in the key beside the axes. Printed at the text width."""
+    hollow: unstable, grey fill and a cross: stable but useless, i.e. tunnels or no better than no
+    force: drawn apart, never a point of the front); the front of the evidence as a staircase with its points
+    numbered 1, 2, ... by time and named in the key beside the axes. Printed at the text width."""
     from matplotlib.lines import Line2D
     plt = style.pyplot()
     fig = plt.figure(figsize=(style.TEXT, 2.9), layout="constrained")
@@ -162,12 +200,15 @@ def plot_pareto(a, scene, rows, front):
     for r in shown:
         x, y = xy(r)
         ok = r["stable"] == "yes"
+        fill = (USELESS_FILL if r.get("useless") else DETECTOR_COLOUR.get(r["detector"], "gray")) if ok else "none"
         capped = r["pos_err_max_mm"] > PARETO_CAP_MM
         off += capped
         c = DETECTOR_COLOUR.get(r["detector"], "gray")
         ax.scatter(x, y, marker=ELIMINATOR_MARKER.get(r["eliminator"], "D"), s=26 if r in front else 14,
-                   facecolor=c if ok else "none", edgecolor="k" if r in front else c, linewidth=0.7,
+                   facecolor=fill, edgecolor="k" if r in front else c, linewidth=0.7,
                    zorder=4 if r in front else 3, clip_on=False)
+        if ok and r.get("useless"):  # marked apart: never a point of the front
+            ax.scatter(x, y, marker="x", s=10, color="k", linewidth=0.6, zorder=5, clip_on=False)
         if capped:
             ax.annotate("", xy=(x, y), xytext=(0, -9), textcoords="offset points", zorder=2,
                         arrowprops=dict(arrowstyle="->", lw=0.6, color=c, shrinkA=0, shrinkB=3))
@@ -192,9 +233,12 @@ def plot_pareto(a, scene, rows, front):
     col1 = [Line2D([], [], ls="none", marker="o", ms=5, mfc=DETECTOR_COLOUR.get(d, "gray"), mec="none", label=d)
             for d in sorted({r["detector"] for r in rows})]
     col1.append(Line2D([], [], ls="none", marker="o", ms=5, mfc="none", mec="0.3", label="unstable (hollow)"))
+    if any(r["stable"] == "yes" and r.get("useless") for r in rows):
+        col1.append(Line2D([], [], ls="none", marker="x", ms=4, mew=0.8, color="k",
+                           label="stable but useless"))
     col2 = [Line2D([], [], ls="none", marker=ELIMINATOR_MARKER[e], ms=5, mfc="0.5", mec="none", label=e)
             for e in ELIMINATOR_MARKER if any(r["eliminator"] == e for r in rows)]
-    col2.append(Line2D([], [], color="k", lw=0.7, marker="o", ms=5, mfc="0.5", mec="k", label="front (stable)"))
+    col2.append(Line2D([], [], color="k", lw=0.7, marker="o", ms=5, mfc="0.5", mec="k", label="front (evidence)"))
     if base:
         col2.append(Line2D([], [], color="0.45", lw=0.7, ls=":", label="no contact force"))
     if off:
@@ -224,8 +268,6 @@ def plot_pareto(a, scene, rows, front):
 
 
 def plots(a):
-    """The Pareto figures again from accuracy_time.csv (nothing is run)."""
-    rows = read_rows(a, "accuracy_time.csv")
-    for scene in scenes(a):
-        sr = [r for r in rows if r["scene"] == scene]
-        plot_pareto(a, scene, sr, [r for r in sr if r["front"] == "yes"])
+    """The tables and Pareto figures again from accuracy_time.csv (nothing is run): helps, useless
+    and the front judged again under the current rules."""
+    write(a, read_rows(a, "accuracy_time.csv"))

@@ -97,6 +97,27 @@ def reference_dir(a, scene):
     return user["reference"] if user and scene == user["name"] else os.path.join(a.results, "references", scene)
 
 
+def reference_floor_mm(a, scene):
+    """The floor (mm) of the scene's reference (reader.reference_floor; reference_dir); 0 without one."""
+    path = reference_dir(a, scene)
+    if not reader.has_summary(path):
+        return 0.0
+    return 1e3 * reader.reference_floor(reader.load_summary(path))[0]
+
+
+def no_force_bases(a):
+    """{scene: its run without contact force} (the accuracy study's NO_FORCE rows in --results'
+    accuracy_time.csv: what "helps" is judged against); {} without the file."""
+    rows = reader.read_csv(os.path.join(a.results, "accuracy_time.csv"), text=reader.STUDY_TEXT, missing=[])
+    return {r["scene"]: r for r in rows if r.get("config") == rules.NO_FORCE}
+
+
+def mark_useless(a, rows, bases=None):
+    """rules.mark_useless against `bases`, by default the scenes' runs without contact force
+    (no_force_bases): every row gets its helps and useless columns. Returns rows."""
+    return rules.mark_useless(rows, no_force_bases(a) if bases is None else bases)
+
+
 def force_label(f):
     """A force setting as the tables name it: auto, k=<stiffness> (penalty), F=<newtons> (constant)."""
     if f == "auto":

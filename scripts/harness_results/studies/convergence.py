@@ -7,7 +7,7 @@ import os
 
 from .. import reader, runner, style, writers
 from .common import (PENALTY, config_sets, paper_eliminator, scenes, figure_path, figures, force_label,
-                     force_setting, read_rows, table_path)
+                     force_setting, mark_useless, read_rows, table_path)
 
 CONVERGENCE_VOXELS = [0.032, 0.016, 0.008, 0.004, 0.002]
 CONVERGENCE_VOXELS_MM = [1e3 * v for v in CONVERGENCE_VOXELS]
@@ -61,16 +61,27 @@ def run(a):
     sums = runner.run_all(a, jobs)
     for scene, v, f, i in index:
         rows.append(dict(figures(sums[i]), scene=scene, voxel_mm=1e3 * v, force=f))
-    cols = ["scene", "voxel_mm", "force", "stable", "stability", "pos_err_max_mm", "pos_err_amp_mm", "pos_err_rms_mm",
-            "gap_max_mm", "depth_max_mm", "tunnelled", "recall", "t_contact_us", "why_unstable"]
-    writers.write_csv(os.path.join(a.results, "convergence.csv"), rows, cols)
+    write(a, rows)
+
+
+COLUMNS = ["scene", "voxel_mm", "force", "stable", "stability", "useless", "pos_err_max_mm", "pos_err_amp_mm",
+           "pos_err_rms_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "recall", "t_contact_us", "why_unstable", "helps"]
+
+
+def write(a, rows):
+    """convergence.csv, tables/convergence.md and the figure from the study's rows (helps and
+    useless: common.mark_useless)."""
+    mark_useless(a, rows)
+    writers.write_csv(os.path.join(a.results, "convergence.csv"), rows, COLUMNS)
     plot_convergence(a, rows)
+    cols = COLUMNS[:-1]
     with open(table_path(a, "convergence.md"), "w") as f:
         f.write("# Convergence as the grid refines\n\nThe voxel model with each scenario's default force rule "
                 "(`defaults.json`) and its eliminator; voxel size halved from 32 to 2 mm. Errors against the "
-                "reference, mm. Made by `scripts/study.py convergence`.\n\n" + writers.md_table(rows, cols, cols))
+                "reference, mm; useless (whatever the stability): tunnels, or no better than no force. Made by "
+                "`scripts/study.py convergence`.\n\n" + writers.md_table(rows, cols, cols))
 
 
 def plots(a):
-    """The figure again from convergence.csv (nothing is run)."""
-    plot_convergence(a, read_rows(a, "convergence.csv"))
+    """The table and figure again from convergence.csv (nothing is run): helps and useless judged again."""
+    write(a, read_rows(a, "convergence.csv"))

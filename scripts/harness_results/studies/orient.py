@@ -7,7 +7,7 @@ tables/orient.md (the verdict is in claims.md).
 import os
 
 from .. import reader, runner, writers
-from .common import config_sets, figures, force_label, table_path
+from .common import config_sets, figures, force_label, mark_useless, read_rows, table_path
 
 ORIENT_SCENE = "implant_expansion"
 # The equal-footing grid (accuracy.FOOTING_VOXELS: voxels at and above the host's node spacing).
@@ -27,21 +27,34 @@ def run(a):
     for (force, voxel, elim, o), s in runner.run_configs(a, configs):
         rows.append(dict(figures(s), scene=ORIENT_SCENE, eliminator=elim, orient=o, force=force_label(force),
                          voxel_mm=1e3 * voxel, max_depth_peak_mm=reader.pair_figures(s)["max_depth_peak_mm"]))
-    cols = ["scene", "eliminator", "orient", "force", "voxel_mm", "stable", "stability", "why_unstable", "pos_err_max_mm",
-            "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "tunnelled", "true_pen_final", "recall",
-            "t_contact_us"]
-    writers.write_csv(os.path.join(a.results, "orient.csv"), rows, cols)
+    write(a, rows)
+
+
+COLUMNS = ["scene", "eliminator", "orient", "force", "voxel_mm", "stable", "stability", "why_unstable", "pos_err_max_mm",
+           "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "tunnelled", "true_pen_final", "recall",
+           "t_contact_us", "helps", "useless"]
+
+
+def write(a, rows):
+    """orient.csv and tables/orient.md from the study's rows (helps and useless: common.mark_useless)."""
+    mark_useless(a, rows)
+    writers.write_csv(os.path.join(a.results, "orient.csv"), rows, COLUMNS)
     md = ["# Claim (a) without its confound: line and plane, each oriented both ways\n\n",
           "The voxel model on %s: line and plane with `orient` `guest` (pushed from the host node, or the plane, "
           "toward the guest node: the paper's line) and `outward` (agreeing with the host's outward normals: the "
           "paper's plane), over forces %s and voxels %s mm, against the converged reference (errors over the "
-          "final window, mm: rules.py). "
+          "final window, mm: rules.py); useless (whatever the stability): tunnels, or no better than no force. "
           "Made by `scripts/study.py orient`; the verdict is in claims.md.\n\n" % (
               ORIENT_SCENE, ", ".join(force_label(f) for f in ORIENT_FORCES), ", ".join("%g" % (1e3 * v) for v in ORIENT_VOXELS)),
-          writers.md_table(rows, ["force", "voxel_mm", "eliminator", "orient", "stable", "pos_err_max_mm",
+          writers.md_table(rows, ["force", "voxel_mm", "eliminator", "orient", "stable", "useless", "pos_err_max_mm",
                                   "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "t_contact_us",
                                   "why_unstable"],
-                           ["force", "voxel (mm)", "elim.", "orient", "stable", "pos. error (mm)", "gap (mm)",
+                           ["force", "voxel (mm)", "elim.", "orient", "stable", "useless", "pos. error (mm)", "gap (mm)",
                             "depth (mm)", "peak depth (mm)", "pen. final", "detect+elim (µs)", "why unstable"])]
     with open(table_path(a, "orient.md"), "w") as f:
         f.write("".join(md))
+
+
+def plots(a):
+    """orient.csv and its table again from the CSV (nothing is run): helps and useless judged again."""
+    write(a, read_rows(a, "orient.csv"))

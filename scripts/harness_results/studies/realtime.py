@@ -18,7 +18,8 @@ import os
 import shlex
 
 from .. import reader, runner, writers
-from .common import PENALTY, STUDY_EVERY, figures, reference_dir, scene_arg, scene_doc, scenes, table_path
+from .common import (PENALTY, STUDY_EVERY, figures, mark_useless, reference_dir, scene_arg, scene_doc, scenes,
+                     table_path)
 
 HAPTIC_BUDGET_US = 1000.0
 # (label, kind, --set overrides): kind "exact" (an exact detector), "completed" (voxel_exact), "paper".
@@ -198,17 +199,20 @@ def plots(a):
 
 COLS = ["scene", "method", "kind", "mode", "threads", "dt", "integrator", "substeps_max", "t_step_us", "t_contact_us",
         "contact_budget_share", "realtime_factor", "pos_err_max_mm", "tunnelled", "best_exact_mm", "error_over_best",
-        "stability", "status", "steps", "overrides", "device", "t_step_mean_us", "t_step_p99_us", "t_step_max_us",
+        "stability", "useless", "status", "steps", "overrides", "device", "t_step_mean_us", "t_step_p99_us", "t_step_max_us",
         "budget_us", "realtime_factor_mean", "realtime_factor_p99", "machine", "cpu_twin_pos_err_max_mm",
         "cpu_twin_error_over_best", "cpu_twin_stability", "cpu_twin_steps"]
 
 
 def write_outputs(a, rows):
+    """realtime.csv, tables/realtime.md and tables/realtime.tex; each row marked useless (tunnels, or
+    no better than no force: common.mark_useless against the accuracy study's runs without force)."""
     cols = COLS
+    mark_useless(a, rows)
     writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
     heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps", "step (µs)",
              "detect+response (µs)", "of 1 ms", "real-time factor", "pos. error (mm)", "tunnelled", "best exact (mm)",
-             "error / best", "stability", "status", "steps", "arguments after `harness run SCENE`", "device",
+             "error / best", "stability", "useless", "status", "steps", "arguments after `harness run SCENE`", "device",
              "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget (µs)", "RTF mean", "RTF p99", "machine",
              "CPU twin's error (mm)", "CPU twin's error / best", "CPU twin's stability", "CPU twin's steps"]
     with open(table_path(a, "realtime.md"), "w") as f:
@@ -219,7 +223,8 @@ def write_outputs(a, rows):
                 "inside the step's time), and with implicit Euler at ten times the scene's dt; one and two threads "
                 "(HARNESS_THREADS; the two-thread runs time the scene's steps without settling or references); the "
                 "error against the reference over the final window beside it (the two-thread run steps the same "
-                "state bit for bit: its error is the one-thread run's), and its ratio to the best exact method's at the scene's dt. Timings "
+                "state bit for bit: its error is the one-thread run's), and its ratio to the best exact method's at "
+                "the scene's dt; useless beside the stability: tunnels, or no better than no force. Timings "
                 "exclude the references' measurement. `arguments`: what follows `harness run SCENE` to reproduce "
                 "the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary. Rows whose `device` is "
                 "not cpu: the completed model on a GPU (`harness run SCENE --device cuda`, scripts/device_check.sh), "

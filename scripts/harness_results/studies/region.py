@@ -13,7 +13,7 @@ steps, over the run) -> region.csv, tables/region.md (the verdict is in claims.m
 import os
 
 from .. import reader, runner, writers
-from .common import PENALTY, config_sets, figures, force_label, table_path
+from .common import PENALTY, config_sets, figures, force_label, mark_useless, read_rows, table_path
 
 REGION_SCENE = "claims/region_wrap"
 # `harness run` finds the bundled scenes by name; this one by its path (relative to the checkout).
@@ -49,21 +49,36 @@ def run(a):
         # No reference for this scene: the depth is the pair's own (deepest node, window maximum).
         rows.append(dict(figures(s), scene=REGION_SCENE, force=force_label(force), region=reg, margin=m,
                          **dict(reader.pair_figures(s), **region_figures(s))))
-    cols = ["scene", "force", "region", "margin", "stable", "stability", "why_unstable", "outside_share", "outside_mean",
-            "outside_peak", "pen_guest_mean", "recall", "precision", "depth_max_mm", "max_depth_peak_mm", "tunnelled",
-            "region_rebuilds", "t_contact_us"]
-    writers.write_csv(os.path.join(a.results, "region.csv"), rows, cols)
+    write(a, rows)
+
+
+COLUMNS = ["scene", "force", "region", "margin", "stable", "stability", "why_unstable", "outside_share", "outside_mean",
+           "outside_peak", "pen_guest_mean", "recall", "precision", "depth_max_mm", "max_depth_peak_mm", "tunnelled",
+           "region_rebuilds", "t_contact_us", "useless"]
+
+
+def write(a, rows):
+    """region.csv and tables/region.md from the study's rows; useless: tunnels (common.mark_useless;
+    the scene has no reference, so no run is judged against no force; force 0 is the baseline)."""
+    mark_useless(a, rows, {})
+    writers.write_csv(os.path.join(a.results, "region.csv"), rows, COLUMNS)
     md = ["# Claim (e): the region of the grid under large deformation\n\n",
           "`%s` (a skin pulled around a limb, down to 10 mm below its centre): the paper's voxel model (line, %g mm "
           "voxels) with the grid over half of the limb's box facing the skin, the whole box, or the overlap of the "
           "two boxes, and 0, 1 or 3 voxels of margin; force 0 (detection alone: every region sees the same "
           "deformation) and the penalty k = 500 N/m. outside share: truly penetrating skin nodes outside the grid's "
           "region over all truly penetrating skin nodes (window means; CGAL every 10 steps); recall: skin nodes "
-          "detected among those truly penetrating, over the run. Made by `scripts/study.py region`; the verdict is "
+          "detected among those truly penetrating, over the run; useless (whatever the stability): tunnels, or "
+          "\"baseline\" (force 0: detection alone). Made by `scripts/study.py region`; the verdict is "
           "in claims.md.\n\n" % (REGION_SCENE, 1e3 * REGION_VOXEL),
-          writers.md_table(rows, ["force", "region", "margin", "stability", "outside_share", "outside_mean",
+          writers.md_table(rows, ["force", "region", "margin", "stability", "useless", "tunnelled", "outside_share", "outside_mean",
                                   "pen_guest_mean", "recall", "depth_max_mm", "max_depth_peak_mm", "t_contact_us"],
-                           ["force", "region", "margin (voxels)", "stability", "outside share", "outside (nodes)",
+                           ["force", "region", "margin (voxels)", "stability", "useless", "tunnelled", "outside share", "outside (nodes)",
                             "penetrating (nodes)", "recall", "depth (mm)", "peak depth (mm)", "detect+elim (µs)"])]
     with open(table_path(a, "region.md"), "w") as f:
         f.write("".join(md))
+
+
+def plots(a):
+    """region.csv and its table again from the CSV (nothing is run): useless judged again."""
+    write(a, read_rows(a, "region.csv"))

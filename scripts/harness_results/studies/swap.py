@@ -8,7 +8,7 @@ import os
 
 from .. import reader, runner, writers
 from .common import (STUDY_EVERY, config_sets, pair_bodies, paper_eliminator, scene_voxel, scenes, figures, force_label,
-                     force_setting, table_path)
+                     force_setting, mark_useless, read_rows, table_path)
 
 SWAP_BODIES = {"sphere_collision": ("left", "right"), "cylinder_press": ("layer", "cylinder"),
                "implant_expansion": ("implant", "tissue")}
@@ -42,18 +42,33 @@ def run(a):
         rows.append(dict(figures(s), scene=scene, eliminator=elim, force=force_label(force), voxel_mm=1e3 * voxel,
                          host=h, guest=g, swapped="yes" if swapped else "no",
                          max_depth_peak_mm=reader.pair_figures(s)["max_depth_peak_mm"]))
-    cols = ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "swapped", "stable", "stability", "why_unstable",
-            "pos_err_max_mm", "pos_err_amp_mm", "tunnelled", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final", "recall",
-            "precision", "t_contact_us"]
-    writers.write_csv(os.path.join(a.results, "swap.csv"), rows, cols)
+    write(a, rows)
+
+
+COLUMNS = ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "swapped", "stable", "stability", "why_unstable",
+           "pos_err_max_mm", "pos_err_amp_mm", "tunnelled", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm",
+           "true_pen_final", "recall", "precision", "t_contact_us", "helps", "useless"]
+
+
+def write(a, rows):
+    """swap.csv and tables/swap.md from the study's rows (helps and useless: common.mark_useless)."""
+    mark_useless(a, rows)
+    writers.write_csv(os.path.join(a.results, "swap.csv"), rows, COLUMNS)
     md = ["# Which body carries the grid\n\n",
           "The voxel model with host and guest as the scene has them and swapped (the grid on the other body), "
           "against the converged reference (errors over the final window, mm; peak depth over the run; recall "
-          "and precision of the guest nodes detected, CGAL every 10 steps). Made by `scripts/study.py swap`.\n\n",
-          writers.md_table(rows, ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "stable",
-                                  "pos_err_max_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final",
+          "and precision of the guest nodes detected, CGAL every 10 steps); useless (whatever the stability): tunnels, "
+          "or no better than no force. Made by `scripts/study.py swap`.\n\n",
+          writers.md_table(rows, ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "stable", "useless",
+                                  "tunnelled", "pos_err_max_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final",
                                   "recall", "t_contact_us"],
-                           ["scene", "elim.", "force", "voxel (mm)", "host (grid)", "guest", "stable", "pos. error (mm)",
+                           ["scene", "elim.", "force", "voxel (mm)", "host (grid)", "guest", "stable", "useless",
+                            "tunnelled", "pos. error (mm)",
                             "gap (mm)", "depth (mm)", "peak depth (mm)", "pen. final", "recall", "detect+elim (µs)"])]
     with open(table_path(a, "swap.md"), "w") as f:
         f.write("".join(md))
+
+
+def plots(a):
+    """swap.csv and its table again from the CSV (nothing is run): helps and useless judged again."""
+    write(a, read_rows(a, "swap.csv"))
