@@ -15,11 +15,13 @@ ShapeModel generate(const Scene& sc, const BodySpec& b) {
   const ShapeSpec& s = b.shape;
   const Fill fill = s.volume_fill ? Fill::volume : Fill::shell;
   try {
-    if (s.type == "box") return make_box(s.min, s.max, s.cells);
-    if (s.type == "sphere") return make_sphere(s.center, s.radius, s.subdivisions, fill);
-    if (s.type == "ellipsoid") return make_ellipsoid(s.center, s.radii, s.subdivisions, fill);
-    if (s.type == "cylinder")
-      return make_cylinder(s.center, s.axis, s.radius, s.length, s.segments, s.rings, fill);
+    switch (s.type) {
+      case ShapeType::box: return make_box(s.min, s.max, s.cells);
+      case ShapeType::sphere: return make_sphere(s.center, s.radius, s.subdivisions, fill);
+      case ShapeType::ellipsoid: return make_ellipsoid(s.center, s.radii, s.subdivisions, fill);
+      case ShapeType::cylinder: return make_cylinder(s.center, s.axis, s.radius, s.length, s.segments, s.rings, fill);
+      case ShapeType::mesh: break;
+    }
     SurfaceMesh mesh;
     try {
       mesh = read_surface(s.path);

@@ -12,6 +12,9 @@
 namespace harness {
 
 void check_pair(const World& w, const ContactSpec& spec) {
+  if (spec.made != kContactSpecMade)
+    throw std::logic_error("contact pair: a ContactSpec not made from the scene's key table (use the scene loader or "
+                           "contact_spec_defaults(), then set its fields)");
   const int nb = static_cast<int>(w.bodies.size());
   if (spec.host < 0 || spec.host >= nb || spec.guest < 0 || spec.guest >= nb)
     throw std::invalid_argument("contact pair: host or guest body index out of range");

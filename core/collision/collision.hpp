@@ -32,7 +32,8 @@ struct PairStep {
 
 // The one check of a pair's bodies (whoever makes its detectors: Collision, below): host and
 // guest are bodies of `w`, and different ones. Throws std::invalid_argument. (The scene loader
-// checks the names a scene gives, with their key paths.)
+// checks the names a scene gives, with their key paths.) A spec not made from the key table
+// (ContactSpec::made) throws std::logic_error: a bug of the caller's.
 void check_pair(const World& w, const ContactSpec& spec);
 
 class Collision {
@@ -93,7 +94,7 @@ class Collision {
   // Marks the pair stepped and fills its contacts and timings (detection t0..t1, the rest t1..now).
   PairStep finish(PairStep s, double detect_us, Clock::time_point t1);
 
-  ContactSpec spec_;
+  ContactSpec spec_{};
   std::unique_ptr<CollisionDetector> detector_;
   std::unique_ptr<CollisionEliminator> eliminator_;
   std::vector<Contact> contacts_;  // reserved for every guest node: no growth per step
@@ -103,7 +104,7 @@ class Collision {
   std::vector<int> share_;         // per node: contacts leaning on it (scratch, all zero)
   // two_sided: the same pair seen the other way round (host and guest swapped), for the reverse
   // detector's configuration and the eliminator; its contacts are host nodes inside the guest.
-  ContactSpec reverse_spec_;
+  ContactSpec reverse_spec_{};
   std::unique_ptr<CollisionDetector> reverse_;
   std::vector<Contact> reverse_contacts_;
   std::vector<Push> reverse_pushes_;

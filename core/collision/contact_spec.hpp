@@ -35,27 +35,36 @@ const std::vector<std::pair<EliminatorKind, const char*>>& eliminator_names();
 const char* to_string(DetectorKind k);
 const char* to_string(EliminatorKind k);
 
+// The cookie of a ContactSpec made from the scene's key table (b2DefaultWorldDef's pattern).
+inline constexpr unsigned kContactSpecMade = 0x5CE4E7A8u;
+
+// One pair's parameters. Every value but the bodies' indices comes from the scene's key table
+// (core/scene/keys.cpp, rows "contact.*"), never from this struct: its members have no defaults
+// of their own. A spec is made by the scene loader or by contact_spec_defaults()
+// (core/scene/scene.hpp: the table's defaults, read as the loader reads an empty contact), which
+// set `made`; check_pair (collision.hpp) refuses one without it. Set fields after making it.
 struct ContactSpec {
   int host = -1;  // body index in World::bodies
   int guest = -1;
-  DetectorKind detector = DetectorKind::voxel;
-  double voxel_size = 0.0;  // requested, m; rounded down to a power of two; 0 = automatic
-  double cell_size = 0.0;   // spatial hashing's cell, m; 0 = automatic (mean host edge)
-  Region region = Region::half;
-  int margin = 1;  // voxels added around the region
-  HostNodes host_nodes = HostNodes::all;
-  EliminatorKind eliminator = EliminatorKind::line;
-  Orient orient = Orient::paper;
-  ForceRule force_rule = ForceRule::constant;
-  double force = 1.0;      // N per contact (ForceRule::constant)
-  double stiffness = 0.0;  // N/m per contact (ForceRule::penalty)
-  double separation_time = 0.1;  // s, of the automatic force: v_sep = L / separation_time
+  DetectorKind detector;
+  double voxel_size;  // requested, m; rounded down to a power of two; 0 = automatic
+  double cell_size;   // spatial hashing's cell, m; 0 = automatic (mean host edge)
+  Region region;
+  int margin;  // voxels added around the region
+  HostNodes host_nodes;
+  EliminatorKind eliminator;
+  Orient orient;
+  ForceRule force_rule;
+  double force;      // N per contact (ForceRule::constant)
+  double stiffness;  // N/m per contact (ForceRule::penalty)
+  double separation_time;  // s, of the automatic force: v_sep = L / separation_time
   // Also the other way round: the guest's surface keeps the host's nodes out as well (a second
   // detector with the roles swapped). The paper's model is one-sided (false).
-  bool two_sided = false;
+  bool two_sided;
   // Pushes the wrong way (every direction negated): a broken method, for the tests that show an
   // accuracy threshold fails when the method is broken.
-  bool invert_push = false;
+  bool invert_push;
+  unsigned made = 0;  // kContactSpecMade when made from the key table
 };
 
 }  // namespace harness

@@ -6,6 +6,7 @@
 #include "core/effects/effects.hpp"
 #include "core/shapes/shapes.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 namespace harness {
@@ -18,6 +19,31 @@ template <>
 const std::vector<std::pair<Integrator, const char*>>& scene_words<Integrator>() {
   static const std::vector<std::pair<Integrator, const char*>> w = {{Integrator::symplectic_euler, "symplectic_euler"},
                                                                     {Integrator::implicit_euler, "implicit_euler"}};
+  return w;
+}
+template <>
+const std::vector<std::pair<ShapeType, const char*>>& scene_words<ShapeType>() {
+  static const std::vector<std::pair<ShapeType, const char*>> w = {
+      {ShapeType::box, "box"}, {ShapeType::sphere, "sphere"}, {ShapeType::ellipsoid, "ellipsoid"},
+      {ShapeType::cylinder, "cylinder"}, {ShapeType::mesh, "mesh"}};
+  return w;
+}
+template <>
+const std::vector<std::pair<FillWord, const char*>>& scene_words<FillWord>() {
+  static const std::vector<std::pair<FillWord, const char*>> w = {{FillWord::shell, "shell"}, {FillWord::volume, "volume"}};
+  return w;
+}
+template <>
+const std::vector<std::pair<Solver, const char*>>& scene_words<Solver>() {
+  static const std::vector<std::pair<Solver, const char*>> w = {
+      {Solver::cgal, "cgal"}, {Solver::fcl, "fcl"}, {Solver::ccd, "ccd"}};
+  return w;
+}
+template <>
+const std::vector<std::pair<Side, const char*>>& scene_words<Side>() {
+  static const std::vector<std::pair<Side, const char*>> w = {
+      {Side::minus_x, "-x"}, {Side::plus_x, "+x"}, {Side::minus_y, "-y"},
+      {Side::plus_y, "+y"}, {Side::minus_z, "-z"}, {Side::plus_z, "+z"}};
   return w;
 }
 template <>
@@ -94,63 +120,85 @@ SceneKey key(const char* kind, const char* name, KeyType type) {
 // one $defs entry of the schema.
 SceneKey center(const char* kind) {
   return key(kind, "center", KeyType::vec3).fallback({0.0, 0.0, 0.0}).with_unit("m").shared("center").described(
-      "Centre, m. Default: [0, 0, 0].");
+      "Centre, m.");
 }
 SceneKey subdivisions(const char* kind) {
   return key(kind, "subdivisions", KeyType::integer)
       .range(0, kMaxSubdivisions)
       .fallback(2)
       .shared("subdivisions")
-      .described("Icosphere subdivisions, 0 to " + std::to_string(kMaxSubdivisions) + ". Default: 2.");
+      .described("Icosphere subdivisions, 0 to " + std::to_string(kMaxSubdivisions) + ".");
 }
 SceneKey fill(const char* kind) {
   return key(kind, "fill", KeyType::word)
-      .in({"shell", "volume"})
-      .fallback("shell")
+      .in(word_list<FillWord>())
+      .fallback(scene_word(FillWord::shell))
       .shared("fill")
-      .described("shell: a surface with edge and bending springs; volume: the surface plus an inner lattice tied to it. Default: shell.");
+      .described("shell: a surface with edge and bending springs; volume: the surface plus an inner lattice tied to it.");
 }
 
 }  // namespace
+
+std::string default_text(const json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_number()) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.10g", v.get<double>());
+    return b;
+  }
+  if (v.is_array()) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + default_text(v[i]);
+    return s + "]";
+  }
+  return v.dump();
+}
+
+std::string key_description(const SceneKey& k) {
+  if (k.presence != Presence::defaulted || k.type == KeyType::object) return k.doc;
+  const std::string tail = "Default: " + default_text(k.def) + ".";
+  return k.doc.empty() ? tail : k.doc + " " + tail;
+}
 
 const std::vector<SceneKey>& scene_keys() {
   static const std::vector<SceneKey> keys = {
       key("scene", "name", KeyType::string).computed().described("The scene's name in outputs. Default: the file's stem."),
       key("scene", "seed", KeyType::integer).optional().schema({{"minimum", std::numeric_limits<long long>::min()}, {"maximum", std::numeric_limits<long long>::max()}}).described("Recorded in the outputs; nothing in a run is random. Default: none."),
       key("scene", "time", KeyType::object).holding("time").described("Time stepping. Required."),
-      key("scene", "effects", KeyType::words).in(effect_words()).fallback(json::array()).described("Exactly what is simulated; each at most once. A body's pins, drivers, loads and pressure act only when their effect is listed; contact pairs are measured either way but pushed apart only with contact. Default: []."),
-      key("scene", "gravity", KeyType::vec3).fallback({0.0, 0.0, -9.81}).with_unit("m/s^2").described("Gravitational acceleration, m/s^2; used only when the effect gravity is listed. Default: [0, 0, -9.81]."),
+      key("scene", "effects", KeyType::words).in(effect_words()).fallback(json::array()).described("Exactly what is simulated; each at most once. A body's pins, drivers, loads and pressure act only when their effect is listed; contact pairs are measured either way but pushed apart only with contact."),
+      key("scene", "gravity", KeyType::vec3).fallback({0.0, 0.0, -9.81}).with_unit("m/s^2").described("Gravitational acceleration, m/s^2; used only when the effect gravity is listed."),
       key("scene", "bodies", KeyType::list).holding("body").range(1, kInf).described("The soft bodies, at least one; names unique. Required."),
-      key("scene", "contacts", KeyType::list).holding("contact").fallback(json::array()).described("Contact pairs. Default: []."),
+      key("scene", "contacts", KeyType::list).holding("contact").fallback(json::array()).described("Contact pairs."),
       key("scene", "references", KeyType::object).holding("references").fallback(json::object()).described("Exact measurement beside the run. Default: no solvers."),
       key("scene", "output", KeyType::object).holding("output").fallback(json::object()).described("What is written besides steps.csv and summary.json. Default: no frames."),
       key("time", "dt", KeyType::number).above(0.0, 1e3).with_unit("s").described("Time step, s. Required; > 0, <= 1000."),
       key("time", "steps", KeyType::integer).range(0, kMaxSteps).counts(StepCount::count).described("Steps to run (with settle: at least this many). Required; 0 to 2e9."),
-      key("time", "integrator", KeyType::word).in(word_list<Integrator>()).fallback("symplectic_euler").described("symplectic_euler, or implicit_euler (linearised backward Euler, conjugate gradient). Default: symplectic_euler."),
-      key("time", "guard", KeyType::word).in(word_list<Guard>()).fallback("refuse").described("When dt exceeds 0.9 dt_crit (Gershgorin bound on the tangent stiffness): refuse stops at load, substep splits the steps. Default: refuse."),
-      key("time", "window", KeyType::integer).range(1, kMaxSteps).fallback(1000).counts(StepCount::count).by_steps_ref().described("Steps of the final window a run is judged over (its error figures as mean, maximum and chatter amplitude; the contact's power against the power put in; the stability verdict), never starting before every moving driver, load ramp and pressure ramp has finished. 1 to 2e9. Default: 1000."),
+      key("time", "integrator", KeyType::word).in(word_list<Integrator>()).fallback("symplectic_euler").described("symplectic_euler, or implicit_euler (linearised backward Euler, conjugate gradient)."),
+      key("time", "guard", KeyType::word).in(word_list<Guard>()).fallback("refuse").described("When dt exceeds 0.9 dt_crit (Gershgorin bound on the tangent stiffness): refuse stops at load, substep splits the steps."),
+      key("time", "window", KeyType::integer).range(1, kMaxSteps).fallback(1000).counts(StepCount::count).by_steps_ref().described("Steps of the final window a run is judged over (its error figures as mean, maximum and chatter amplitude; the contact's power against the power put in; the stability verdict), never starting before every moving driver, load ramp and pressure ramp has finished. 1 to 2e9."),
       key("time", "settle", KeyType::object).holding("settle").optional().null_ok().described("Equilibrium: after `steps`, go on until the relative force residual stays at most `tolerance` for 100 steps in a row, or `max_steps` more steps have run. null (or --steps N on the command line): run exactly `steps`. Default: none."),
-      key("settle", "tolerance", KeyType::number).above(0.0, 1.0).fallback(1e-3).described("Relative force residual (dimensionless). > 0, <= 1. Default: 0.001."),
+      key("settle", "tolerance", KeyType::number).above(0.0, 1.0).fallback(1e-3).described("Relative force residual (dimensionless). > 0, <= 1."),
       key("settle", "max_steps", KeyType::integer).range(1, kMaxSteps).counts(StepCount::count).by_steps_ref().described("Steps at most after `steps`. Required; 1 to 2e9."),
-      key("references", "solvers", KeyType::words).in({"cgal", "fcl", "ccd"}).fallback(json::array()).described("Any of cgal (inside tests, signed distance of every surface vertex), fcl (triangle pairs, depth), ccd (libccd distance); each at most once. Default: []."),
-      key("references", "every", KeyType::integer).range(1, kMaxSteps).fallback(1).counts(StepCount::count).by_steps_ref().described("Measure every N steps (and the last). 1 to 2e9. Default: 1."),
-      key("references", "volume", KeyType::boolean).fallback(false).described("CGAL's intersection volume (slow). Default: false."),
-      key("output", "frames_every", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Surface frames every N steps (plus step 0 and the last); 0 = none. 0 to 2e9. Default: 0."),
-      key("output", "trajectory", KeyType::boolean).fallback(false).described("trajectory.bin: every surface vertex at every measured step. Default: false."),
-      key("output", "format", KeyType::word).in(word_list<FrameFormat>()).fallback("vtp").described("Frames as VTK XML PolyData (vtp, with a ParaView collection per body), XML UnstructuredGrid (vtu, with a collection) or legacy ASCII (vtk). Default: vtp."),
+      key("references", "solvers", KeyType::words).in(word_list<Solver>()).fallback(json::array()).described("Any of cgal (inside tests, signed distance of every surface vertex), fcl (triangle pairs, depth), ccd (libccd distance); each at most once."),
+      key("references", "every", KeyType::integer).range(1, kMaxSteps).fallback(1).counts(StepCount::count).by_steps_ref().described("Measure every N steps (and the last). 1 to 2e9."),
+      key("references", "volume", KeyType::boolean).fallback(false).described("CGAL's intersection volume (slow)."),
+      key("output", "frames_every", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Surface frames every N steps (plus step 0 and the last); 0 = none. 0 to 2e9."),
+      key("output", "trajectory", KeyType::boolean).fallback(false).described("trajectory.bin: every surface vertex at every measured step."),
+      key("output", "format", KeyType::word).in(word_list<FrameFormat>()).fallback("vtp").described("Frames as VTK XML PolyData (vtp, with a ParaView collection per body), XML UnstructuredGrid (vtu, with a collection) or legacy ASCII (vtk)."),
       key("body", "name", KeyType::string).range(1, kInf).described("Unique among the bodies. Required; non-empty."),
       key("body", "shape", KeyType::object).holding("shape").described("Required."),
       key("body", "material", KeyType::object).holding("material").fallback(json::object()).described(""),
-      key("body", "velocity", KeyType::vec3).fallback({0.0, 0.0, 0.0}).with_unit("m/s").described("Initial velocity of every node, m/s. Default: [0, 0, 0]."),
-      key("body", "pins", KeyType::list).holding("selection").fallback(json::array()).described("Selections held fixed (effect pins). Default: []."),
-      key("body", "drivers", KeyType::list).holding("driver").fallback(json::array()).described("Kinematic drivers (effect drivers). Default: []."),
-      key("body", "loads", KeyType::list).holding("load").fallback(json::array()).described("Applied forces (effect loads). Default: []."),
+      key("body", "velocity", KeyType::vec3).fallback({0.0, 0.0, 0.0}).with_unit("m/s").described("Initial velocity of every node, m/s."),
+      key("body", "pins", KeyType::list).holding("selection").fallback(json::array()).described("Selections held fixed (effect pins)."),
+      key("body", "drivers", KeyType::list).holding("driver").fallback(json::array()).described("Kinematic drivers (effect drivers)."),
+      key("body", "loads", KeyType::list).holding("load").fallback(json::array()).described("Applied forces (effect loads)."),
       key("body", "pressure", KeyType::object).holding("pressure").optional().described("Internal pressure (effect pressure). Default: none."),
-      key("shape", "type", KeyType::word).in({"box", "sphere", "ellipsoid", "cylinder", "mesh"}).described("box (a volumetric lattice), sphere, ellipsoid, cylinder or mesh (an OFF or OBJ file). Required."),
+      key("shape", "type", KeyType::word).in(word_list<ShapeType>()).described("box (a volumetric lattice), sphere, ellipsoid, cylinder or mesh (an OFF or OBJ file). Required."),
       key("shape.box", "min", KeyType::vec3).with_unit("m").described("Lower corner, m. Required; below max on every axis."),
       key("shape.box", "max", KeyType::vec3).with_unit("m").described("Upper corner, m. Required; above min on every axis."),
       key("shape.box", "cells", KeyType::int3).range(1, 1000).described("Cells along x, y, z, 1 to 1000 each; (nx+1)(ny+1)(nz+1) nodes at most 2e7. Required."),
-      key("shape.box", "fill", KeyType::word).in({"volume"}).fallback("volume").described("A box lattice is always volumetric: only \"volume\" is accepted. Default: volume."),
+      key("shape.box", "fill", KeyType::word).in({scene_word(FillWord::volume)}).fallback(scene_word(FillWord::volume)).described("A box lattice is always volumetric: only \"volume\" is accepted."),
       center("shape.sphere"),
       key("shape.sphere", "radius", KeyType::number).above(0.0).with_unit("m").described("Radius, m. Required; > 0."),
       subdivisions("shape.sphere"),
@@ -160,58 +208,76 @@ const std::vector<SceneKey>& scene_keys() {
       subdivisions("shape.ellipsoid"),
       fill("shape.ellipsoid"),
       center("shape.cylinder"),
-      key("shape.cylinder", "axis", KeyType::vec3).fallback({0.0, 0.0, 1.0}).schema({{"not", {{"items", {{"const", 0}}}}}}).described("Axis direction (normalised by the loader); non-zero. Default: [0, 0, 1]."),
+      key("shape.cylinder", "axis", KeyType::vec3).fallback({0.0, 0.0, 1.0}).schema({{"not", {{"items", {{"const", 0}}}}}}).described("Axis direction (normalised by the loader); non-zero."),
       key("shape.cylinder", "radius", KeyType::number).above(0.0).with_unit("m").described("Radius, m. Required; > 0."),
       key("shape.cylinder", "length", KeyType::number).above(0.0).with_unit("m").described("Length along the axis, m. Required; > 0."),
-      key("shape.cylinder", "segments", KeyType::integer).range(3, 100000).fallback(16).described("Nodes around a ring, 3 to 100000; segments * (rings + 1) at most 2e7. Default: 16."),
-      key("shape.cylinder", "rings", KeyType::integer).range(1, 100000).fallback(4).described("Rings along the axis, 1 to 100000. Default: 4."),
+      key("shape.cylinder", "segments", KeyType::integer).range(3, 100000).fallback(16).described("Nodes around a ring, 3 to 100000; segments * (rings + 1) at most 2e7."),
+      key("shape.cylinder", "rings", KeyType::integer).range(1, 100000).fallback(4).described("Rings along the axis, 1 to 100000."),
       fill("shape.cylinder"),
       key("shape.mesh", "path", KeyType::string).range(1, kInf).described("A closed triangle surface, OFF or OBJ; relative paths are relative to the scene file. Required; non-empty."),
-      key("shape.mesh", "scale", KeyType::number).above(0.0).fallback(1.0).described("Factor on the file's coordinates. > 0. Default: 1."),
-      key("shape.mesh", "translate", KeyType::vec3).fallback({0.0, 0.0, 0.0}).with_unit("m").described("Added after scaling, m. Default: [0, 0, 0]."),
+      key("shape.mesh", "scale", KeyType::number).above(0.0).fallback(1.0).described("Factor on the file's coordinates. > 0."),
+      key("shape.mesh", "translate", KeyType::vec3).fallback({0.0, 0.0, 0.0}).with_unit("m").described("Added after scaling, m."),
       fill("shape.mesh"),
-      key("material", "density", KeyType::number).above(0.0).fallback(1000.0).with_unit("kg/m^3").described("kg/m^3; the body's mass is density times its enclosed volume. > 0. Default: 1000."),
+      key("material", "density", KeyType::number).above(0.0).fallback(1000.0).with_unit("kg/m^3").described("kg/m^3; the body's mass is density times its enclosed volume. > 0."),
       key("material", "youngs_modulus", KeyType::number).above(0.0).optional().with_unit("Pa").described("Pa: spring stiffnesses derived from it. > 0. Not together with stiffness. Default: none."),
       key("material", "thickness", KeyType::number).above(0.0).optional().with_unit("m").described("Shell thickness, m; required with youngs_modulus on a shell (fill shell, not a box), accepted nowhere else. > 0."),
-      key("material", "stiffness", KeyType::number).above(0.0).fallback(100.0).with_unit("N/m").described("N/m per spring, used when youngs_modulus is not given. > 0. Default: 100."),
-      key("material", "law", KeyType::word).in(word_list<SpringLawKind>()).fallback("linear").described("The spring's force against strain. Default: linear."),
-      key("material", "nonlinearity", KeyType::number).range(0.0, 1e6).fallback(0.0).described("The law's coefficient a (cubic: f = k eps l0 (1 + a eps^2); exponential: f = k l0 (e^(a eps) - 1)/a), dimensionless. 0 to 1e6. Default: 0."),
-      key("material", "damping", KeyType::number).range(0.0, kInf).fallback(0.0).with_unit("N s/m").described("Dashpot along each spring, N s/m. >= 0. Default: 0."),
-      key("material", "mass_damping", KeyType::number).range(0.0, kInf).fallback(0.0).with_unit("1/s").described("Global damping -alpha m v, alpha in 1/s. >= 0. Default: 0."),
-      key("selection", "side", KeyType::word).in({"-x", "+x", "-y", "+y", "-z", "+z"}).optional().described("A face of the rest bounding box."),
+      key("material", "stiffness", KeyType::number).above(0.0).fallback(100.0).with_unit("N/m").described("N/m per spring, used when youngs_modulus is not given. > 0."),
+      key("material", "law", KeyType::word).in(word_list<SpringLawKind>()).fallback("linear").described("The spring's force against strain."),
+      key("material", "nonlinearity", KeyType::number).range(0.0, 1e6).fallback(0.0).described("The law's coefficient a (cubic: f = k eps l0 (1 + a eps^2); exponential: f = k l0 (e^(a eps) - 1)/a), dimensionless. 0 to 1e6."),
+      key("material", "damping", KeyType::number).range(0.0, kInf).fallback(0.0).with_unit("N s/m").described("Dashpot along each spring, N s/m. >= 0."),
+      key("material", "mass_damping", KeyType::number).range(0.0, kInf).fallback(0.0).with_unit("1/s").described("Global damping -alpha m v, alpha in 1/s. >= 0."),
+      key("selection", "side", KeyType::word).in(word_list<Side>()).optional().described("A face of the rest bounding box."),
       key("selection", "box", KeyType::object).holding("selection.box").optional().described("Nodes whose rest position is inside (inclusive); min <= max on every axis."),
       key("selection", "all", KeyType::always_true).optional().described("Every node; must be true."),
       key("selection.box", "min", KeyType::vec3).with_unit("m").described("Lower corner, m. Required."),
       key("selection.box", "max", KeyType::vec3).with_unit("m").described("Upper corner, m. Required."),
       key("driver", "select", KeyType::object).holding("selection").described("The driven nodes. Required."),
       key("driver", "velocity", KeyType::vec3).with_unit("m/s").described("m/s. Required."),
-      key("driver", "from_step", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::first_step).by_steps_ref().described("First driven step, 0 to 2e9. Default: 0."),
-      key("driver", "to_step", KeyType::integer).range(-1, kMaxSteps).fallback(-1).counts(StepCount::last_step).described("Last driven step, -1 (to the end) to 2e9; not before from_step. Default: -1."),
+      key("driver", "from_step", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::first_step).by_steps_ref().described("First driven step, 0 to 2e9."),
+      key("driver", "to_step", KeyType::integer).range(-1, kMaxSteps).fallback(-1).counts(StepCount::last_step).described("Last driven step, -1 (to the end) to 2e9; not before from_step."),
       key("load", "select", KeyType::object).holding("selection").described("The loaded nodes. Required."),
       key("load", "force", KeyType::vec3).with_unit("N").described("Total force, N. Required."),
-      key("load", "ramp_steps", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Steps of the linear ramp from zero, 0 to 2e9. Default: 0."),
-      key("pressure", "from", KeyType::number).range(-1e9, 1e9).fallback(0.0).with_unit("Pa").described("Pa, -1e9 to 1e9. Default: 0."),
+      key("load", "ramp_steps", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Steps of the linear ramp from zero, 0 to 2e9."),
+      key("pressure", "from", KeyType::number).range(-1e9, 1e9).fallback(0.0).with_unit("Pa").described("Pa, -1e9 to 1e9."),
       key("pressure", "to", KeyType::number).range(-1e9, 1e9).with_unit("Pa").described("Pa, -1e9 to 1e9. Required."),
-      key("pressure", "ramp_steps", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Steps of the ramp, 0 to 2e9. Default: 0."),
+      key("pressure", "ramp_steps", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Steps of the ramp, 0 to 2e9."),
       key("contact", "host", KeyType::string).described("A body's name. Required."),
       key("contact", "guest", KeyType::string).described("Another body's name (not the host). Required."),
       key("contact", "label", KeyType::string).computed().range(1, kInf).described("The pair's name in the outputs (steps.csv pair, summary.json pairs[].pair, penetration_episodes.csv); non-empty. Default: host/guest."),
-      key("contact", "detector", KeyType::word).in(detector_words()).fallback("voxel").described("voxel (the paper's local grid), voxel_exact (the paper's grid with an exact narrow phase: closest host triangle and pseudonormal, exact within a stated band), hash (spatial hashing, Teschner et al. 2003), cgal or fcl (exact; need the reference library). Default: voxel."),
-      key("contact", "voxel_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Voxel edge, m, rounded down to a power of two; > 0, <= 1e6; or \"auto\" (the smallest power of two >= the host's mean surface edge at rest, its node spacing for a body without a surface; for voxel_exact doubled until it exceeds the host's longest surface edge / sqrt(3)). Default: auto."),
-      key("contact", "cell_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Spatial hashing's cell, m; > 0, <= 1e6; or \"auto\" (the host's mean surface edge). Default: auto."),
-      key("contact", "region", KeyType::word).in(word_list<Region>()).fallback("half").described("The voxel grid covers half the host's box, the full box, or their overlap. Default: half."),
-      key("contact", "margin", KeyType::integer).range(0, 64).fallback(1).described("Voxels added around the region, 0 to 64. Default: 1."),
-      key("contact", "host_nodes", KeyType::word).in(word_list<HostNodes>()).fallback("all").described("surface: only surface nodes enter the voxels (voxel_exact always lists the surface vertices). Default: all."),
-      key("contact", "eliminator", KeyType::word).in(word_list<EliminatorKind>()).fallback("line").described("line (push along the line to the nearest host node), plane (along the normal of the plane through the three nearest), projection (move the node to the surface after the position update). Default: line."),
-      key("contact", "orient", KeyType::word).in(word_list<Orient>()).fallback("paper").described("Which way line and plane push: paper (line from the nearest host node toward the guest node, plane agreeing with the host's outward normals), guest (both toward the guest node), outward (both agreeing with the host's outward normals). Default: paper."),
-      key("contact", "two_sided", KeyType::boolean).fallback(false).described("Also the other way round (the host's nodes against the guest's surface). Default: false."),
-      key("contact", "invert_push", KeyType::boolean).fallback(false).described("Every push negated: a broken method, used by tests. Default: false."),
-      key("contact", "separation_time", KeyType::number).above(0.0, 1e6).fallback(Collision::kSeparationTime).with_unit("s").described("s, of force auto: separation speed = voxel size (detectors without a grid: the host's mean spring rest length) / separation_time. > 0, <= 1e6. Default: 0.1."),
-      key("contact", "force", KeyType::force).holding("force.stiffness").range(0.0, 1e12).fallback("auto").with_unit("N").described("A number: the paper's constant force, N per contact (0 to 1e12); \"auto\": the force that separates within separation_time; {\"stiffness\": k}: penalty k times depth, N/m (0 to 1e12). Default: auto."),
+      key("contact", "detector", KeyType::word).in(detector_words()).fallback("voxel").described("voxel (the paper's local grid), voxel_exact (the paper's grid with an exact narrow phase: closest host triangle and pseudonormal, exact within a stated band), hash (spatial hashing, Teschner et al. 2003), cgal or fcl (exact; need the reference library)."),
+      key("contact", "voxel_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Voxel edge, m, rounded down to a power of two; > 0, <= 1e6; or \"auto\" (the smallest power of two >= the host's mean surface edge at rest, its node spacing for a body without a surface; for voxel_exact doubled until it exceeds the host's longest surface edge / sqrt(3))."),
+      key("contact", "cell_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Spatial hashing's cell, m; > 0, <= 1e6; or \"auto\" (the host's mean surface edge)."),
+      key("contact", "region", KeyType::word).in(word_list<Region>()).fallback("half").described("The voxel grid covers half the host's box, the full box, or their overlap."),
+      key("contact", "margin", KeyType::integer).range(0, 64).fallback(1).described("Voxels added around the region, 0 to 64."),
+      key("contact", "host_nodes", KeyType::word).in(word_list<HostNodes>()).fallback("all").described("surface: only surface nodes enter the voxels (voxel_exact always lists the surface vertices)."),
+      key("contact", "eliminator", KeyType::word).in(word_list<EliminatorKind>()).fallback("line").described("line (push along the line to the nearest host node), plane (along the normal of the plane through the three nearest), projection (move the node to the surface after the position update)."),
+      key("contact", "orient", KeyType::word).in(word_list<Orient>()).fallback("paper").described("Which way line and plane push: paper (line from the nearest host node toward the guest node, plane agreeing with the host's outward normals), guest (both toward the guest node), outward (both agreeing with the host's outward normals)."),
+      key("contact", "two_sided", KeyType::boolean).fallback(false).described("Also the other way round (the host's nodes against the guest's surface)."),
+      key("contact", "invert_push", KeyType::boolean).fallback(false).described("Every push negated: a broken method, used by tests."),
+      key("contact", "separation_time", KeyType::number).above(0.0, 1e6).fallback(Collision::kSeparationTime).with_unit("s").described("s, of force auto: separation speed = voxel size (detectors without a grid: the host's mean spring rest length) / separation_time. > 0, <= 1e6."),
+      key("contact", "force", KeyType::force).holding("force.stiffness").range(0.0, 1e12).fallback("auto").with_unit("N").described("A number: the paper's constant force, N per contact (0 to 1e12); \"auto\": the force that separates within separation_time; {\"stiffness\": k}: penalty k times depth, N/m (0 to 1e12)."),
       key("force.stiffness", "stiffness", KeyType::number).range(0.0, 1e12).with_unit("N/m").described("Penalty stiffness, N/m, 0 to 1e12. Required."),
   };
   return keys;
 }
+
+namespace {
+
+// The body's schema beyond its keys: a shell (a surface shape, fill absent or shell) takes
+// material.thickness exactly when it gives youngs_modulus; a volume takes none. The shell shapes
+// and the shell word from their tables (ShapeType, FillWord).
+json shell_body_schema() {
+  json shells = json::array();
+  for (const auto& [t, w] : scene_words<ShapeType>())
+    if (t != ShapeType::box) shells.push_back(w);
+  json j = json::parse(R"J({"if": {"description": "The body is a shell: not a box, fill absent or shell.", "properties": {"shape": {"properties": {"type": {"enum": []}, "fill": {"const": ""}}, "required": ["type"]}}, "required": ["shape"]}, "then": {"properties": {"material": {"if": {"required": ["youngs_modulus"]}, "then": {"required": ["thickness"]}, "else": {"not": {"required": ["thickness"]}}}}}, "else": {"properties": {"material": {"not": {"required": ["thickness"]}}}}})J");
+  json& shape = j["if"]["properties"]["shape"]["properties"];
+  shape["type"]["enum"] = shells;
+  shape["fill"]["const"] = scene_word(FillWord::shell);
+  return j;
+}
+
+}  // namespace
 
 const std::vector<SceneKind>& scene_kinds() {
   static const std::vector<SceneKind> kinds = {
@@ -220,7 +286,7 @@ const std::vector<SceneKind>& scene_kinds() {
       {"settle", "", "", json::object()},
       {"references", "", "", json::object()},
       {"output", "", "", json::object()},
-      {"body", "body", "A soft body.", json::parse(R"J({"if": {"description": "The body is a shell: not a box, fill absent or shell.", "properties": {"shape": {"properties": {"type": {"enum": ["sphere", "ellipsoid", "cylinder", "mesh"]}, "fill": {"const": "shell"}}, "required": ["type"]}}, "required": ["shape"]}, "then": {"properties": {"material": {"if": {"required": ["youngs_modulus"]}, "then": {"required": ["thickness"]}, "else": {"not": {"required": ["thickness"]}}}}}, "else": {"properties": {"material": {"not": {"required": ["thickness"]}}}}})J")},
+      {"body", "body", "A soft body.", shell_body_schema()},
       {"shape", "shape", "The body's geometry, chosen by `type`; each type takes only its own keys.", json::object()},
       {"shape.box", "", "", json::object(), "shape"},
       {"shape.sphere", "", "", json::object(), "shape"},

@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,6 +31,14 @@
 namespace harness {
 
 enum class Integrator { symplectic_euler, implicit_euler };
+// A body's shape (`shape.type`): each names a variant kind of the table, "shape.<word>".
+enum class ShapeType { box, sphere, ellipsoid, cylinder, mesh };
+// A surface shape's `fill` (the shapes layer's Fill: shell, volume).
+enum class FillWord { shell, volume };
+// A reference solver (`references.solvers`).
+enum class Solver { cgal, fcl, ccd };
+// A selection's `side`: a face of the rest bounding box.
+enum class Side { minus_x, plus_x, minus_y, plus_y, minus_z, plus_z };
 enum class Guard { refuse, substep };
 enum class FrameFormat { vtp, vtu, vtk };
 
@@ -115,6 +124,13 @@ struct SceneKind {
 };
 
 const std::vector<SceneKey>& scene_keys();
+// A default as descriptions and docs/scenes.md write it: a word bare, a number shortest (10
+// significant digits), a list in brackets.
+std::string default_text(const nlohmann::json& v);
+// A key's description as the schema and editors show it: its row's prose, then, for a key with a
+// default that is not an object, "Default: X." made from the row (default_text of `def`): the
+// prose never types the default itself.
+std::string key_description(const SceneKey& k);
 const std::vector<SceneKind>& scene_kinds();
 // The row of a key; throws std::logic_error for one the table does not have (a bug).
 const SceneKey& scene_key(const std::string& kind, const std::string& name);
@@ -131,6 +147,14 @@ const char* scene_word(E e) {
   for (const auto& [v, n] : scene_words<E>())
     if (v == e) return n;
   return "?";
+}
+// The enumerator of a word of E's table; std::logic_error for a word the table lacks (the loader
+// checks words against the key's names first: a bug).
+template <class E>
+E word_value(const std::string& word) {
+  for (const auto& [v, n] : scene_words<E>())
+    if (word == n) return v;
+  throw std::logic_error("no enumerator for the word \"" + word + "\"");
 }
 template <class E>
 std::vector<std::string> word_list() {

@@ -38,10 +38,10 @@ Selection read_selection(const Ctx& c, const json& j, const std::string& path, j
     }
   if (n != 1) c.fail(path, "a selection needs exactly one of " + names);
   if (o.has("side")) {
-    const std::string side = o.word("side");
+    const int side = static_cast<int>(o.word<Side>("side"));  // -x, +x, -y, +y, -z, +z
     s.kind = Selection::side;
-    s.sign = side[0] == '-' ? -1 : 1;
-    s.axis = side[1] - 'x';
+    s.sign = side % 2 == 0 ? -1 : 1;
+    s.axis = side / 2;
   } else if (o.has("box")) {
     s.kind = Selection::box;
     Obj b(c, *o.get("box"), o.at("box"), o.out()["box"], "selection.box");
@@ -59,18 +59,16 @@ Selection read_selection(const Ctx& c, const json& j, const std::string& path, j
 
 ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json& out, const std::string& dir) {
   ShapeSpec s;
-  std::string type;
   {
     Obj t(c, j, path, out, "shape");
-    type = t.word("type");
+    s.type = t.word<ShapeType>("type");
   }
   // The keys of the variant `type` names (shape.box, shape.sphere, ...).
-  const std::string kind = "shape." + type;
+  const std::string kind = std::string("shape.") + scene_word(s.type);
   Obj o(c, j, path, out, scene_kind(kind).name);
   o.get("type");
-  s.type = type;
-  auto fill = [&]() { s.volume_fill = o.word("fill") == "volume"; };
-  if (s.type == "box") {
+  auto fill = [&]() { s.volume_fill = o.word<FillWord>("fill") == FillWord::volume; };
+  if (s.type == ShapeType::box) {
     s.min = o.vec3("min");
     s.max = o.vec3("max");
     if (!(s.min.array() < s.max.array()).all()) c.fail(o.at("max"), "max must exceed min on every axis");
@@ -91,13 +89,13 @@ ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json&
     o.out()["cells"] = {s.cells[0], s.cells[1], s.cells[2]};
     // A box lattice is always volumetric: of the fills a surface takes (the shared fill key), only
     // volume.
-    if (o.has("fill") && o.word_in("fill", scene_key("shape.sphere", "fill").names) != "volume")
+    if (o.has("fill") && o.word_in("fill", word_list<FillWord>()) != scene_word(FillWord::volume))
       c.fail(o.at("fill"), "a box lattice is always volumetric");
     s.volume_fill = true;
     o.out()["fill"] = o.row("fill").def;
-  } else if (s.type == "sphere" || s.type == "ellipsoid") {
+  } else if (s.type == ShapeType::sphere || s.type == ShapeType::ellipsoid) {
     s.center = o.vec3("center");
-    if (s.type == "sphere") {
+    if (s.type == ShapeType::sphere) {
       s.radius = o.number("radius");
       s.radii = Vec3::Constant(s.radius);
     } else {
@@ -105,7 +103,7 @@ ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json&
     }
     s.subdivisions = static_cast<int>(o.integer("subdivisions"));
     fill();
-  } else if (s.type == "cylinder") {
+  } else if (s.type == ShapeType::cylinder) {
     s.center = o.vec3("center");
     s.axis = o.vec3("axis");
     if (s.axis.norm() < 1e-12) c.fail(o.at("axis"), "axis must be non-zero");
@@ -275,26 +273,9 @@ void read_bodies(const Ctx& c, Obj& top, Scene& s, const std::string& dir) {
   });
 }
 
-ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& path, json& r, const Scene& s) {
-  Obj o(c, j, path, r, "contact");
-  ContactPairSpec p;
-  p.path = path;
-  p.host = o.string("host");
-  p.guest = o.string("guest");
-  p.label = o.string("label", p.host + "/" + p.guest);
-  // The one check of the names a scene gives; the spec gets the bodies' indices (the world lays
-  // the bodies out in scene order).
-  auto index = [&](const std::string& name) {
-    for (std::size_t i = 0; i < s.bodies.size(); ++i)
-      if (s.bodies[i].name == name) return static_cast<int>(i);
-    return -1;
-  };
-  ContactSpec& cs = p.spec;
-  cs.host = index(p.host);
-  cs.guest = index(p.guest);
-  if (cs.host < 0) c.fail(o.at("host"), "unknown body \"" + p.host + "\"");
-  if (cs.guest < 0) c.fail(o.at("guest"), "unknown body \"" + p.guest + "\"");
-  if (p.host == p.guest) c.fail(o.at("guest"), "host and guest must be different bodies");
+// A pair's parameters (every key of a contact but host, guest and label), each from its row of
+// the key table: its value, or its default when absent. Marks the spec made from the table.
+void read_contact_spec(const Ctx& c, Obj& o, ContactSpec& cs) {
   cs.detector = o.word<DetectorKind>("detector");
   cs.voxel_size = o.length_or_auto("voxel_size");
   cs.cell_size = o.length_or_auto("cell_size");
@@ -306,6 +287,8 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
   cs.two_sided = o.boolean("two_sided");
   cs.invert_push = o.boolean("invert_push");
   cs.separation_time = o.number("separation_time");
+  cs.force = 0.0;
+  cs.stiffness = 0.0;
   // force: a number of newtons (constant), "auto", or {"stiffness": k} (penalty).
   const json* f = o.get("force");
   if (!f || (f->is_string() && f->get<std::string>() == "auto")) {
@@ -327,6 +310,30 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
     cs.force = x;
     o.out()["force"] = x;
   }
+  cs.made = kContactSpecMade;
+}
+
+ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& path, json& r, const Scene& s) {
+  Obj o(c, j, path, r, "contact");
+  ContactPairSpec p;
+  p.path = path;
+  p.host = o.string("host");
+  p.guest = o.string("guest");
+  p.label = o.string("label", p.host + "/" + p.guest);
+  // The one check of the names a scene gives; the spec gets the bodies' indices (the world lays
+  // the bodies out in scene order).
+  auto index = [&](const std::string& name) {
+    for (std::size_t i = 0; i < s.bodies.size(); ++i)
+      if (s.bodies[i].name == name) return static_cast<int>(i);
+    return -1;
+  };
+  ContactSpec& cs = p.spec;
+  cs.host = index(p.host);
+  cs.guest = index(p.guest);
+  if (cs.host < 0) c.fail(o.at("host"), "unknown body \"" + p.host + "\"");
+  if (cs.guest < 0) c.fail(o.at("guest"), "unknown body \"" + p.guest + "\"");
+  if (p.host == p.guest) c.fail(o.at("guest"), "host and guest must be different bodies");
+  read_contact_spec(c, o, cs);
   o.finish();
   return p;
 }
@@ -348,7 +355,8 @@ void read_references(const Ctx& c, Obj& top, Scene& s) {
     for (std::size_t i = 0; i < k.names.size(); ++i)
       expected += std::string(i == 0 ? "" : i + 1 == k.names.size() ? " or " : ", ") + "\"" + k.names[i] + "\"";
     for (const std::string& n : read_words(c, o.at("solvers"), *sv, k, "solver", expected)) {
-      (n == "cgal" ? s.references.cgal : n == "fcl" ? s.references.fcl : s.references.ccd) = true;
+      const Solver v = word_value<Solver>(n);
+      (v == Solver::cgal ? s.references.cgal : v == Solver::fcl ? s.references.fcl : s.references.ccd) = true;
       o.out()["solvers"].push_back(n);
     }
   }
@@ -389,6 +397,17 @@ Scene scene_from_json(const json& doc, const std::string& file, const std::strin
   read_output(c, top, s);
   top.finish();
   return s;
+}
+
+ContactSpec contact_spec_defaults() {
+  const Ctx c{"(the key table's defaults)"};
+  const json empty = json::object();
+  json resolved = json::object();
+  Obj o(c, empty, "contact", resolved, "contact");
+  ContactSpec cs{};
+  read_contact_spec(c, o, cs);
+  o.finish();
+  return cs;
 }
 
 }  // namespace harness

@@ -77,7 +77,7 @@ struct SettleSpec {
 };
 
 struct ShapeSpec {
-  std::string type;  // box | sphere | ellipsoid | cylinder | mesh
+  ShapeType type = ShapeType::box;
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();
   Vec3i cells = Vec3i::Ones();
   Vec3 center = Vec3::Zero();
@@ -108,7 +108,7 @@ struct BodySpec {
 struct ContactPairSpec {
   std::string host, guest;  // body names, as the scene gives them
   std::string label;        // the pair's name in the outputs (default "host/guest")
-  ContactSpec spec;         // the pair's parameters; host and guest are the bodies' indices
+  ContactSpec spec{};       // the pair's parameters; host and guest are the bodies' indices
   std::string path;         // "contacts.N"
 };
 
@@ -183,6 +183,11 @@ void rescale_steps(nlohmann::json& doc, int factor);
 void rescale_to_dt(nlohmann::json& doc, double dt);
 // rescale_steps on a validated scene's resolved document, validated again (tests).
 Scene rescale_dt(const Scene& scene, int factor);
+
+// A contact pair's parameters at the key table's defaults (rows "contact.*"), read as the loader
+// reads a contact that gives none of them; host and guest -1. The one way, with the loader, to
+// make a ContactSpec (ContactSpec::made): set its fields after.
+ContactSpec contact_spec_defaults();
 
 // Reads a whole text file; throws InputError(path, ...) when missing or unreadable.
 std::string read_text_file(const std::string& path);

@@ -120,7 +120,7 @@ class Generator {
 
   json plain(const SceneKey& k) {
     json s = json::object();
-    if (!k.doc.empty()) s["description"] = k.doc;
+    if (const std::string d = key_description(k); !d.empty()) s["description"] = d;
     const bool defaulted = k.presence == Presence::defaulted;
     switch (k.type) {
       case KeyType::number:

@@ -33,13 +33,13 @@ constexpr std::uintmax_t kMaxMeshBytes = 16384;
 
 // Nodes a body's generator makes before any volume fill; -1 when it must not be built.
 long long surface_nodes(const ShapeSpec& s) {
-  if (s.type == "box")
+  if (s.type == ShapeType::box)
     return (static_cast<long long>(s.cells[0]) + 1) * (s.cells[1] + 1) * (s.cells[2] + 1);
-  if (s.type == "sphere" || s.type == "ellipsoid") {
+  if (s.type == ShapeType::sphere || s.type == ShapeType::ellipsoid) {
     if (s.subdivisions < 0 || s.subdivisions > 6) return -1;
     return 10LL * (1LL << (2 * s.subdivisions)) + 2;
   }
-  if (s.type == "cylinder") return static_cast<long long>(s.segments) * (s.rings + 1) + 2;
+  if (s.type == ShapeType::cylinder) return static_cast<long long>(s.segments) * (s.rings + 1) + 2;
   // mesh
   const fs::path p = fs::path(s.path).lexically_normal();
   const std::string ps = p.string();
@@ -56,7 +56,7 @@ bool within_budget(const Scene& sc) {
   for (const BodySpec& b : sc.bodies) {
     const long long n = surface_nodes(b.shape);
     if (n < 0) return false;
-    if (b.shape.volume_fill && b.shape.type != "box" && n > kMaxFillSurface) return false;
+    if (b.shape.volume_fill && b.shape.type != ShapeType::box && n > kMaxFillSurface) return false;
     total += n;
     if (total > kMaxNodes) return false;
   }

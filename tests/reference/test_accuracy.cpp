@@ -1,5 +1,6 @@
 // Accuracy both ways (core/run/compare.hpp): signed distances and gaps on analytic
 // configurations, the error of a hand-computed case, a run compared with itself.
+#include "core/scene/scene.hpp"
 #include "core/run.hpp"
 #include "core/run/compare.hpp"
 #include "reference/reference.hpp"
@@ -31,7 +32,7 @@ TEST_CASE("signed distance: two spheres at known distances", "[accuracy][cgal]")
   const double R = 1.0;
   for (double D : {2.5, 2.05, 1.8}) {  // apart, nearly touching, overlapping
     World w;
-    ContactSpec pair;
+    ContactSpec pair = contact_spec_defaults();
     pair.host = add_body(w, "a", icosphere(Vec3::Zero(), R, 3));
     pair.guest = add_body(w, "b", icosphere(Vec3(D, 0, 0), R, 3));
     ReferenceMeasurer m(w, pair, cgal_only());
@@ -67,7 +68,7 @@ TEST_CASE("signed distance: two spheres at known distances", "[accuracy][cgal]")
 TEST_CASE("signed distance and gap: a cube above a layer at a known gap", "[accuracy][cgal]") {
   for (double g : {0.05, 0.0, -0.1}) {
     World w;
-    ContactSpec pair;
+    ContactSpec pair = contact_spec_defaults();
     pair.host = add_body(w, "layer", box_surface(Vec3(-1, -1, -0.5), Vec3(2, 2, 0.0), Vec3i(6, 6, 1)));
     pair.guest = add_body(w, "cube", box_surface(Vec3(0, 0, g), Vec3(1, 1, 1 + g), Vec3i(4, 4, 4)));
     ReferenceMeasurer m(w, pair, cgal_only());
@@ -116,7 +117,7 @@ TEST_CASE("signed distance: exact where the figures read it, a lower bound elsew
   const SurfaceState ref = surface_state(w0, 0, 0.0, {*o0.sd_host, *o0.sd_guest});
   for (double g : {0.05, -0.1}) {  // apart (a gap over the bottom face), overlapping (a depth)
     World w;
-    ContactSpec pair;
+    ContactSpec pair = contact_spec_defaults();
     scene(w, pair, g);
     ReferenceMeasurer all(w, pair, cgal_only()), some(w, pair, cgal_only());
     const Body& c = w.bodies[pair.guest];
@@ -157,7 +158,7 @@ TEST_CASE("signed distance: exact where the figures read it, a lower bound elsew
   }
   // A round host: within its bounding box a vertex not asked for gets 0, below its distance.
   World w;
-  ContactSpec pair;
+  ContactSpec pair = contact_spec_defaults();
   pair.host = add_body(w, "a", icosphere(Vec3::Zero(), 1.0, 3));
   pair.guest = add_body(w, "b", icosphere(Vec3(2.05, 0, 0), 1.0, 3));
   ReferenceMeasurer all(w, pair, cgal_only()), some(w, pair, cgal_only());

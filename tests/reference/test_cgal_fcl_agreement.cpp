@@ -1,6 +1,7 @@
 // 1,000 seeded random rigid poses of two closed meshes: CGAL's exact surface intersection and
 // FCL's triangle pairs say the same yes/no; containment (no surface contact) only CGAL's
 // bounded-side test catches, and every such case is checked to be containment.
+#include "core/scene/scene.hpp"
 #include "reference/reference.hpp"
 #include "tests/reference/reference_test_worlds.hpp"
 
@@ -30,7 +31,7 @@ TEST_CASE("CGAL and FCL agree on intersection over 1000 random poses", "[referen
   World w;
   const int host = add_body(w, "box", b0);
   const int guest = add_body(w, "bumpy", a0);
-  ContactSpec pair;
+  ContactSpec pair = contact_spec_defaults();
   pair.host = host;
   pair.guest = guest;
   ReferenceSpec spec;

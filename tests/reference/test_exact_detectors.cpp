@@ -19,7 +19,7 @@ using namespace harness::reftest;
 namespace {
 struct TwoSpheres {
   World w;
-  ContactSpec pair;
+  ContactSpec pair = contact_spec_defaults();
   TwoSpheres() {
     Surface guest = icosphere(Vec3(1.5, 0.1, 0.05), 1.0, 2);
     guest.V.push_back(Vec3(0.7, 0.1, 0.05));  // an interior node, inside the host too

@@ -1,6 +1,7 @@
 // Spatial hashing (core/collision/detectors/hash.hpp) against CGAL's exact inside test: on 1,200
 // seeded random poses of closed meshes (convex and not), at cell sizes from half to four times
 // the mean edge, the inside sets are equal and the nearest triangles are nearest.
+#include "core/scene/scene.hpp"
 #include "core/collision/detectors/hash.hpp"
 #include "reference/reference.hpp"
 #include "tests/reference/reference_test_worlds.hpp"
@@ -42,7 +43,7 @@ TEST_CASE("spatial hashing: inside sets equal CGAL's on 1200 random poses", "[ha
   for (int pose = 0; pose < 1200; ++pose) {
     const Surface& shape = shapes[pose % 3];
     World w;
-    ContactSpec pair;
+    ContactSpec pair = contact_spec_defaults();
     pair.host = add_body(w, "host", posed(shape, random_rotation(rng), 0.01 * Vec3(u(rng), u(rng), u(rng))));
     Points cloud_pts;
     for (int i = 0; i < 150; ++i) cloud_pts.push_back(0.04 * Vec3(u(rng), u(rng), u(rng)));

@@ -1,5 +1,6 @@
 // The CGAL ground truth of a pair (ReferenceMeasurer with solver cgal) on analytic
 // configurations: two icospheres, a cube in a layer; bookkeeping of tp/fp/fn; no stale trees.
+#include "core/scene/scene.hpp"
 #include "reference/reference.hpp"
 #include "tests/reference/reference_test_worlds.hpp"
 
@@ -22,7 +23,7 @@ ReferenceSpec cgal_only() {
 }
 
 ContactSpec pair_of(int host, int guest) {
-  ContactSpec p;
+  ContactSpec p = contact_spec_defaults();
   p.host = host;
   p.guest = guest;
   return p;

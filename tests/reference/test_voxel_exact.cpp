@@ -13,6 +13,7 @@
 // with band = v - L_max / 2 pose 57 fails (a node 1.89 mm inside, band 4.38 mm, found 0.016 mm
 // too deep, on a farther candidate). A band of r(x) - L_max / 2 (a smaller constant than 1/sqrt(3),
 // which is sufficient but not shown to be tight) survives these poses.
+#include "core/scene/scene.hpp"
 #include "core/collision/detectors/voxel_exact.hpp"
 #include "reference/reference.hpp"
 #include "tests/reference/reference_test_worlds.hpp"
@@ -81,7 +82,7 @@ TEST_CASE("voxel_exact agrees with CGAL within its band on 1200 random poses", "
     const Surface shape = posed(shapes[pose % 4], random_rotation(rng), 0.01 * Vec3(u(rng), u(rng), u(rng)));
     const double L = longest_edge(shape);
     World w;
-    ContactSpec pair;
+    ContactSpec pair = contact_spec_defaults();
     pair.detector = DetectorKind::voxel_exact;
     pair.host = add_body(w, "host", shape);
     pair.voxel_size = factors[(pose / 4) % 4] * L;
@@ -168,7 +169,7 @@ TEST_CASE("voxel_exact: a node just beyond the band is counted, one just within 
   // band = r(x) - 0.0408 m. Along a vertical line below the top face the depth grows by the
   // node's descent and r(x) changes piecewise: bisection finds where depth meets the band.
   World w;
-  ContactSpec pair;
+  ContactSpec pair = contact_spec_defaults();
   pair.detector = DetectorKind::voxel_exact;
   pair.host = add_body(w, "host", box_surface(Vec3(-0.1, -0.1, -0.05), Vec3(0.1, 0.1, 0.05), Vec3i(4, 4, 2)));
   pair.guest = harness::test::add_body(w, "guest", harness::test::cloud({Vec3(0.013, -0.021, 0.04)}));

@@ -1,3 +1,4 @@
+#include "core/scene/scene.hpp"
 #include "core/collision/collision.hpp"
 #include "core/collision/responses/directions.hpp"
 #include "core/collision/responses/force_rules.hpp"
@@ -45,12 +46,14 @@ class BruteForceDetector final : public CollisionDetector {
 };
 
 ContactSpec pair_spec(EliminatorKind e, double voxel = 1.0) {
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = voxel;
   s.region = Region::full;
   s.eliminator = e;
+  s.force_rule = ForceRule::constant;  // the paper's constant force, 1 N per contact
+  s.force = 1.0;
   return s;
 }
 

@@ -1,6 +1,7 @@
 // The responses the paper calls "restrictions" and its alternatives conserve momentum: the depth
 // penalty (forces sum to zero per contact) and position-based projection (corrections shared by
 // inverse mass: the centre of mass and the momentum do not move).
+#include "core/scene/scene.hpp"
 #include "core/collision/collision.hpp"
 #include "core/collision/responses/force_rules.hpp"
 #include "core/collision/responses/projection.hpp"
@@ -43,7 +44,7 @@ Vec3 mass_moment(const World& w) {
 }
 
 ContactSpec spec(EliminatorKind e, ForceRule r) {
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 0.25;

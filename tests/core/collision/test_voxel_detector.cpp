@@ -1,6 +1,7 @@
 // The voxel detector against a brute-force oracle that recomputes the grid geometry from the
 // formulas documented in initializer.hpp / voxel_data.hpp and checks every guest node against
 // every host node.
+#include "core/scene/scene.hpp"
 #include "core/collision/collision.hpp"
 #include "core/collision/detectors/voxel.hpp"
 #include "tests/core/collision/collision_test_worlds.hpp"
@@ -182,7 +183,7 @@ std::vector<int> guests_of(const std::vector<Contact>& c) {
 
 struct RandomCase {
   World w;
-  ContactSpec spec;
+  ContactSpec spec = contact_spec_defaults();
   double v = 0.0;
 };
 
@@ -343,7 +344,7 @@ TEST_CASE("contacts do not change when host and guest translate together",
       World w;
       add_body(w, "host", cloud(host));
       add_body(w, "guest", cloud(guest));
-      ContactSpec s;
+      ContactSpec s = contact_spec_defaults();
       s.host = 0;
       s.guest = 1;
       s.voxel_size = 0.3;  // -> 0.25, so the translations below are not multiples of it
@@ -364,7 +365,7 @@ TEST_CASE("contacts do not change when host and guest translate together",
   World w;
   add_body(w, "host", cloud(host));
   add_body(w, "guest", cloud(guest));
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 0.5;
@@ -382,7 +383,7 @@ TEST_CASE("the region is rebuilt when the host outgrows it", "[collision][voxel]
   const auto box = harness::test::box_lattice(Vec3(-1, -1, -1), Vec3(1, 1, 1), Vec3i(4, 4, 4));
   add_body(w, "implant", box);
   add_body(w, "tissue", cloud({Vec3(0, 0, 3)}));
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 0.25;
@@ -429,7 +430,7 @@ TEST_CASE("half region faces the guest", "[collision][voxel]") {
     World w;
     add_body(w, "host", cloud(host));
     add_body(w, "guest", cloud({k.guest}));
-    ContactSpec s;
+    ContactSpec s = contact_spec_defaults();
     s.host = 0;
     s.guest = 1;
     s.voxel_size = 0.5;
@@ -442,7 +443,7 @@ TEST_CASE("half region faces the guest", "[collision][voxel]") {
   World w;
   add_body(w, "sheet", cloud({Vec3(-5, -5, 0), Vec3(5, 5, 0)}));
   add_body(w, "ball", cloud({Vec3(4, 4, -0.1)}));
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 1;
@@ -457,7 +458,7 @@ TEST_CASE("surface host nodes fill only the surface vertices", "[collision][voxe
   World w;
   add_body(w, "host", cloud({Vec3(0.1, 0.1, 0.1), Vec3(0.6, 0.6, 0.6), Vec3(-2, -2, -2), Vec3(2, 2, 2)}, 1));
   add_body(w, "guest", cloud({Vec3(0.7, 0.7, 0.7), Vec3(0.2, 0.2, 0.2)}));
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 0.5;
@@ -476,7 +477,7 @@ TEST_CASE("voxel size: automatic choice and the capacity cap", "[collision][voxe
   World w;
   add_body(w, "host", cloud({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}));
   add_body(w, "guest", cloud({Vec3(0, 0, 2)}));
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 0.0;
@@ -528,7 +529,7 @@ TEST_CASE("bad pairs and the detector registry", "[collision][voxel]") {
   World w;
   add_body(w, "a", cloud({Vec3(0, 0, 0), Vec3(1, 1, 1)}));
   add_body(w, "b", cloud({Vec3(0, 0, 0)}));
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 0;
   CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);
@@ -538,6 +539,7 @@ TEST_CASE("bad pairs and the detector registry", "[collision][voxel]") {
   s.margin = -1;
   CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);
   s.margin = 1;
+  s.force_rule = ForceRule::constant;  // a constant force that is not finite
   s.force = std::numeric_limits<double>::infinity();
   CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);
   s.force = 1.0;
@@ -558,7 +560,7 @@ TEST_CASE("non-finite positions find nothing instead of failing", "[collision][v
   World w;
   add_body(w, "host", cloud({Vec3(0, 0, 0), Vec3(1, 1, 1)}));
   add_body(w, "guest", cloud({Vec3(0.1, 0.1, 0.1), Vec3(0.2, 0.1, 0.1)}));
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 0.5;
@@ -585,7 +587,7 @@ TEST_CASE("the per-step path reuses its buffers", "[collision][voxel]") {
       World w;
       add_body(w, "tissue", box);
       add_body(w, "tool", ball);
-      ContactSpec s;
+      ContactSpec s = contact_spec_defaults();
       s.host = 0;
       s.guest = 1;
       s.voxel_size = 0.3;

@@ -37,7 +37,7 @@ struct ThreadsGuard {
 };
 
 ContactSpec exact_spec(double voxel, Region region = Region::full) {
-  ContactSpec s;
+  ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.detector = DetectorKind::voxel_exact;
