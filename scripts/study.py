@@ -39,16 +39,8 @@ Each study is a module of scripts/harness_results/studies/; the rules below are 
 scripts/harness_results/rules.py, the runs go through harness_results/runner.py.
 """
 import argparse
-import os
-import sys
 
-from harness_results import card, counts, reader, rules, runner, studies
-from harness_results.studies import common
-
-# The studies that run on a user's scene (--scene FILE|NAME --out DIR): the same code as the
-# bundled ones, the scene's own eliminator, footing voxels from its host's node spacing, its
-# reference (--reference DIR, or made into DIR/references/<name>).
-USER_STUDIES = ["accuracy", "ablation", "convergence", "refinement", "realtime", "swap"]
+from harness_results import card, rules, studies
 
 
 def main():
@@ -81,31 +73,13 @@ def main():
         return
     if a.scene:  # a user's scene: the studies that take one, everything in --out
         if "all" in a.what:
-            a.what = [w for w in studies.ORDER if w in USER_STUDIES]
-        other = [w for w in a.what if w not in USER_STUDIES]
+            a.what = [w for w in studies.ORDER if w in studies.USER_STUDIES]
+        other = [w for w in a.what if w not in studies.USER_STUDIES]
         if other:
-            ap.error("--scene: %s run on the bundled scenes only (with --scene: %s)" % (", ".join(other), ", ".join(USER_STUDIES)))
-        user = common.set_user_scene(a, a.scene, a.out or os.path.join("studies", os.path.basename(a.scene).split(".")[0]),
-                                     a.reference)
-        if not a.plots_only and not reader.has_summary(user["reference"]):
-            print("study: making the reference of %s into %s" % (a.scene, user["reference"]), file=sys.stderr)
-            runner.reference(a, user["path"], user["reference"])
-    a.extra_sets = ["time.steps=300"] if a.quick else []
-    if a.quick:
-        a.repeats = 1
-    for d in ["figures", "tables"]:
-        os.makedirs(os.path.join(a.results, d), exist_ok=True)
-    for w in (studies.ORDER if "all" in a.what else a.what):
-        study = studies.module(w)
-        if a.plots_only:
-            if hasattr(study, "plots"):
-                print("study: %s figures from the CSV" % w, file=sys.stderr)
-                study.plots(a)
-            continue
-        print("study:", w, file=sys.stderr)
-        study.run(a)
-    if not a.plots_only and not a.scene:
-        counts.write(a.results)  # the report's counts follow the results
+            ap.error("--scene: %s run on the bundled scenes only (with --scene: %s)" % (", ".join(other),
+                                                                                      ", ".join(studies.USER_STUDIES)))
+        studies.use_user_scene(a)
+    studies.run_all(a)
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ Two methods per scenario, each run as the test runs it (settle at most SETTLE mo
 EVERY steps) and compared with the scenario's committed reference (results/references/<scene>/):
   the paper's voxel model  with the default the ablation chose (results/defaults.json); a scenario
                            without one gets no threshold for it, and the file says why;
-  the completed model      voxel_exact, both ways, the penalty (k = 500 N/m): COMPLETED below.
+  the completed model      voxel_exact, both ways, the penalty (k = 500 N/m): COMPLETED.
 The figures are the run's final window (rules: scripts/harness_results/rules.py): position error and
 gap as window means, depth and tunnelled nodes as window maxima, recall over the run. Each threshold
 is the measured value times a stated margin (at most 1.5), with a floor for the lengths (the scale
@@ -16,97 +16,21 @@ at the measured value 0):
   max_depth_max    window maximum of the deepest penetration                                   x 1.5
   max_tunnelled    window maximum of the nodes that passed through the other body             x 1.5, at least 1
   min_recall       detected / truly penetrating guest nodes (1 when none)                      / 1.1
+SETTLE, EVERY, MARGIN, FLOOR, COMPLETED and the measuring: scripts/harness_results/thresholds.py.
 Run deliberately, after a change that is meant to move accuracy (it is NOT part of reproduce.sh:
 thresholds must not follow the code automatically).
 Usage: scripts/thresholds.py [--harness build/bin/harness] [--results results]
 """
 import argparse
-import json
-import os
-import sys
-import tempfile
 
-from harness_results import reader, runner
-from harness_results.studies.common import SCENES, STUDY_EVERY, force_setting
-
-SETTLE = 4000
-EVERY = STUDY_EVERY  # the one sampling rule of runs, sweeps and studies (rules.py)
-MARGIN = {"pos_err_max": 1.5, "gap_max": 1.5, "depth_max": 1.5, "tunnelled": 1.5, "recall": 1.1}
-FLOOR = 5e-5  # m: the reference's own tolerance
-COMPLETED = {"contacts.0.detector": '"voxel_exact"', "contacts.0.eliminator": '"line"',
-             "contacts.0.force": '{"stiffness":500}', "contacts.0.two_sided": "true"}
-
-
-def paper_sets(d):
-    """--set overrides of the ablation's default: the paper's voxel model, its eliminator, force, voxel size."""
-    force = force_setting(d["force"])
-    return {"contacts.0.detector": '"voxel"', "contacts.0.eliminator": '"%s"' % d["eliminator"],
-            "contacts.0.force": json.dumps(force) if force == "auto" else force,
-            "contacts.0.voxel_size": "%g" % d["voxel_size"], "contacts.0.two_sided": "false"}
-
-
-def run(a, scene, sets, out):
-    """The scene as the CI test runs it (the caller's thread count), compared with its reference."""
-    args = ["run", scene, "--out", out, "--quiet", "--compare", os.path.join(a.results, "references", scene),
-            "--set", "output.frames_every=0", "--set", 'references.solvers=["cgal"]',
-            "--set", "references.every=%d" % EVERY, "--set", "time.settle.max_steps=%d" % SETTLE]
-    args += runner.sets_args("%s=%s" % kv for kv in sets.items())
-    return runner.harness(a, args, out, check=True, show_stderr=True, cached=False, threads=None)
-
-
-def measured(s):
-    """The window figures the thresholds hold (SI units) and the run's stability verdict."""
-    e = reader.reference_errors(s)
-    ew = e.get("window") or {}
-    return {"pos_err_max": reader.window_stat(ew, "pos_err_max"), "gap_max": reader.window_stat(ew, "gap_max"),
-            "depth_max": reader.window_stat(ew, "depth_max", "max"),
-            "tunnelled": reader.window_stat(ew, "tunnelled", "max"), "recall": reader.num(reader.pair(s).get("recall")),
-            "stability_verdict": s.get("stability_verdict"), "git_commit": reader.git_commit(s)}
-
-
-def thresholds_of(m):
-    return {"max_pos_err_max": max(FLOOR, m["pos_err_max"] * MARGIN["pos_err_max"]),
-            "max_gap_max": max(FLOOR, m["gap_max"] * MARGIN["gap_max"]),
-            "max_depth_max": max(FLOOR, m["depth_max"] * MARGIN["depth_max"]),
-            "max_tunnelled": max(1.0, m["tunnelled"] * MARGIN["tunnelled"]),
-            "min_recall": m["recall"] / MARGIN["recall"]}
+from harness_results import thresholds
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--harness", default="build/bin/harness")
     ap.add_argument("--results", default="results")
-    a = ap.parse_args()
-    with open(os.path.join(a.results, "defaults.json")) as f:  # must be there: the ablation's defaults
-        defaults = json.load(f)
-    doc = {"about": "CI accuracy thresholds: measured window figures times a margin, against the committed reference "
-                    "solutions; checked by the ctest 'reference:CI accuracy thresholds hold' with its broken twins. "
-                    "Made by scripts/thresholds.py.",
-           "every": EVERY, "settle_max_steps": SETTLE, "margins": MARGIN, "floor": FLOOR, "checks": [], "without": {}}
-    with tempfile.TemporaryDirectory() as tmp:
-        for scene in SCENES:
-            methods = [("completed", "voxel_exact, both ways, k = 500 N/m", COMPLETED)]
-            if defaults.get(scene):
-                methods.insert(0, ("paper", "the paper's voxel model, the ablation's default", paper_sets(defaults[scene])))
-            else:
-                doc["without"][scene] = ("the paper's voxel model: the ablation found no stable setting clearly closer to "
-                                         "the reference than no contact force (results/tables/ablation.md): a threshold "
-                                         "could not tell the method from a broken one")
-                print("thresholds: %s has no voxel default; no threshold for the paper's model (said in the file)" % scene,
-                      file=sys.stderr)
-            for kind, label, sets in methods:
-                s = run(a, scene, sets, os.path.join(tmp, "%s_%s" % (scene, kind)))
-                m = measured(s)
-                if m["stability_verdict"] not in ("settled", "chatters"):
-                    print("thresholds: %s, %s: verdict %s; thresholds kept from its figures all the same" % (
-                        scene, label, m["stability_verdict"]), file=sys.stderr)
-                doc["checks"].append(dict(scene=scene, method=kind, label=label, sets=sets, measured=m,
-                                          **thresholds_of(m)))
-    out = os.path.join(a.results, "thresholds.json")
-    with open(out, "w") as f:
-        json.dump(doc, f, indent=2, sort_keys=True)
-        f.write("\n")
-    print("thresholds: written to %s" % out, file=sys.stderr)
+    thresholds.write(ap.parse_args())
 
 
 if __name__ == "__main__":

@@ -62,10 +62,9 @@ def step_times(folder):
 def row(folder, method):
     s = reader.load_summary(folder)
     f = dict(reader.window_figures(s), **rules.stability_fields(s))
-    p = reader.pair(s)
     mean, p99, mx = step_times(folder)
     return dict(f, method=method, folder=os.path.basename(folder), t_mean_us=mean, t_p99_us=p99, t_max_us=mx,
-                tunnelled_total=reader.num(p.get("tunnelled"), 0) + reader.num(p.get("tunnelled_host"), 0))
+                tunnelled_total=reader.tunnelled_both(s))
 
 
 def judge(rows, base):

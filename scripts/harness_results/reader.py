@@ -144,6 +144,48 @@ def steps_run(s):
     return s["steps_run"]
 
 
+def steps_run_or_none(s):
+    """steps_run, None when the summary does not record it."""
+    return s.get("steps_run")
+
+
+def steps_requested(s):
+    """The steps a device run was asked for (`harness run --device`), None when not recorded."""
+    return s.get("steps_requested")
+
+
+def scene(s):
+    """The scene's name."""
+    return s["scene"]
+
+
+def state_hash(s):
+    """The hash of the final state (positions and velocities)."""
+    return s["state_hash"]
+
+
+def cpu_check(s):
+    """A device run's check against the CPU (`--check-cpu`): {cpu_state_hash, bit_identical,
+    max_node_distance_m}, None when the run made none."""
+    c = s.get("cpu_check")
+    if not c:
+        return None
+    return {k: c[k] for k in ("cpu_state_hash", "bit_identical", "max_node_distance_m")}
+
+
+def stability_verdict(s):
+    """The harness's stability verdict of the run's final window (settled, chatters, ...)."""
+    return s.get("stability_verdict")
+
+
+def body_nodes(s, name):
+    """Nodes of body `name` (summary `bodies`), None when the summary does not list them."""
+    for b in s.get("bodies") or []:
+        if b.get("name") == name:
+            return int(b["nodes"])
+    return None
+
+
 def nodes(s):
     return s.get("nodes", 0)
 
@@ -171,6 +213,66 @@ def pair(s, i=0):
 def reference_errors(s, i=0):
     """The pair's error against the reference (--compare): {} without one."""
     return pair(s, i).get("error_vs_reference") or {}
+
+
+def reference_window(s, i=0):
+    """The pair's errors against the reference over the final window ({} without one)."""
+    return reference_errors(s, i).get("window") or {}
+
+
+def pair_window(s, i=0):
+    """The pair's own figures over the final window (pairs[].window: depth, penetrating and tunnelled
+    nodes, nodes outside the region, ...; {} without one)."""
+    return pair(s, i).get("window") or {}
+
+
+def pair_window_stat(s, name, stat, i=0):
+    """One statistic of a pair's window figure, as recorded: from its errors against the reference
+    (error_vs_reference.window) where it is one of them, else from the pair's own window; None when
+    absent."""
+    for w in (reference_window(s, i), pair_window(s, i)):
+        if name in w:
+            return (w[name] or {}).get(stat)
+    return None
+
+
+def pair_value(s, key, i=0):
+    """A pair's figure over the whole run as recorded (None when absent): recall, precision,
+    max_depth_final, max_depth_peak, ..."""
+    return pair(s, i).get(key)
+
+
+def voxel_size_used(s, i=0):
+    """The voxel size the pair's grid used (m)."""
+    return float(pair(s, i)["voxel_size_used"])
+
+
+def outside_region_peak(s, i=0):
+    """The peak of the truly penetrating guest nodes outside the grid's region, NaN when not measured."""
+    return num(pair(s, i).get("outside_region_peak"))
+
+
+def tunnelled_peak(s, i=0):
+    """The peak of the nodes that passed through the other body, as recorded (pairs[].tunnelled_peak:
+    guest + host where it gives both; else pairs[].tunnelled), None when not measured."""
+    p = pair(s, i)
+    t = p.get("tunnelled_peak")
+    if isinstance(t, dict):
+        vals = [v for v in (t.get("guest"), t.get("host")) if v is not None]
+        return sum(vals) if vals else None
+    return t if t is not None else p.get("tunnelled")
+
+
+def tunnelled_both(s, i=0):
+    """Nodes that passed through the other body at the end, guest and host together (a missing one
+    counts 0)."""
+    p = pair(s, i)
+    return num(p.get("tunnelled"), 0) + num(p.get("tunnelled_host"), 0)
+
+
+def contacts_last(s, i=0):
+    """The pair's contacts at its last step ("" when not recorded)."""
+    return pair(s, i).get("contacts_last", "")
 
 
 def final_reference_errors(s, i=0):
@@ -232,6 +334,32 @@ def stability_inputs(s, norm=None):
 def timings(s):
     """Median microseconds per step: step, physics, detect, eliminate, fcl, cgal (None when not timed)."""
     return s.get("timing_us") or {}
+
+
+def step_time_us(s):
+    """The median time of a step, µs (NaN when not timed)."""
+    return num(timings(s).get("step"))
+
+
+def stepping(s):
+    """How the run stepped (summary `stability`): dt (s) and the smallest dt_crit met (NaN when not
+    recorded), integrator, max_substeps (None when not recorded)."""
+    st = s.get("stability") or {}
+    return {"dt": num(st.get("dt")), "dt_crit_min": num(st.get("dt_crit_min")), "integrator": st.get("integrator"),
+            "max_substeps": st.get("max_substeps")}
+
+
+def device_timing(s):
+    """A device run's timing (`harness run --device cuda`, every step waited for): dt (s) and the
+    median step (µs) as numbers (NaN when missing); mean, p99 and max step (µs), the budget (µs), the
+    real-time factor's mean and p99, the device, and the machine's cpu and cores ("?" when not
+    recorded) as recorded."""
+    t = timings(s)
+    m = s.get("machine") or {}
+    return {"dt": num(s.get("dt")), "median_us": num(t.get("median")), "mean_us": t.get("mean"), "p99_us": t.get("p99"),
+            "max_us": t.get("max"), "budget_us": s.get("budget_us"), "realtime_factor_mean": s.get("realtime_factor_mean"),
+            "realtime_factor_p99": s.get("realtime_factor_p99"), "device": s.get("device"),
+            "machine_cpu": m.get("cpu", "?"), "machine_cores": m.get("cores", "?")}
 
 
 def contact_time_us(s):
@@ -305,10 +433,29 @@ def frames_every(s):
     return int(resolved(s).get("output", {}).get("frames_every", 0) or 0)
 
 
-def contact_bodies(s):
-    """(host, guest) names of the first contact pair."""
-    c = resolved(s)["contacts"][0]
-    return c["host"], c["guest"]
+def contact(s, strict=True):
+    """The resolved scene's first contact pair (host, guest, detector, eliminator, force, voxel_size,
+    region, margin, ...); strict=False: {} where the summary records none."""
+    if not strict:
+        return ((s.get("resolved_scene") or {}).get("contacts") or [{}])[0]
+    return resolved(s)["contacts"][0]
+
+
+def scene_bodies(s):
+    """The resolved scene's bodies (name, shape, material, constraints)."""
+    return resolved(s)["bodies"]
+
+
+def scene_effects(s):
+    """The resolved scene's effects (the names of what acts on it)."""
+    return resolved(s)["effects"]
+
+
+def contact_bodies(s, strict=True):
+    """(host, guest) names of the first contact pair; strict=False: None for what the summary does
+    not record."""
+    c = contact(s, strict)
+    return (c["host"], c["guest"]) if strict else (c.get("host"), c.get("guest"))
 
 
 def reference_levels(s):

@@ -1,6 +1,7 @@
 """The runs scripts/reproduce.sh makes under results/runs/<run>/ (the paper's voxel model on the
-bundled scenes, both eliminators), and their frames (frames/*.vtk). Read by figures.py, tables.py,
-claims.py, counts.py and prune_frames.py. Deterministic: fixed run order, sorted file lists."""
+bundled scenes, both eliminators), and their frames (frames/*.vtk): read by figures.py, tables.py,
+claims/ and counts.py, pruned by prune_frames (scripts/prune_frames.py). Deterministic: fixed run
+order, sorted file lists."""
 
 import math
 import os
@@ -71,7 +72,7 @@ def frame_path(path, body, step):
 def snapshot_steps(summary):
     """Steps shown in the snapshot figures: SNAPSHOT_FRACTIONS of the run, rounded to the
     nearest multiple of output.frames_every (the last one is the final step)."""
-    n = int(summary["steps_run"])
+    n = int(reader.steps_run(summary))
     fe = reader.frames_every(summary)
     steps = []
     for f in SNAPSHOT_FRACTIONS:
@@ -83,6 +84,23 @@ def snapshot_steps(summary):
         if s not in steps:
             steps.append(s)
     return steps
+
+
+def prune_frames(root):
+    """Deletes the frames of the runs under `root` that no figure or table uses: keeps, for every
+    body, the snapshot instants of the figures (snapshot_steps: they include step 0 and the last
+    step, the ones the tables use for displacements). Returns (kept, removed)."""
+    removed = kept = 0
+    for _key, _scene, _title, _force, _elim, path in existing_runs(root):
+        keep = set(snapshot_steps(reader.load_summary(path)))
+        for body, steps in sorted(frames_available(path).items()):
+            for s in steps:
+                if s in keep:
+                    kept += 1
+                else:
+                    os.remove(frame_path(path, body, s))
+                    removed += 1
+    return kept, removed
 
 
 def read_vtk(fname):

@@ -54,3 +54,30 @@ def test_summary_accessors():
     x = reader.stability_inputs(s)
     assert x["guard_violations"] == 0 and x["balance_error"] == 0.0 and math.isnan(x["rho"])
     assert reader.pair({}) == {} and reader.final_reference_errors({"pairs": [{}]}) is None
+
+
+def test_pair_accessors():
+    s = {"pairs": [{"tunnelled_peak": {"guest": 2, "host": None}, "recall": 1, "voxel_size_used": 0.004,
+                    "window": {"depth_max": {"max": 0.001}, "pos_err_max": {"mean": 9.0}},
+                    "error_vs_reference": {"window": {"pos_err_max": {"mean": 0.002, "amplitude": 0.0005}}}}]}
+    assert reader.tunnelled_peak(s) == 2
+    assert reader.tunnelled_peak({"pairs": [{"tunnelled": 3}]}) == 3 and reader.tunnelled_peak({}) is None
+    assert reader.pair_window_stat(s, "pos_err_max", "mean") == 0.002  # the reference's window first
+    assert reader.pair_window_stat(s, "depth_max", "max") == 0.001 and reader.pair_window_stat(s, "gap_max", "mean") is None
+    assert reader.pair_value(s, "recall") == 1 and reader.pair_value(s, "precision") is None
+    assert reader.voxel_size_used(s) == 0.004 and math.isnan(reader.outside_region_peak(s))
+    assert reader.tunnelled_both({"pairs": [{"tunnelled": 1, "tunnelled_host": None}]}) == 1.0
+
+
+def test_run_accessors():
+    s = {"stability": {"dt": 1e-4, "integrator": "symplectic_euler"}, "timing_us": {"step": 5.0, "median": 4.0},
+         "machine": {"cpu": "x"}, "bodies": [{"name": "a", "nodes": 12}]}
+    st = reader.stepping(s)
+    assert st["dt"] == 1e-4 and math.isnan(st["dt_crit_min"]) and st["max_substeps"] is None
+    assert reader.step_time_us(s) == 5.0 and reader.steps_run_or_none(s) is None
+    d = reader.device_timing(s)
+    assert d["median_us"] == 4.0 and math.isnan(d["dt"]) and (d["machine_cpu"], d["machine_cores"]) == ("x", "?")
+    assert reader.body_nodes(s, "a") == 12 and reader.body_nodes(s, "b") is None
+    assert reader.contact(s, strict=False) == {} and reader.contact_bodies(s, strict=False) == (None, None)
+    r = {"resolved_scene": {"contacts": [{"host": "h", "guest": "g"}]}}
+    assert reader.contact_bodies(r) == ("h", "g") and reader.cpu_check(r) is None

@@ -24,14 +24,6 @@ P90_MAX_STEPS = 100
 OPEN_MAX_FRACTION = 0.05
 
 
-def body_nodes(s, name):
-    """Nodes of body `name` (summary `bodies`), None when the summary does not list them."""
-    for b in s.get("bodies") or []:
-        if b.get("name") == name:
-            return int(b["nodes"])
-    return None
-
-
 def episode_stats(episodes, body, nodes, peak):
     """The episodes of one body in one run against the three criteria."""
     lengths = sorted(int(r["steps"]) for r in episodes if r["body"] == body)
@@ -61,15 +53,14 @@ def run_figures(path):
     """(summary, guest stats, host stats) of the run in `path`, read once."""
     if path not in _FIGURES:
         s = reader.load_summary(path)
-        c = (s.get("resolved_scene") or {}).get("contacts", [{}])[0]
-        guest, host = c.get("guest"), c.get("host")
+        host, guest = reader.contact_bodies(s, strict=False)
         cols = reader.load_steps(path)
         _, g = reader.measured(cols, "true_pen_guest")
         _, h = reader.measured(cols, "true_pen_host")
         ep = reader.load_episodes(path)
-        gs = episode_stats(ep, guest, body_nodes(s, guest), int(max(g, default=0)))
+        gs = episode_stats(ep, guest, reader.body_nodes(s, guest), int(max(g, default=0)))
         gs["tunnelled"] = reader.num(reader.window_figures(s).get("tunnelled"), 0.0)
-        _FIGURES[path] = (s, gs, episode_stats(ep, host, body_nodes(s, host), int(max(h, default=0))))
+        _FIGURES[path] = (s, gs, episode_stats(ep, host, reader.body_nodes(s, host), int(max(h, default=0))))
     return _FIGURES[path]
 
 

@@ -8,12 +8,54 @@ results/README.md.
 """
 
 import importlib
+import os
+import sys
+
+from .. import counts, reader, runner
+from . import common
 
 # The order of `study.py all`.
 ORDER = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime", "swap", "region", "orient",
          "bullet"]
+# The studies that run on a user's scene (--scene FILE|NAME --out DIR): the same code as the
+# bundled ones, the scene's own eliminator, footing voxels from its host's node spacing, its
+# reference (--reference DIR, or made into DIR/references/<name>).
+USER_STUDIES = ["accuracy", "ablation", "convergence", "refinement", "realtime", "swap"]
 
 
 def module(name):
     """The module of study `name`."""
     return importlib.import_module("." + name, __name__)
+
+
+def use_user_scene(a):
+    """study.py --scene: the studies run on a.scene with every output in a.out (default
+    studies/<name>); its reference (a.reference, else made into a.out/references/<name> unless
+    --plots-only)."""
+    user = common.set_user_scene(a, a.scene, a.out or os.path.join("studies", os.path.basename(a.scene).split(".")[0]),
+                                 a.reference)
+    if not a.plots_only and not reader.has_summary(user["reference"]):
+        print("study: making the reference of %s into %s" % (a.scene, user["reference"]), file=sys.stderr)
+        runner.reference(a, user["path"], user["reference"])
+
+
+def run_all(a):
+    """The studies a.what names ("all": ORDER) in turn: each run (study.run), or with --plots-only
+    its tables and figures again from its CSV (study.plots, where it has one); then, unless
+    --plots-only or on a user's scene, tables/counts.tex written again."""
+    a.extra_sets = ["time.steps=300"] if a.quick else []
+    if a.quick:
+        a.repeats = 1
+    for d in ["figures", "tables"]:
+        os.makedirs(os.path.join(a.results, d), exist_ok=True)
+    for w in (ORDER if "all" in a.what else a.what):
+        study = module(w)
+        if a.plots_only:
+            if hasattr(study, "plots"):
+                print("study: %s figures from the CSV" % w, file=sys.stderr)
+                study.plots(a)
+            continue
+        print("study:", w, file=sys.stderr)
+        study.run(a)
+    if not a.plots_only and not a.scene:
+        counts.write(a.results)  # the report's counts follow the results

@@ -177,28 +177,20 @@ def front_text(rows, front, floor):
             "still counts) %d." % (len(front), len(stable), len(runs), len(useless), floor, len(loose), len(strict)))
 
 
-def plot_pareto(a, scene, rows, front):
-    """Error against time, one marker per configuration (colour: detector, shape: eliminator,
-    hollow: unstable, grey fill and a cross: stable but useless, i.e. tunnels or no better than no
-    force: drawn apart, never a point of the front); the front of the evidence as a staircase with its points
-    numbered 1, 2, ... by time and named in the key beside the axes. Printed at the text width."""
-    from matplotlib.lines import Line2D
-    plt = style.pyplot()
-    fig = plt.figure(figsize=(style.TEXT, 2.9), layout="constrained")
-    gs = fig.add_gridspec(1, 2, width_ratios=[1.3, 1.0])
-    ax = fig.add_subplot(gs[0])
-    key = fig.add_subplot(gs[1])
-    key.axis("off")
-    floor = 1e-3
-    pts, off = [], 0
-    base = [r for r in rows if r["config"] == NO_FORCE and not math.isnan(r["pos_err_max_mm"])]
-    rows = [r for r in rows if r["config"] != NO_FORCE]
-    shown = [r for r in rows if not (math.isnan(r["pos_err_max_mm"]) or math.isnan(r["t_contact_us"]))]
+PARETO_FLOOR_MM = 1e-3  # errors below it are drawn at it (log scale)
 
-    def xy(r):
-        return max(r["t_contact_us"], 0.1), min(max(r["pos_err_max_mm"], floor), PARETO_CAP_MM)
+
+def pareto_xy(r):
+    """Where a row is drawn: (time, error), the time at least 0.1 µs, the error between
+    PARETO_FLOOR_MM and PARETO_CAP_MM."""
+    return max(r["t_contact_us"], 0.1), min(max(r["pos_err_max_mm"], PARETO_FLOOR_MM), PARETO_CAP_MM)
+
+
+def pareto_marks(ax, shown, front):
+    """A marker per configuration (see plot_pareto); (the points drawn, how many are off the scale)."""
+    pts, off = [], 0
     for r in shown:
-        x, y = xy(r)
+        x, y = pareto_xy(r)
         ok = r["stable"] == "yes"
         fill = (USELESS_FILL if r.get("useless") else DETECTOR_COLOUR.get(r["detector"], "gray")) if ok else "none"
         capped = r["pos_err_max_mm"] > PARETO_CAP_MM
@@ -213,11 +205,11 @@ def plot_pareto(a, scene, rows, front):
             ax.annotate("", xy=(x, y), xytext=(0, -9), textcoords="offset points", zorder=2,
                         arrowprops=dict(arrowstyle="->", lw=0.6, color=c, shrinkA=0, shrinkB=3))
         pts.append((x, y))
-    fr = sorted(front, key=lambda r: (r["t_contact_us"], r["pos_err_max_mm"]))
-    if fr:
-        ax.step([xy(r)[0] for r in fr], [xy(r)[1] for r in fr], where="post", color="k", lw=0.7, zorder=2)
-    for r in base:  # the error with contact detected and never pushed: a useful setting is below it
-        ax.axhline(min(max(r["pos_err_max_mm"], floor), PARETO_CAP_MM), color="0.45", lw=0.7, ls=":", zorder=1)
+    return pts, off
+
+
+def pareto_axes(ax, scene, off):
+    """Log scales, room above the blown-up runs (`off` of them), labels, title and grid."""
     ax.set_xscale("log")
     ax.set_yscale("log")
     style.plain_log_ticks(ax.xaxis, ax.yaxis)
@@ -228,8 +220,12 @@ def plot_pareto(a, scene, rows, front):
     ax.set_title(scene.replace("_", " "))
     ax.grid(True, which="major", alpha=0.35)
     ax.grid(True, which="minor", alpha=0.12)
-    # Key: what the marks mean, then the front's points by number.
-    # Two columns (the legend fills column by column): colours and hollow; shapes, front, off scale.
+
+
+def pareto_marks_key(key, rows, base, off):
+    """The key of what the marks mean, in two columns (the legend fills column by column): colours
+    and hollow; shapes, front, no force, off scale."""
+    from matplotlib.lines import Line2D
     col1 = [Line2D([], [], ls="none", marker="o", ms=5, mfc=DETECTOR_COLOUR.get(d, "gray"), mec="none", label=d)
             for d in sorted({r["detector"] for r in rows})]
     col1.append(Line2D([], [], ls="none", marker="o", ms=5, mfc="none", mec="0.3", label="unstable (hollow)"))
@@ -251,7 +247,11 @@ def plot_pareto(a, scene, rows, front):
                      handletextpad=0.5, columnspacing=0.8, borderaxespad=0.0, title="marks", alignment="left",
                      title_fontproperties={"weight": "bold", "size": style.SMALL})
     key.add_artist(leg)
-    labels = ["%d" % (k + 1) for k in range(len(fr))]
+
+
+def pareto_front_key(key, fr, labels):
+    """The key of the front's points (fr, by time), by their numbers."""
+    from matplotlib.lines import Line2D
     entries = [Line2D([], [], ls="none", label="%s  %s, %s, %s: %.3g mm, %s µs" % (
         labels[k], r["config"], r["eliminator"], r["force"], r["pos_err_max_mm"],
         ("%.0f" if r["t_contact_us"] >= 100 else "%.3g") % r["t_contact_us"])) for k, r in enumerate(fr)]
@@ -259,11 +259,40 @@ def plot_pareto(a, scene, rows, front):
         key.legend(handles=entries, loc="lower left", frameon=False, fontsize=style.SMALL, handlelength=0,
                    handletextpad=0, borderaxespad=0.0, title="front, by time", alignment="left",
                    title_fontproperties={"weight": "bold", "size": style.SMALL})
-    stair = [xy(fr[0])] if fr else []
+
+
+def plot_pareto(a, scene, rows, front):
+    """Error against time, one marker per configuration (colour: detector, shape: eliminator,
+    hollow: unstable, grey fill and a cross: stable but useless, i.e. tunnels or no better than no
+    force: drawn apart, never a point of the front); the front of the evidence as a staircase with its points
+    numbered 1, 2, ... by time and named in the key beside the axes. Printed at the text width."""
+    plt = style.pyplot()
+    fig = plt.figure(figsize=(style.TEXT, 2.9), layout="constrained")
+    gs = fig.add_gridspec(1, 2, width_ratios=[1.3, 1.0])
+    ax = fig.add_subplot(gs[0])
+    key = fig.add_subplot(gs[1])
+    key.axis("off")
+    base = [r for r in rows if r["config"] == NO_FORCE and not math.isnan(r["pos_err_max_mm"])]
+    rows = [r for r in rows if r["config"] != NO_FORCE]
+    shown = [r for r in rows if not (math.isnan(r["pos_err_max_mm"]) or math.isnan(r["t_contact_us"]))]
+    pts, off = pareto_marks(ax, shown, front)
+    fr = sorted(front, key=lambda r: (r["t_contact_us"], r["pos_err_max_mm"]))
+    if fr:
+        ax.step([pareto_xy(r)[0] for r in fr], [pareto_xy(r)[1] for r in fr], where="post", color="k", lw=0.7,
+                zorder=2)
+    for r in base:  # the error with contact detected and never pushed: a useful setting is below it
+        ax.axhline(min(max(r["pos_err_max_mm"], PARETO_FLOOR_MM), PARETO_CAP_MM), color="0.45", lw=0.7, ls=":",
+                   zorder=1)
+    pareto_axes(ax, scene, off)
+    # Key: what the marks mean, then the front's points by number.
+    pareto_marks_key(key, rows, base, off)
+    labels = ["%d" % (k + 1) for k in range(len(fr))]
+    pareto_front_key(key, fr, labels)
+    stair = [pareto_xy(fr[0])] if fr else []
     for r0, r1 in zip(fr[:-1], fr[1:]):
-        stair += [(xy(r1)[0], xy(r0)[1]), xy(r1)]
-    style.place_labels(ax, [xy(r) for r in fr], labels, avoid=[p for p in pts if p not in [xy(r) for r in fr]],
-                       lines=[stair])
+        stair += [(pareto_xy(r1)[0], pareto_xy(r0)[1]), pareto_xy(r1)]
+    style.place_labels(ax, [pareto_xy(r) for r in fr], labels,
+                       avoid=[p for p in pts if p not in [pareto_xy(r) for r in fr]], lines=[stair])
     style.save(fig, figure_path(a, "pareto_%s" % scene), width=style.TEXT)
 
 

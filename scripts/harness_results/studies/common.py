@@ -61,8 +61,8 @@ def set_user_scene(a, scene, out, reference=None):
                         "--set", "references.solvers=[]", "--set", "output.frames_every=0"],
                        check=True, stderr=subprocess.DEVNULL)
         s = reader.load_summary(tmp)
-    v = reader.num(reader.pair(s).get("voxel_size_used"))
-    contact = (reader.resolved(s).get("contacts") or [{}])[0]
+    v = reader.num(reader.pair_value(s, "voxel_size_used"))
+    contact = reader.contact(s, strict=False)
     elim = contact.get("eliminator", "line")
     a.results = out
     a.user = {"name": name, "path": os.path.abspath(scene) if os.path.isfile(scene) else scene,
@@ -160,7 +160,7 @@ def combine(summaries):
     """Errors of the first run; contact and step time: median over the runs, and their range (min, max)."""
     f = figures(summaries[0])
     # A repeat not run (study.py --cached-only) has no time: the others' median and range.
-    timed = [s for s in summaries if s.get("status") != "not run"] or summaries[:1]
+    timed = [s for s in summaries if reader.status(s) != "not run"] or summaries[:1]
     tc = sorted(figures(s)["t_contact_us"] for s in timed)
     ts = sorted(figures(s)["t_step_us"] for s in timed)
     f["t_contact_us"] = rules.median(tc)

@@ -69,7 +69,7 @@ def modes(a, scene, base, first):
     """(mode, arguments) of one method: the scene's dt, 0.9 of the smallest dt_crit the run at the
     scene's dt met (when it reported one), implicit Euler at ten times the scene's dt."""
     dt0 = scene_doc(a, scene)["time"]["dt"]
-    dt_crit_min = reader.num((first.get("stability") or {}).get("dt_crit_min"))
+    dt_crit_min = reader.stepping(first)["dt_crit_min"]
     out = [("scene dt", base)]
     if dt_crit_min > 0:
         out.append(("0.9 dt_crit", base + ["--dt", "%.4g" % (0.9 * dt_crit_min), "--set", 'time.guard="substep"']))
@@ -78,18 +78,17 @@ def modes(a, scene, base, first):
 
 
 def row_of(scene, label, kind, mode, threads, args, s):
-    t = reader.timings(s)
-    st = s.get("stability") or {}
-    dt = reader.num(st.get("dt"))
-    step_us = reader.num(t.get("step"))
+    st = reader.stepping(s)
+    dt = st["dt"]
+    step_us = reader.step_time_us(s)
     contact_us = reader.contact_time_us(s)
     f = figures(s)
     return {"scene": scene, "method": label, "kind": kind, "mode": mode, "threads": threads, "dt": dt,
-            "integrator": st.get("integrator"), "substeps_max": st.get("max_substeps"), "overrides": shell_args(args),
+            "integrator": st["integrator"], "substeps_max": st["max_substeps"], "overrides": shell_args(args),
             "t_step_us": step_us, "t_contact_us": contact_us, "contact_budget_share": contact_us / HAPTIC_BUDGET_US,
             "realtime_factor": dt * 1e6 / step_us if step_us > 0 else float("nan"),
             "pos_err_max_mm": f["pos_err_max_mm"], "tunnelled": f["tunnelled"], "stability": f["stability"],
-            "status": s.get("status"), "steps": s.get("steps_run")}
+            "status": reader.status(s), "steps": reader.steps_run_or_none(s)}
 
 
 def run(a):
@@ -158,27 +157,26 @@ def device_rows(a, cpu_rows):
         if not os.path.isfile(path):
             continue
         s = reader.load_summary(path)
-        t = s.get("timing_us") or {}
+        t = reader.device_timing(s)
         twin = next((r for r in cpu_rows if r["scene"] == scene and r["method"] == label and r["mode"] == "scene dt"
                      and int(r["threads"]) == 1), {})
-        dt = reader.num(s.get("dt"))
-        med = reader.num(t.get("median"))
-        m = s.get("machine") or {}
+        dt = t["dt"]
+        med = t["median_us"]
         out.append({"scene": scene, "method": label, "kind": kind, "mode": "scene dt", "threads": 1, "dt": dt,
                     "integrator": "symplectic_euler", "substeps_max": 1, "t_step_us": med,
-                    "t_step_mean_us": t.get("mean"), "t_step_p99_us": t.get("p99"), "t_step_max_us": t.get("max"),
-                    "budget_us": s.get("budget_us"), "t_contact_us": float("nan"), "contact_budget_share": float("nan"),
+                    "t_step_mean_us": t["mean_us"], "t_step_p99_us": t["p99_us"], "t_step_max_us": t["max_us"],
+                    "budget_us": t["budget_us"], "t_contact_us": float("nan"), "contact_budget_share": float("nan"),
                     "realtime_factor": dt * 1e6 / med if med > 0 else float("nan"),
-                    "realtime_factor_mean": s.get("realtime_factor_mean"), "realtime_factor_p99": s.get("realtime_factor_p99"),
+                    "realtime_factor_mean": t["realtime_factor_mean"], "realtime_factor_p99": t["realtime_factor_p99"],
                     "pos_err_max_mm": float("nan"), "tunnelled": "", "error_over_best": float("nan"), "stability": "",
                     "best_exact_mm": twin.get("best_exact_mm", float("nan")),
                     "cpu_twin_pos_err_max_mm": twin.get("pos_err_max_mm", float("nan")),
                     "cpu_twin_error_over_best": twin.get("error_over_best", float("nan")),
                     "cpu_twin_stability": twin.get("stability", ""), "cpu_twin_steps": twin.get("steps", ""),
-                    "status": s.get("status"), "steps": s.get("steps_run"),
+                    "status": reader.status(s), "steps": reader.steps_run_or_none(s),
                     "overrides": "--device cuda --steps %s --set 'contacts.0.detector=\"voxel_exact\"' --set "
-                                 "'references.solvers=[]'" % s.get("steps_requested"),
-                    "device": s.get("device"), "machine": "%s (%s cores)" % (m.get("cpu", "?"), m.get("cores", "?"))})
+                                 "'references.solvers=[]'" % reader.steps_requested(s),
+                    "device": t["device"], "machine": "%s (%s cores)" % (t["machine_cpu"], t["machine_cores"])})
     return out
 
 

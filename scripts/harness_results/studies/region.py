@@ -27,11 +27,10 @@ REGION_FORCES = ["0", PENALTY]
 def region_figures(s):
     """The region's figures of one run: truly penetrating guest nodes outside the grid's region
     (window mean and peak), truly penetrating guest nodes (window mean), their ratio."""
-    p = reader.pair(s)
-    w = p.get("window") or {}
+    w = reader.pair_window(s)
     out_mean = reader.window_stat(w, "outside_region")
     pen_mean = reader.window_stat(w, "true_pen_guest")
-    return {"outside_mean": out_mean, "outside_peak": reader.num(p.get("outside_region_peak")),
+    return {"outside_mean": out_mean, "outside_peak": reader.outside_region_peak(s),
             "pen_guest_mean": pen_mean, "depth_max_mm": 1e3 * reader.window_stat(w, "depth_max", "max"),
             "outside_share": out_mean / pen_mean if pen_mean > 0 else (0.0 if pen_mean == 0 else float("nan"))}
 
