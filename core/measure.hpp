@@ -4,7 +4,7 @@
 #pragma once
 
 #include "core/collision/detectors/collision_detector.hpp"
-#include "core/collision/contact_spec.hpp"
+#include "core/scene/contact_spec.hpp"
 #include "core/world.hpp"
 
 #include <cstdint>

@@ -36,6 +36,53 @@ void write_json(const std::string& path, const nlohmann::json& j) {
   std::filesystem::rename(tmp, path);
 }
 
+// The step times' record (mean, median, p99, max) and the real-time factors against the scene's dt.
+void add_timing(nlohmann::json& j, const std::vector<double>& us, double dt) {
+  const double mean = us.empty() ? 0.0 : std::accumulate(us.begin(), us.end(), 0.0) / static_cast<double>(us.size());
+  j["timing_us"] = {{"mean", mean},
+                    {"median", percentile(us, 0.5)},
+                    {"p99", percentile(us, 0.99)},
+                    {"max", us.empty() ? 0.0 : *std::max_element(us.begin(), us.end())},
+                    {"steps_timed", us.size()},
+                    {"what", "per step, each step waited for (graph launch to completion)"}};
+  j["budget_us"] = dt * 1e6;
+  j["realtime_factor_mean"] = mean > 0.0 ? dt * 1e6 / mean : 0.0;
+  j["realtime_factor_p99"] = percentile(us, 0.99) > 0.0 ? dt * 1e6 / percentile(us, 0.99) : 0.0;
+}
+
+// The CPU's own step over the same steps from the same start (a fresh Simulation), against the
+// device's final state.
+nlohmann::json cpu_check(const Scene& scene, const SimulationOptions& so, const World& device_state, int steps) {
+  Simulation cpu(scene, so);
+  const auto t0 = Clock::now();
+  for (int k = 0; k < steps; ++k) cpu.step();
+  const double cpu_s = us_since(t0) * 1e-6;
+  double dmax = 0.0, vmax = 0.0;
+  bool identical = true;
+  for (int i = 0; i < cpu.world().num_nodes(); ++i) {
+    dmax = std::max(dmax, (cpu.world().x[i] - device_state.x[i]).norm());
+    vmax = std::max(vmax, (cpu.world().v[i] - device_state.v[i]).norm());
+    identical = identical && cpu.world().x[i] == device_state.x[i] && cpu.world().v[i] == device_state.v[i];
+  }
+  return {{"steps", steps},
+          {"max_node_distance_m", dmax},
+          {"max_velocity_difference_m_s", vmax},
+          {"bit_identical", identical},
+          {"cpu_state_hash", state_hash(cpu.world())},
+          {"cpu_us_per_step", 1e6 * cpu_s / std::max(1, steps)}};
+}
+
+// DIR/state.csv: every node's position and velocity, 17 digits.
+void write_state(const std::string& path, const World& w) {
+  std::ofstream st(path);
+  st << "node,x,y,z,vx,vy,vz\n";
+  st.precision(17);
+  for (int i = 0; i < w.num_nodes(); ++i) {
+    const Vec3 &x = w.x[i], &v = w.v[i];
+    st << i << ',' << x[0] << ',' << x[1] << ',' << x[2] << ',' << v[0] << ',' << v[1] << ',' << v[2] << '\n';
+  }
+}
+
 }  // namespace
 
 int run_on_device(const Scene& scene, const DeviceRunOptions& o) {
@@ -76,53 +123,18 @@ int run_on_device(const Scene& scene, const DeviceRunOptions& o) {
   j["status"] = status;
   j["error"] = error;
   j["steps_run"] = dev->steps_taken();
-  const double mean = us.empty() ? 0.0 : std::accumulate(us.begin(), us.end(), 0.0) / static_cast<double>(us.size());
-  j["timing_us"] = {{"mean", mean},
-                    {"median", percentile(us, 0.5)},
-                    {"p99", percentile(us, 0.99)},
-                    {"max", us.empty() ? 0.0 : *std::max_element(us.begin(), us.end())},
-                    {"steps_timed", us.size()},
-                    {"what", "per step, each step waited for (graph launch to completion)"}};
-  j["budget_us"] = scene.dt * 1e6;
-  j["realtime_factor_mean"] = mean > 0.0 ? scene.dt * 1e6 / mean : 0.0;
-  j["realtime_factor_p99"] = percentile(us, 0.99) > 0.0 ? scene.dt * 1e6 / percentile(us, 0.99) : 0.0;
+  add_timing(j, us, scene.dt);
   nlohmann::json pairs = nlohmann::json::array();
   if (code == 0)
     for (std::size_t p = 0; p < sim.pairs().size(); ++p) pairs.push_back({{"pair", sim.pairs()[p].label}, {"contacts_last", dev->contacts(static_cast<int>(p))}});
   j["pairs"] = pairs;
   j["state_hash"] = state_hash(sim.world());
-  if (o.check_cpu && code == 0) {
-    // The CPU's own step over the same steps from the same start (a fresh Simulation).
-    Simulation cpu(scene, so);
-    const auto t0 = Clock::now();
-    for (int k = 0; k < dev->steps_taken(); ++k) cpu.step();
-    const double cpu_s = us_since(t0) * 1e-6;
-    double dmax = 0.0, vmax = 0.0;
-    bool identical = true;
-    for (int i = 0; i < cpu.world().num_nodes(); ++i) {
-      dmax = std::max(dmax, (cpu.world().x[i] - sim.world().x[i]).norm());
-      vmax = std::max(vmax, (cpu.world().v[i] - sim.world().v[i]).norm());
-      identical = identical && cpu.world().x[i] == sim.world().x[i] && cpu.world().v[i] == sim.world().v[i];
-    }
-    j["cpu_check"] = {{"steps", dev->steps_taken()},
-                      {"max_node_distance_m", dmax},
-                      {"max_velocity_difference_m_s", vmax},
-                      {"bit_identical", identical},
-                      {"cpu_state_hash", state_hash(cpu.world())},
-                      {"cpu_us_per_step", 1e6 * cpu_s / std::max(1, dev->steps_taken())}};
-  }
-  std::ofstream st(o.out_dir + "/state.csv");
-  st << "node,x,y,z,vx,vy,vz\n";
-  st.precision(17);
-  for (int i = 0; i < sim.world().num_nodes(); ++i) {
-    const Vec3 &x = sim.world().x[i], &v = sim.world().v[i];
-    st << i << ',' << x[0] << ',' << x[1] << ',' << x[2] << ',' << v[0] << ',' << v[1] << ',' << v[2] << '\n';
-  }
-  st.close();
+  if (o.check_cpu && code == 0) j["cpu_check"] = cpu_check(scene, so, sim.world(), dev->steps_taken());
+  write_state(o.out_dir + "/state.csv", sim.world());
   write_json(o.out_dir + "/summary.json", j);
   std::fprintf(stderr, "device %s: %s, %d steps, %.2f us/step mean, %.2f p99, real-time factor %.3f (mean) %.3f (p99)%s\n",
-               dev->device_name().c_str(), status.c_str(), dev->steps_taken(), mean, percentile(us, 0.99),
-               j["realtime_factor_mean"].get<double>(), j["realtime_factor_p99"].get<double>(),
+               dev->device_name().c_str(), status.c_str(), dev->steps_taken(), j["timing_us"]["mean"].get<double>(),
+               percentile(us, 0.99), j["realtime_factor_mean"].get<double>(), j["realtime_factor_p99"].get<double>(),
                j.contains("cpu_check") ? (", cpu max node distance " + std::to_string(j["cpu_check"]["max_node_distance_m"].get<double>()) + " m").c_str() : "");
   return code;
 }

@@ -4,7 +4,7 @@
 // two states. Writes DIR/summary.json (below) and DIR/state.csv (the final positions).
 #pragma once
 
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/run/machine.hpp"
 #include "core/scene/scene.hpp"
 

@@ -1,6 +1,6 @@
 // The command-line program `harness` (README.md, "Usage").
 #include "core/parallel.hpp"
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/scene/bundled.hpp"
 #include "core/scene/scene.hpp"
 #include "experiments/bench.hpp"

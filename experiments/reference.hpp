@@ -18,7 +18,7 @@
 // but says so in its summary, on stderr, and in every comparison that uses it.
 #pragma once
 
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/scene/scene.hpp"
 
 #include <string>

@@ -3,7 +3,7 @@
 #include "python/module.hpp"
 
 #include "core/parallel.hpp"
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
 #include "reference/reference.hpp"

@@ -5,7 +5,7 @@
 
 #include "core/clock.hpp"
 #include "core/parallel.hpp"
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/simulation.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE

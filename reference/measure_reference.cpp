@@ -180,90 +180,101 @@ void ReferenceMeasurer::measure(const World& w, const ContactSpec& pair, const s
   if (pair.host != host_ || pair.guest != guest_)
     throw std::invalid_argument("reference measurer: called for another pair than it was made for");
   out = Measurement{};
-  const Body& H = w.bodies[host_];
-  const Body& G = w.bodies[guest_];
   // Exact predicates on a NaN abort inside GMP: a diverged state is not measured (has_* false).
-  if (!all_finite(w, H) || !all_finite(w, G)) return;
-
+  if (!all_finite(w, w.bodies[host_]) || !all_finite(w, w.bodies[guest_])) return;
   if (spec_.cgal || spec_.volume) {
-    const auto t0 = Clock::now();
-    cg_host_.update(&w.x[H.begin]);
-    cg_guest_.update(&w.x[G.begin]);
-    if (spec_.cgal) {
-      double max_depth = 0.0, sum_depth = 0.0;
-      const bool some = !needs.all;
-      if (some) {
-        mark_needs(need_guest_, G, needs.ref_guest, needs.touch, detected);
-        mark_needs(need_host_, H, needs.ref_host, needs.touch, detected_host);
-      }
-      out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data(), sd_guest_.data(),
-                                    hint_guest_.data(), some ? need_guest_.data() : nullptr);
-      out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data(), sd_host_.data(),
-                                   hint_host_.data(), some ? need_host_.data() : nullptr);
-      out.tunnelled_guest = pass_guest_.update(w, G, cg_host_, pen_guest_);
-      out.tunnelled_host = pass_host_.update(w, H, cg_guest_, pen_host_);
-      out.pen_guest = &pen_guest_;
-      out.pen_host = &pen_host_;
-      out.sd_guest = &sd_guest_;
-      out.sd_host = &sd_host_;
-      const int n_pen = out.true_pen_guest + out.true_pen_host;
-      out.max_depth = max_depth;
-      out.mean_depth = n_pen > 0 ? sum_depth / n_pen : 0.0;
-      // Each node once, however often it was reported; a node outside its body is a false report.
-      if (++stamp_ == 0) {
-        std::fill(seen_.begin(), seen_.end(), 0);
-        std::fill(seen_host_.begin(), seen_host_.end(), 0);
-        stamp_ = 1;
-      }
-      auto score = [&](const std::vector<Contact>& found, const Body& b, std::vector<int>& seen,
-                       const std::vector<std::uint8_t>& pen, int& tp, int& fp) {
-        for (const Contact& c : found) {
-          const int li = c.guest - b.begin;  // the node looked up (a host node the other way round)
-          if (li < 0 || li >= b.size()) {
-            ++fp;
-            continue;
-          }
-          if (seen[li] == stamp_) continue;
-          seen[li] = stamp_;
-          if (pen[li]) ++tp;
-          else ++fp;
-        }
-      };
-      score(detected, G, seen_, pen_guest_, out.tp, out.fp);
-      score(detected_host, H, seen_host_, pen_host_, out.tp_host, out.fp_host);
-      out.fn = out.true_pen_guest - out.tp;
-      out.fn_host = out.true_pen_host - out.tp_host;
-      out.surfaces_intersect = surfaces_intersect(cg_guest_, cg_host_, /*bounded_sides=*/true);
-      out.has_cgal = true;
-      out.t_cgal_us = us_since(t0);
-    }
+    const auto t0 = Clock::now();  // CGAL's time includes its surfaces' update
+    cg_host_.update(&w.x[w.bodies[host_].begin]);
+    cg_guest_.update(&w.x[w.bodies[guest_].begin]);
+    if (spec_.cgal) measure_cgal(w, t0, detected, detected_host, out);
     if (spec_.volume) {
       const auto t1 = Clock::now();
       out.has_volume = intersection_volume(cg_guest_, cg_host_, out.penetration_volume);
       out.t_volume_us = us_since(t1);
     }
   }
+  if (spec_.fcl) measure_fcl(w, out);
+  if (spec_.ccd) measure_ccd(w, out);
+}
 
-  if (spec_.fcl) {
-    const auto t0 = Clock::now();
-    fc_host_.update(&w.x[H.begin]);
-    fc_guest_.update(&w.x[G.begin]);
-    intersecting_pairs(fc_guest_, fc_host_, pairs_, /*with_depth=*/true);
-    out.fcl_pairs = static_cast<int>(pairs_.size());
-    for (const TrianglePair& p : pairs_)
-      if (p.has_depth) out.fcl_max_depth = std::max(out.fcl_max_depth, p.depth);
-    out.has_fcl = true;
-    out.t_fcl_us = us_since(t0);
+void ReferenceMeasurer::measure_cgal(const World& w, Clock::time_point t0, const std::vector<Contact>& detected,
+                                     const std::vector<Contact>& detected_host, Measurement& out) {
+  const Body& H = w.bodies[host_];
+  const Body& G = w.bodies[guest_];
+  double max_depth = 0.0, sum_depth = 0.0;
+  const bool some = !needs.all;
+  if (some) {
+    mark_needs(need_guest_, G, needs.ref_guest, needs.touch, detected);
+    mark_needs(need_host_, H, needs.ref_host, needs.touch, detected_host);
   }
+  out.true_pen_guest = classify(w, G, cg_host_, max_depth, sum_depth, pen_guest_.data(), sd_guest_.data(),
+                                hint_guest_.data(), some ? need_guest_.data() : nullptr);
+  out.true_pen_host = classify(w, H, cg_guest_, max_depth, sum_depth, pen_host_.data(), sd_host_.data(),
+                               hint_host_.data(), some ? need_host_.data() : nullptr);
+  out.tunnelled_guest = pass_guest_.update(w, G, cg_host_, pen_guest_);
+  out.tunnelled_host = pass_host_.update(w, H, cg_guest_, pen_host_);
+  out.pen_guest = &pen_guest_;
+  out.pen_host = &pen_host_;
+  out.sd_guest = &sd_guest_;
+  out.sd_host = &sd_host_;
+  const int n_pen = out.true_pen_guest + out.true_pen_host;
+  out.max_depth = max_depth;
+  out.mean_depth = n_pen > 0 ? sum_depth / n_pen : 0.0;
+  score_detected(w, detected, detected_host, out);
+  out.surfaces_intersect = surfaces_intersect(cg_guest_, cg_host_, /*bounded_sides=*/true);
+  out.has_cgal = true;
+  out.t_cgal_us = us_since(t0);
+}
 
-  if (spec_.ccd) {
-    const auto t0 = Clock::now();
-    const bool hulls = convex_hull(&w.x[G.begin], G.size(), hull_v_[0], hull_f_[0]) &&
-                       convex_hull(&w.x[H.begin], H.size(), hull_v_[1], hull_f_[1]);
-    out.has_ccd = hulls && convex_signed_distance(hull_v_[0], hull_f_[0], hull_v_[1], hull_f_[1],
-                                                  out.ccd_distance);
-    out.t_ccd_us = us_since(t0);
+// The detector's reports against the truly penetrating nodes: each node once, however often it
+// was reported; a node outside its body is a false report.
+void ReferenceMeasurer::score_detected(const World& w, const std::vector<Contact>& detected,
+                                       const std::vector<Contact>& detected_host, Measurement& out) {
+  if (++stamp_ == 0) {
+    std::fill(seen_.begin(), seen_.end(), 0);
+    std::fill(seen_host_.begin(), seen_host_.end(), 0);
+    stamp_ = 1;
   }
+  auto score = [&](const std::vector<Contact>& found, const Body& b, std::vector<int>& seen,
+                   const std::vector<std::uint8_t>& pen, int& tp, int& fp) {
+    for (const Contact& c : found) {
+      const int li = c.guest - b.begin;  // the node looked up (a host node the other way round)
+      if (li < 0 || li >= b.size()) {
+        ++fp;
+        continue;
+      }
+      if (seen[li] == stamp_) continue;
+      seen[li] = stamp_;
+      if (pen[li]) ++tp;
+      else ++fp;
+    }
+  };
+  score(detected, w.bodies[guest_], seen_, pen_guest_, out.tp, out.fp);
+  score(detected_host, w.bodies[host_], seen_host_, pen_host_, out.tp_host, out.fp_host);
+  out.fn = out.true_pen_guest - out.tp;
+  out.fn_host = out.true_pen_host - out.tp_host;
+}
+
+void ReferenceMeasurer::measure_fcl(const World& w, Measurement& out) {
+  const auto t0 = Clock::now();
+  fc_host_.update(&w.x[w.bodies[host_].begin]);
+  fc_guest_.update(&w.x[w.bodies[guest_].begin]);
+  intersecting_pairs(fc_guest_, fc_host_, pairs_, /*with_depth=*/true);
+  out.fcl_pairs = static_cast<int>(pairs_.size());
+  for (const TrianglePair& p : pairs_)
+    if (p.has_depth) out.fcl_max_depth = std::max(out.fcl_max_depth, p.depth);
+  out.has_fcl = true;
+  out.t_fcl_us = us_since(t0);
+}
+
+void ReferenceMeasurer::measure_ccd(const World& w, Measurement& out) {
+  const auto t0 = Clock::now();
+  const Body& H = w.bodies[host_];
+  const Body& G = w.bodies[guest_];
+  const bool hulls = convex_hull(&w.x[G.begin], G.size(), hull_v_[0], hull_f_[0]) &&
+                     convex_hull(&w.x[H.begin], H.size(), hull_v_[1], hull_f_[1]);
+  out.has_ccd = hulls && convex_signed_distance(hull_v_[0], hull_f_[0], hull_v_[1], hull_f_[1], out.ccd_distance);
+  out.t_ccd_us = us_since(t0);
 }
 
 std::unique_ptr<Measurer> make_reference_measurer(const World& w, const ContactSpec& pair,

@@ -3,6 +3,7 @@
 // never changes it; it keeps its meshes and trees between calls.
 #pragma once
 
+#include "core/clock.hpp"
 #include "core/measure.hpp"
 #include "reference/cgal_surface.hpp"
 #include "reference/fcl_surface.hpp"
@@ -62,6 +63,15 @@ class ReferenceMeasurer final : public Measurer {
   const std::vector<std::uint8_t>& guest_penetrating() const { return pen_guest_; }
 
  private:
+  // The parts of measure: CGAL's truly penetrating nodes, depths, tunnelling and the detector's
+  // scores against them; FCL's intersecting triangle pairs; libccd's convex hull distance.
+  void measure_cgal(const World& w, Clock::time_point t0, const std::vector<Contact>& detected,
+                    const std::vector<Contact>& detected_host, Measurement& out);
+  void score_detected(const World& w, const std::vector<Contact>& detected, const std::vector<Contact>& detected_host,
+                      Measurement& out);
+  void measure_fcl(const World& w, Measurement& out);
+  void measure_ccd(const World& w, Measurement& out);
+
   ReferenceSpec spec_;
   int host_ = -1, guest_ = -1;
   CgalSurface cg_host_, cg_guest_;

@@ -7,7 +7,7 @@
 #include "reference/measure_reference.hpp"  // make_reference_measurer(), reference_versions(),
                                             // reference_version_map()
 
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 
 namespace harness {
 

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "core/clock.hpp"
-#include "core/collision/contact_spec.hpp"
+#include "core/scene/contact_spec.hpp"
 #include "core/collision/detectors/collision_detector.hpp"
 #include "core/collision/responses/collision_eliminator.hpp"
 #include "core/world.hpp"
@@ -42,7 +42,7 @@ class Collision {
   // kSeparationTime), L the voxel size (see auto_contact_forces): a pair resting in one voxel
   // leaves it in about this time, a few cm/s for millimetre voxels. A physical time, so that the
   // rule depends on dt only through the integration.
-  static constexpr double kSeparationTime = 0.1;  // s
+  static constexpr double kSeparationTime = harness::kSeparationTime;  // s (contact_spec.hpp)
 
   // Checks the pair (check_pair), makes its detector and configures it once on the current (rest)
   // positions. Throws std::invalid_argument for a detector this program cannot make, bad body

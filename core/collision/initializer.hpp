@@ -35,7 +35,7 @@
 // it) and std::runtime_error when a rebuild during the run would need it.
 #pragma once
 
-#include "core/collision/contact_spec.hpp"
+#include "core/scene/contact_spec.hpp"
 #include "core/collision/voxel_data.hpp"
 #include "core/world.hpp"
 

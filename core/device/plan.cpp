@@ -130,14 +130,14 @@ DirPlan dir_plan(const World& w, const ContactSpec& spec, int host, int guest, c
 
 }  // namespace
 
-DevicePlan make_plan(const Simulation& sim) {
-  check_device_support(sim);
+namespace {
+
+// The state and the per-node constants (positions, velocities, masses, kinematic flags, mass damping).
+void plan_state(DevicePlan& P, const Simulation& sim) {
   const World& w = sim.world();
-  const Scene& s = sim.scene();
-  DevicePlan P;
   const int n = w.num_nodes();
   P.n = n;
-  P.dt = s.dt;
+  P.dt = sim.scene().dt;
   P.step0 = sim.step_index();
   P.x.resize(3 * static_cast<std::size_t>(n));
   P.v.resize(P.x.size());
@@ -151,7 +151,12 @@ DevicePlan make_plan(const Simulation& sim) {
   P.mass_damping.assign(static_cast<std::size_t>(n), 0.0);
   for (const Body& b : w.bodies)
     for (int i = b.begin; i < b.end; ++i) P.mass_damping[i] = b.material.mass_damping;
+}
 
+// Each node's springs as half-edges (upper ones first, then the lower ones' partners) and each
+// body's law.
+void plan_springs(DevicePlan& P, const World& w) {
+  const int n = w.num_nodes();
   SpringGather g;
   g.build(w);
   P.he_start.assign(1, 0);
@@ -172,84 +177,109 @@ DevicePlan make_plan(const Simulation& sim) {
     for (int i = w.bodies[b].begin; i < w.bodies[b].end; ++i) P.node_law[i] = static_cast<int>(b);
   }
   if (P.laws.empty()) P.laws.push_back(Law{0, 0.0, 0.0, 0.0});
+}
 
+// The pressured shells' faces and each node's incident faces; false when no body is pressured.
+bool plan_pressure(DevicePlan& P, const Scene& s, const World& w) {
+  const int n = w.num_nodes();
+  bool pressure = false;
+  std::vector<std::vector<int>> incident(static_cast<std::size_t>(n));
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+    const PressureSpec& ps = s.bodies[b].pressure;
+    if (!ps.present) continue;
+    pressure = true;
+    const int pi = static_cast<int>(P.p_from.size());
+    P.p_from.push_back(ps.from), P.p_to.push_back(ps.to), P.p_ramp.push_back(ps.ramp_steps);
+    const Body& body = w.bodies[b];
+    for (const Tri& t : body.faces) {
+      const int f = static_cast<int>(P.face_p.size());
+      for (int k = 0; k < 3; ++k) P.face_v.push_back(body.begin + t[k]);
+      P.face_p.push_back(pi);
+      for (int k = 0; k < 3; ++k) incident[body.begin + t[k]].push_back(f);
+    }
+  }
+  P.pf_start.assign(1, 0);
+  for (const auto& l : incident) {
+    P.pf_face.insert(P.pf_face.end(), l.begin(), l.end());
+    P.pf_start.push_back(static_cast<int>(P.pf_face.size()));
+  }
+  return pressure;
+}
+
+// The loads and each node's loads.
+void plan_loads(DevicePlan& P, const Kinematics& kin, int n) {
+  std::vector<std::vector<int>> on(static_cast<std::size_t>(n));
+  for (std::size_t l = 0; l < kin.loads.size(); ++l) {
+    const LoadNodes& L = kin.loads[l];
+    for (int k = 0; k < 3; ++k) P.ld_force.push_back(L.force[k]);
+    P.ld_count.push_back(static_cast<int>(L.nodes.size()));
+    P.ld_ramp.push_back(L.ramp_steps);
+    for (int i : L.nodes) on[i].push_back(static_cast<int>(l));
+  }
+  P.ld_start.assign(1, 0);
+  for (const auto& l : on) {
+    P.ld_load.insert(P.ld_load.end(), l.begin(), l.end());
+    P.ld_start.push_back(static_cast<int>(P.ld_load.size()));
+  }
+}
+
+// The drivers and the driven nodes' drivers (in node order).
+void plan_drivers(DevicePlan& P, const Kinematics& kin) {
+  std::map<int, std::vector<int>> by_node;
+  for (std::size_t d = 0; d < kin.drivers.size(); ++d) {
+    const DriverNodes& D = kin.drivers[d];
+    P.dr_from.push_back(D.from_step), P.dr_to.push_back(D.to_step);
+    for (int k = 0; k < 3; ++k) P.dr_vel.push_back(D.velocity[k]);
+    for (int i : D.nodes) {
+      auto& v = by_node[i];
+      if (v.empty() || v.back() != static_cast<int>(d)) v.push_back(static_cast<int>(d));
+    }
+  }
+  P.dr_start.assign(1, 0);
+  for (const auto& [node, ds] : by_node) {
+    P.dr_node.push_back(node);
+    P.dr_driver.insert(P.dr_driver.end(), ds.begin(), ds.end());
+    P.dr_start.push_back(static_cast<int>(P.dr_driver.size()));
+  }
+}
+
+// Each contact pair's plan, both ways where it is two-sided.
+void plan_pairs(DevicePlan& P, const Simulation& sim) {
+  const World& w = sim.world();
+  for (const Pair& pr : sim.pairs()) {
+    const Collision& col = *pr.collision;
+    const ContactSpec& c = col.spec();
+    PairPlan pp;
+    pp.fwd = dir_plan(w, c, c.host, c.guest, col.detector());
+    pp.two_sided = c.two_sided;
+    if (c.two_sided) pp.rev = dir_plan(w, c, c.guest, c.host, *col.reverse_detector());
+    pp.a_begin = w.bodies[c.host].begin, pp.a_end = w.bodies[c.host].end;
+    pp.b_begin = w.bodies[c.guest].begin, pp.b_end = w.bodies[c.guest].end;
+    P.pairs.push_back(std::move(pp));
+  }
+}
+
+}  // namespace
+
+DevicePlan make_plan(const Simulation& sim) {
+  check_device_support(sim);
+  const World& w = sim.world();
+  const Scene& s = sim.scene();
+  DevicePlan P;
+  plan_state(P, sim);
+  plan_springs(P, w);
   P.springs = s.has(kSprings);
   P.dashpots = s.has(kDamping);
   P.damping = s.has(kDamping);
   P.gravity = s.has(kGravity);
   for (int k = 0; k < 3; ++k) P.g[k] = s.gravity[k];
-  bool pressure = false;
-  if (s.has(kPressure)) {
-    std::vector<std::vector<int>> incident(static_cast<std::size_t>(n));
-    for (std::size_t b = 0; b < s.bodies.size(); ++b) {
-      const PressureSpec& ps = s.bodies[b].pressure;
-      if (!ps.present) continue;
-      pressure = true;
-      const int pi = static_cast<int>(P.p_from.size());
-      P.p_from.push_back(ps.from), P.p_to.push_back(ps.to), P.p_ramp.push_back(ps.ramp_steps);
-      const Body& body = w.bodies[b];
-      for (const Tri& t : body.faces) {
-        const int f = static_cast<int>(P.face_p.size());
-        for (int k = 0; k < 3; ++k) P.face_v.push_back(body.begin + t[k]);
-        P.face_p.push_back(pi);
-        for (int k = 0; k < 3; ++k) incident[body.begin + t[k]].push_back(f);
-      }
-    }
-    P.pf_start.assign(1, 0);
-    for (const auto& l : incident) {
-      P.pf_face.insert(P.pf_face.end(), l.begin(), l.end());
-      P.pf_start.push_back(static_cast<int>(P.pf_face.size()));
-    }
-  }
+  const bool pressure = s.has(kPressure) && plan_pressure(P, s, w);
   const Kinematics& kin = sim.kinematics();
   const bool loads = s.has(kLoads) && !kin.loads.empty();
-  if (loads) {
-    std::vector<std::vector<int>> on(static_cast<std::size_t>(n));
-    for (std::size_t l = 0; l < kin.loads.size(); ++l) {
-      const LoadNodes& L = kin.loads[l];
-      for (int k = 0; k < 3; ++k) P.ld_force.push_back(L.force[k]);
-      P.ld_count.push_back(static_cast<int>(L.nodes.size()));
-      P.ld_ramp.push_back(L.ramp_steps);
-      for (int i : L.nodes) on[i].push_back(static_cast<int>(l));
-    }
-    P.ld_start.assign(1, 0);
-    for (const auto& l : on) {
-      P.ld_load.insert(P.ld_load.end(), l.begin(), l.end());
-      P.ld_start.push_back(static_cast<int>(P.ld_load.size()));
-    }
-  }
+  if (loads) plan_loads(P, kin, w.num_nodes());
   P.external = P.gravity || pressure || loads;
-  if (s.has(kDrivers) && !kin.drivers.empty()) {
-    std::map<int, std::vector<int>> by_node;
-    for (std::size_t d = 0; d < kin.drivers.size(); ++d) {
-      const DriverNodes& D = kin.drivers[d];
-      P.dr_from.push_back(D.from_step), P.dr_to.push_back(D.to_step);
-      for (int k = 0; k < 3; ++k) P.dr_vel.push_back(D.velocity[k]);
-      for (int i : D.nodes) {
-        auto& v = by_node[i];
-        if (v.empty() || v.back() != static_cast<int>(d)) v.push_back(static_cast<int>(d));
-      }
-    }
-    P.dr_start.assign(1, 0);
-    for (const auto& [node, ds] : by_node) {
-      P.dr_node.push_back(node);
-      P.dr_driver.insert(P.dr_driver.end(), ds.begin(), ds.end());
-      P.dr_start.push_back(static_cast<int>(P.dr_driver.size()));
-    }
-  }
-  if (s.has(kContact)) {
-    for (const Pair& pr : sim.pairs()) {
-      const Collision& col = *pr.collision;
-      const ContactSpec& c = col.spec();
-      PairPlan pp;
-      pp.fwd = dir_plan(w, c, c.host, c.guest, col.detector());
-      pp.two_sided = c.two_sided;
-      if (c.two_sided) pp.rev = dir_plan(w, c, c.guest, c.host, *col.reverse_detector());
-      pp.a_begin = w.bodies[c.host].begin, pp.a_end = w.bodies[c.host].end;
-      pp.b_begin = w.bodies[c.guest].begin, pp.b_end = w.bodies[c.guest].end;
-      P.pairs.push_back(std::move(pp));
-    }
-  }
+  if (s.has(kDrivers) && !kin.drivers.empty()) plan_drivers(P, kin);
+  if (s.has(kContact)) plan_pairs(P, sim);
   return P;
 }
 

@@ -14,14 +14,14 @@ namespace harness {
 
 const std::vector<EffectEntry>& effect_table() {
   static const std::vector<EffectEntry> table = {
-      {kSprings, "springs", make_springs_effect},
-      {kDamping, "damping", make_damping_effect},
-      {kGravity, "gravity", make_gravity_effect},
-      {kPins, "pins", make_pins_effect},
-      {kDrivers, "drivers", make_drivers_effect},
-      {kPressure, "pressure", make_pressure_effect},
-      {kLoads, "loads", make_loads_effect},
-      {kContact, "contact", make_contact_effect},
+      {kSprings, effect_name(kSprings), make_springs_effect},
+      {kDamping, effect_name(kDamping), make_damping_effect},
+      {kGravity, effect_name(kGravity), make_gravity_effect},
+      {kPins, effect_name(kPins), make_pins_effect},
+      {kDrivers, effect_name(kDrivers), make_drivers_effect},
+      {kPressure, effect_name(kPressure), make_pressure_effect},
+      {kLoads, effect_name(kLoads), make_loads_effect},
+      {kContact, effect_name(kContact), make_contact_effect},
   };
   return table;
 }

@@ -1,6 +1,7 @@
 // The table of effects and the one factory (effect.hpp has the interface). Adding an effect:
-// its flag in core/scene/scene.hpp (EffectFlag), a file pair core/effects/<name>.{hpp,cpp} with its
-// maker, and one line in effect_table() (effects.cpp). The table's order is the order of
+// its flag and its word in core/scene/scene.hpp and readers.cpp (EffectFlag, effect_names(): the
+// scene layer names the effects, so that it never includes this layer), a file pair
+// core/effects/<name>.{hpp,cpp} with its maker, and one line in effect_table() (effects.cpp). The table's order is the order of
 // evaluation within a step (forces accumulate in it, so it is part of the results' bits).
 #pragma once
 

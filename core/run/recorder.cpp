@@ -137,6 +137,61 @@ StabilityJudgement Recorder::judge(const Simulation& sim, bool settled) const {
   return judge_stability(sim.scene(), energy_, initial_energy_, settled);
 }
 
+namespace {
+
+// Each body's signed distances from this step's measurements (a body in several pairs: the most
+// penetrating); false when no pair measured them.
+bool merge_signed_distances(std::vector<std::vector<double>>& sd, const std::vector<Pair>& pairs,
+                            const std::vector<Measurement>& meas) {
+  bool any = false;
+  for (auto& v : sd) v.clear();
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    const Measurement& m = meas[p];
+    if (!m.sd_guest || !m.sd_host) continue;
+    any = true;
+    for (const auto& [body, src] : {std::pair{pairs[p].spec.guest, m.sd_guest}, std::pair{pairs[p].spec.host, m.sd_host}}) {
+      std::vector<double>& d = sd[body];
+      if (d.empty()) d = *src;
+      else
+        for (std::size_t i = 0; i < d.size(); ++i) d[i] = std::min(d[i], (*src)[i]);
+    }
+  }
+  return any;
+}
+
+// The guest's truly penetrating nodes outside the box [lo, hi] (the grid's region).
+int penetrating_outside(const World& w, const Body& g, const std::vector<std::uint8_t>& pen, const Vec3& lo,
+                        const Vec3& hi) {
+  int outside = 0;
+  for (int i = 0; i < g.size(); ++i) {
+    if (!pen[static_cast<std::size_t>(i)]) continue;
+    const Vec3& x = w.x[g.begin + i];
+    if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) ++outside;
+  }
+  return outside;
+}
+
+// The signed distance of the guest nodes the contact pushed (a positive magnitude), max and mean,
+// into f; `sd_of` a node's signed distance (NaN where there is none).
+template <class SignedDistance>
+void push_distances(PairStepFigures& f, const Collision& c, const SignedDistance& sd_of) {
+  double sum = 0.0;
+  int n = 0;
+  f.force_dist_max = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < c.pushes().size(); ++i) {
+    const double d = sd_of(c.pushes()[i].guest);
+    if (!(c.magnitudes()[i] > 0.0) || !std::isfinite(d)) continue;
+    f.force_dist_max = std::max(f.force_dist_max, d);
+    sum += d;
+    ++n;
+  }
+  f.force_dist = n > 0;
+  f.force_dist_mean = n ? sum / n : 0.0;
+  if (!n) f.force_dist_max = 0.0;
+}
+
+}  // namespace
+
 // Signed distances per body from this step's measurements (a body in several pairs: the most
 // penetrating), then per pair the signed distance of the nodes its contact pushed, the tunnelled
 // nodes, and the error against the reference (its state at this step, or its final state).
@@ -144,19 +199,7 @@ void Recorder::pair_figures(const Simulation& sim) {
   const World& w = sim.world();
   const auto& pairs = sim.pairs();
   const int step = sim.step_index();
-  bool any = false;
-  for (auto& v : sd_) v.clear();
-  for (std::size_t p = 0; p < pairs.size(); ++p) {
-    const Measurement& m = meas_[p];
-    if (!m.sd_guest || !m.sd_host) continue;
-    any = true;
-    for (const auto& [body, src] : {std::pair{pairs[p].spec.guest, m.sd_guest}, std::pair{pairs[p].spec.host, m.sd_host}}) {
-      std::vector<double>& d = sd_[body];
-      if (d.empty()) d = *src;
-      else
-        for (std::size_t i = 0; i < d.size(); ++i) d[i] = std::min(d[i], (*src)[i]);
-    }
-  }
+  const bool any = merge_signed_distances(sd_, pairs, meas_);
   if (any) sd_step_ = step;
   auto sd_of = [&](int node) {
     for (std::size_t b = 0; b < w.bodies.size(); ++b) {
@@ -185,13 +228,7 @@ void Recorder::pair_figures(const Simulation& sim) {
       Vec3 lo, hi;
       const Collision* c = pairs[p].collision.get();
       if (c && m.pen_guest && c->detector().region(lo, hi)) {
-        const Body& g = w.bodies[pairs[p].spec.guest];
-        int outside = 0;
-        for (int i = 0; i < g.size(); ++i) {
-          if (!(*m.pen_guest)[static_cast<std::size_t>(i)]) continue;
-          const Vec3& x = w.x[g.begin + i];
-          if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) ++outside;
-        }
+        const int outside = penetrating_outside(w, w.bodies[pairs[p].spec.guest], *m.pen_guest, lo, hi);
         ser.outside_region.add(step, outside);
         t.has_region = true;
         t.outside_region_final = outside;
@@ -199,21 +236,7 @@ void Recorder::pair_figures(const Simulation& sim) {
       }
     }
     if (!any) continue;
-    if (const Collision* c = pairs[p].collision.get()) {
-      double sum = 0.0;
-      int n = 0;
-      f.force_dist_max = -std::numeric_limits<double>::infinity();
-      for (std::size_t i = 0; i < c->pushes().size(); ++i) {
-        const double d = sd_of(c->pushes()[i].guest);
-        if (!(c->magnitudes()[i] > 0.0) || !std::isfinite(d)) continue;
-        f.force_dist_max = std::max(f.force_dist_max, d);
-        sum += d;
-        ++n;
-      }
-      f.force_dist = n > 0;
-      f.force_dist_mean = n ? sum / n : 0.0;
-      if (!n) f.force_dist_max = 0.0;
-    }
+    if (const Collision* c = pairs[p].collision.get()) push_distances(f, *c, sd_of);
     if (opt_.compare) {
       f.vs_reference = true;
       f.errors = Comparison::errors(now, opt_.compare->target(step), pairs[p].spec.host, pairs[p].spec.guest);

@@ -2,9 +2,8 @@
 // loader reads them within their kind; the descriptions are the schema's.
 #include "core/scene/keys.hpp"
 
-#include "core/collision/collision.hpp"
-#include "core/effects/effects.hpp"
-#include "core/shapes/shapes.hpp"
+#include "core/limits.hpp"
+#include "core/scene/scene.hpp"
 
 #include <cstdio>
 #include <stdexcept>
@@ -103,7 +102,7 @@ constexpr double kMaxSteps = 2e9;  // every step count's upper bound
 
 std::vector<std::string> effect_words() {
   std::vector<std::string> out;
-  for (const EffectEntry& e : effect_table()) out.emplace_back(e.name);
+  for (const auto& [flag, name] : effect_names()) out.emplace_back(name);
   return out;
 }
 std::vector<std::string> detector_words() { return word_list<DetectorKind>(); }
@@ -161,6 +160,7 @@ std::string key_description(const SceneKey& k) {
   return k.doc.empty() ? tail : k.doc + " " + tail;
 }
 
+// The table itself: data, one row per key (the one function over 80 lines that is a table).
 const std::vector<SceneKey>& scene_keys() {
   static const std::vector<SceneKey> keys = {
       key("scene", "name", KeyType::string).computed().described("The scene's name in outputs. Default: the file's stem."),
@@ -254,7 +254,7 @@ const std::vector<SceneKey>& scene_keys() {
       key("contact", "orient", KeyType::word).in(word_list<Orient>()).fallback("paper").described("Which way line and plane push: paper (line from the nearest host node toward the guest node, plane agreeing with the host's outward normals), guest (both toward the guest node), outward (both agreeing with the host's outward normals)."),
       key("contact", "two_sided", KeyType::boolean).fallback(false).described("Also the other way round (the host's nodes against the guest's surface)."),
       key("contact", "invert_push", KeyType::boolean).fallback(false).described("Every push negated: a broken method, used by tests."),
-      key("contact", "separation_time", KeyType::number).above(0.0, 1e6).fallback(Collision::kSeparationTime).with_unit("s").described("s, of force auto: separation speed = voxel size (detectors without a grid: the host's mean spring rest length) / separation_time. > 0, <= 1e6."),
+      key("contact", "separation_time", KeyType::number).above(0.0, 1e6).fallback(kSeparationTime).with_unit("s").described("s, of force auto: separation speed = voxel size (detectors without a grid: the host's mean spring rest length) / separation_time. > 0, <= 1e6."),
       key("contact", "force", KeyType::force).holding("force.stiffness").range(0.0, 1e12).fallback("auto").with_unit("N").described("A number: the paper's constant force, N per contact (0 to 1e12); \"auto\": the force that separates within separation_time; {\"stiffness\": k}: penalty k times depth, N/m (0 to 1e12)."),
       key("force.stiffness", "stiffness", KeyType::number).range(0.0, 1e12).with_unit("N/m").described("Penalty stiffness, N/m, 0 to 1e12. Required."),
   };

@@ -17,7 +17,7 @@
 // ("bodies.0.shape.radius"); the table's path of a key is "kind.name".
 #pragma once
 
-#include "core/collision/contact_spec.hpp"
+#include "core/scene/contact_spec.hpp"
 #include "core/springs.hpp"
 
 #include <nlohmann/json.hpp>

@@ -5,9 +5,8 @@
 // cannot express").
 #include "core/scene/scene.hpp"
 
-#include "core/effects/effects.hpp"
+#include "core/limits.hpp"
 #include "core/scene/check.hpp"
-#include "core/shapes/shapes.hpp"
 
 #include <filesystem>
 #include <set>
@@ -18,9 +17,14 @@ using nlohmann::json;
 using namespace scene_check;
 
 std::vector<std::pair<EffectFlag, const char*>> effect_names() {
-  std::vector<std::pair<EffectFlag, const char*>> names;
-  for (const EffectEntry& e : effect_table()) names.emplace_back(static_cast<EffectFlag>(e.flag), e.name);
-  return names;
+  return {{kSprings, "springs"}, {kDamping, "damping"}, {kGravity, "gravity"}, {kPins, "pins"},
+          {kDrivers, "drivers"}, {kPressure, "pressure"}, {kLoads, "loads"}, {kContact, "contact"}};
+}
+
+const char* effect_name(EffectFlag e) {
+  for (const auto& [flag, name] : effect_names())
+    if (flag == e) return name;
+  return "?";
 }
 
 namespace {

@@ -8,7 +8,7 @@
 // rescaling), schema.{hpp,cpp} (the JSON Schema, generated from the table).
 #pragma once
 
-#include "core/collision/contact_spec.hpp"
+#include "core/scene/contact_spec.hpp"
 #include "core/measure.hpp"
 #include "core/scene/keys.hpp"
 #include "core/types.hpp"
@@ -35,8 +35,10 @@ enum EffectFlag : unsigned {
   kContact = 1u << 6,
   kLoads = 1u << 7,
 };
-// (flag, name) of every effect, in table order.
+// (flag, name) of every effect: the scene's words for them, in the order a step evaluates them
+// (core/effects/effects.cpp's table makes each in this order, and a test checks that it does).
 std::vector<std::pair<EffectFlag, const char*>> effect_names();
+const char* effect_name(EffectFlag e);
 
 struct Selection {
   enum Kind { side, box, all } kind = all;

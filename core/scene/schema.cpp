@@ -118,10 +118,8 @@ class Generator {
     if (std::isfinite(k.hi)) s["maximum"] = num(k.hi);
   }
 
-  json plain(const SceneKey& k) {
-    json s = json::object();
-    if (const std::string d = key_description(k); !d.empty()) s["description"] = d;
-    const bool defaulted = k.presence == Presence::defaulted;
+  // A key of a scalar, word or array type: its schema into s.
+  void typed(json& s, const SceneKey& k) {
     switch (k.type) {
       case KeyType::number:
         s["type"] = "number";
@@ -169,42 +167,58 @@ class Generator {
         s["minItems"] = 3;
         s["maxItems"] = 3;
         break;
-      case KeyType::length_or_auto: {
-        const json def = {{"anyOf", {{{"const", "auto"}}, {{"type", "number"}, {"exclusiveMinimum", num(k.lo)}, {"maximum", num(k.hi)}}}},
-                          {"default", k.def}};
-        if (!defs_.contains("length_or_auto")) defs_["length_or_auto"] = def;
-        if (defs_["length_or_auto"] != def)
-          throw std::logic_error(std::string("length_or_auto ") + k.kind + "." + k.name + ": another range or default");
-        s["$ref"] = ref("length_or_auto");
-        merge(s, k.extra);
-        return s;  // its default is the definition's
-      }
       case KeyType::force:
         s["anyOf"] = {{{"const", "auto"}}, {{"type", "number"}, {"minimum", num(k.lo)}, {"maximum", num(k.hi)}}, object_ref(k.of)};
         break;
       case KeyType::always_true:
         s["const"] = true;
         break;
-      case KeyType::object: {
-        const SceneKind& kind = scene_kind(k.of);
-        if (*kind.def_name) {
-          s.update(object_ref(k.of));
-        } else {
-          json o = object(k.of);
-          o.erase("description");
-          s.update(o);
-        }
-        if (k.nullable) s["type"] = {"object", "null"};
-        merge(s, k.extra);
-        return s;  // an object's default ({}) is implied by its keys'
-      }
       case KeyType::list:
         s["type"] = "array";
         s["items"] = object_ref(k.of);
         if (k.lo >= 1.0) s["minItems"] = num(k.lo);
         break;
+      case KeyType::length_or_auto:
+      case KeyType::object:
+        throw std::logic_error("typed: not a scalar, word or array key");
     }
-    if (defaulted) s["default"] = num_all(k.def);
+  }
+
+  // "auto" or a length: the one $defs entry all such keys share (their range and default must be
+  // its); the key's default is the definition's.
+  json length_or_auto(json s, const SceneKey& k) {
+    const json def = {{"anyOf", {{{"const", "auto"}}, {{"type", "number"}, {"exclusiveMinimum", num(k.lo)}, {"maximum", num(k.hi)}}}},
+                      {"default", k.def}};
+    if (!defs_.contains("length_or_auto")) defs_["length_or_auto"] = def;
+    if (defs_["length_or_auto"] != def)
+      throw std::logic_error(std::string("length_or_auto ") + k.kind + "." + k.name + ": another range or default");
+    s["$ref"] = ref("length_or_auto");
+    merge(s, k.extra);
+    return s;
+  }
+
+  // An object key: its kind by reference or inline; an object's default ({}) is implied by its keys'.
+  json object_key(json s, const SceneKey& k) {
+    const SceneKind& kind = scene_kind(k.of);
+    if (*kind.def_name) {
+      s.update(object_ref(k.of));
+    } else {
+      json o = object(k.of);
+      o.erase("description");
+      s.update(o);
+    }
+    if (k.nullable) s["type"] = {"object", "null"};
+    merge(s, k.extra);
+    return s;
+  }
+
+  json plain(const SceneKey& k) {
+    json s = json::object();
+    if (const std::string d = key_description(k); !d.empty()) s["description"] = d;
+    if (k.type == KeyType::length_or_auto) return length_or_auto(std::move(s), k);
+    if (k.type == KeyType::object) return object_key(std::move(s), k);
+    typed(s, k);
+    if (k.presence == Presence::defaulted) s["default"] = num_all(k.def);
     merge(s, k.extra);
     return s;
   }

@@ -7,6 +7,7 @@
 // calibration.cpp (springs' stiffness per unit E), kd_tree.hpp, internal.hpp (what they share).
 #pragma once
 
+#include "core/limits.hpp"
 #include "core/elastic_map.hpp"
 #include "core/mesh.hpp"
 #include "core/types.hpp"
@@ -36,11 +37,7 @@ struct ShapeModel {
 // Always volumetric. Lumped volume: each cell gives 1/8 of its volume to each corner.
 ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells);
 
-// Limits of the generators, and of the scene format (core/scene/keys.cpp): icosphere
-// subdivisions (163842 surface vertices), box nodes (nx+1)(ny+1)(nz+1), cylinder nodes.
-constexpr int kMaxSubdivisions = 7;
-constexpr long long kMaxBoxNodes = 20'000'000;
-constexpr long long kMaxCylinderNodes = 20'000'000;
+// Limits of the generators, and of the scene format: core/limits.hpp.
 
 // Icosphere: an icosahedron subdivided `subdivisions` times (each splits every triangle in
 // four), projected onto the sphere; 10*4^s + 2 surface vertices.

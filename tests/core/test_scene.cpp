@@ -1,5 +1,5 @@
 // Scene loading: strict validation, one clear message per bad input naming file and key path.
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 

@@ -3,7 +3,7 @@
 // scene-level tests assert on.
 #pragma once
 
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/run/recorder.hpp"
 #include "core/scene/scene.hpp"
 #include "core/simulation.hpp"

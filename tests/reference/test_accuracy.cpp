@@ -1,7 +1,7 @@
 // Accuracy both ways (core/run/compare.hpp): signed distances and gaps on analytic
 // configurations, the error of a hand-computed case, a run compared with itself.
 #include "core/scene/scene.hpp"
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/run/compare.hpp"
 #include "reference/reference.hpp"
 #include "tests/reference/reference_test_worlds.hpp"

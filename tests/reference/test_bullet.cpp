@@ -4,7 +4,7 @@
 //  - Bullet's vertex-face contact conserves momentum (two free spheres collide, no gravity, no
 //    damping, no pins) and separates them;
 //  - what Bullet cannot represent is refused naming the scene key.
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 #include "reference/reference.hpp"

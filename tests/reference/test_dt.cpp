@@ -2,7 +2,7 @@
 // the bundled scenes at dt and at dt / 2 over the same physical time settle to the same state,
 // within a tolerance set from the measurement (1.5 times it); and the old rule, a separation
 // speed that doubles when dt halves, breaks that agreement where the automatic force is used.
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "core/run/compare.hpp"
 #include "reference/reference.hpp"
 

@@ -5,7 +5,7 @@
 // (results/references/): position error and gap (window means), depth and tunnelled nodes
 // (window maxima), recall; and every threshold set must fail when its method is broken: no force
 // (penetration) and pushes the wrong way.
-#include "core/run.hpp"
+#include "core/run/run_scene.hpp"
 #include "reference/reference.hpp"
 
 #include <catch2/catch.hpp>

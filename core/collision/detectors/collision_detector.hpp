@@ -4,7 +4,7 @@
 // and a program that links the reference library passes its maker (ExactDetectorMaker).
 #pragma once
 
-#include "core/collision/contact_spec.hpp"
+#include "core/scene/contact_spec.hpp"
 #include "core/world.hpp"
 
 #include <memory>

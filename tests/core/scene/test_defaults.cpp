@@ -2,6 +2,7 @@
 // (contact_spec_defaults, or the loader), never from the struct, and a spec that was not is
 // refused; the structs a scene fills from an empty section hold the table's defaults.
 #include "core/collision/collision.hpp"
+#include "core/effects/effects.hpp"
 #include "core/scene/keys.hpp"
 #include "core/scene/scene.hpp"
 #include "tests/core/collision/collision_test_worlds.hpp"
@@ -137,4 +138,17 @@ TEST_CASE("each enumerated word set is one table: the shapes' variants are its w
   CHECK((sc.bodies[0].pins[0].axis == 0 && sc.bodies[0].pins[0].sign == -1));
   CHECK((sc.bodies[0].pins[1].axis == 2 && sc.bodies[0].pins[1].sign == 1));
   CHECK(sc.bodies[0].shape.type == ShapeType::box);
+}
+
+TEST_CASE("the effects are named by the scene layer, in the order a step makes them", "[scene][keys][effects]") {
+  const auto names = effect_names();
+  const auto& table = effect_table();
+  REQUIRE(table.size() == names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    CHECK(table[i].flag == static_cast<unsigned>(names[i].first));
+    CHECK(std::string(table[i].name) == names[i].second);
+  }
+  std::vector<std::string> words;
+  for (const auto& [flag, name] : names) words.emplace_back(name);
+  CHECK(scene_key("scene", "effects").names == words);
 }

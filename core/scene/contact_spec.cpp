@@ -1,4 +1,4 @@
-#include "core/collision/contact_spec.hpp"
+#include "core/scene/contact_spec.hpp"
 
 namespace harness {
 
