@@ -132,6 +132,12 @@ def run_counts(root, count):
         count("MeasureEvery", None)
 
 
+def is_evidence_row(r):
+    """A row of accuracy_time.csv that is evidence: stable, not useless (its `useless` column: it
+    neither tunnels nor is no better than no force), not the run without contact force."""
+    return r["stable"] == "yes" and not r.get("useless") and r["config"] != rules.NO_FORCE
+
+
 def accuracy_counts(acc, count, text):
     """What accuracy costs in time (scripts/study.py accuracy): configurations, stable ones, the front."""
     scenes = [] if acc is None else sorted({r["scene"] for r in acc}, key=lambda s: list(SCENE_TAG).index(s)
@@ -141,10 +147,12 @@ def accuracy_counts(acc, count, text):
     per = sorted({sum(r["scene"] == s for r in acc) for s in scenes}) if acc else []
     text("AccConfigsPerScene", ("%d" % per[0] if len(per) == 1 else "%d--%d" % (per[0], per[-1])) if per else None)
     count("AccStable", None if acc is None else sum(r["stable"] == "yes" for r in acc))
+    count("AccEvidence", None if acc is None else sum(is_evidence_row(r) for r in acc))
     count("AccFront", None if acc is None else sum(r.get("front") == "yes" for r in acc))
     for scene, tag in SCENE_TAG.items():
         sr = None if acc is None else [r for r in acc if r["scene"] == scene]
         count("AccStable" + tag, None if sr is None else sum(r["stable"] == "yes" for r in sr))
+        count("AccEvidence" + tag, None if sr is None else sum(is_evidence_row(r) for r in sr))
         count("AccFront" + tag, None if sr is None else sum(r.get("front") == "yes" for r in sr))
     reps = sorted({int(r["repeats"]) for r in acc if reader.present(r.get("repeats"))}) if acc else []
     if len(reps) == 1:
@@ -210,15 +218,16 @@ def best_of(rows):
 
 
 def best_counts(acc, text):
-    """What accuracy costs: the best stable error of each family per scene, the baseline's, times."""
+    """What accuracy costs: the best error of each family per scene among its evidence (is_evidence_row:
+    a stable run that tunnels or does not help is no family's best), the baseline's, times."""
     for scene, tag in SCENE_TAG.items():
         sr = [r for r in acc or [] if r["scene"] == scene]
         base = next((r for r in sr if r["config"] == rules.NO_FORCE), None)
         text("AccNoForce" + tag, mm(base and base.get("pos_err_max_mm")))
         for fam, name in (("voxel", "Voxel"), ("voxel_exact", "VoxelExact"), ("exact", "Exact")):
             dets = ("cgal", "hash") if fam == "exact" else (fam,)
-            best = best_of([r for r in sr if r["detector"] in dets and r["stable"] == "yes"
-                            and r["config"] != rules.NO_FORCE and reader.present(r.get("pos_err_max_mm"))])
+            best = best_of([r for r in sr if r["detector"] in dets and is_evidence_row(r)
+                            and reader.present(r.get("pos_err_max_mm"))])
             text("AccBest%s%s" % (name, tag), None if not sr else mm(best["pos_err_max_mm"]) if best else "--")
             text("AccBest%s%sTime" % (name, tag), None if not sr else num3(best.get("t_contact_us")) if best else "--")
             text("AccBest%s%sMethod" % (name, tag), None if not sr else "--" if not best else

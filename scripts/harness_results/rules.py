@@ -31,7 +31,10 @@ Definitions:
                 the bodies farther from the reference than no force does not count); the smallest pos_err_max; among
                 those within 10 % of it, the smallest gap_max; among those, the fastest. None such:
                 no default (and no CI threshold) for that scenario, said in ablation.md.
-  front         the Pareto front of error (pos_err_max) against time (t_contact) over the stable settings.
+  front         the Pareto front of error (pos_err_max) against time (t_contact) over the evidence (below):
+                a run is off it when another is no worse on both and better beyond the noise (below)
+                on one. Two runs within the noise of each other on both do not put each other off;
+                either can still be put off by a third (the noise is not transitive).
   noise         (claims) two runs' figures differ only by more than the larger of: 10 % of the larger
                 figure, the sum of the two runs' chatter amplitudes over the window (position error),
                 and the floor of the reference they are measured against (reader.reference_floor: its
@@ -351,14 +354,18 @@ def choose(rows, baseline=None):
 
 def helps_word(row, base):
     """"yes" when the row helps against `base` (useful: the scene's run without contact force),
-    "no" when it does not or is that run itself (config NO_FORCE), "" when there is no base or the
-    row has no position error."""
+    "no" when it does not or is that run itself (config NO_FORCE), "" when it cannot be told: no
+    base, no position error, or no depth where only the depth could make it help."""
     if base is None or not reader.present(row.get("pos_err_max_mm")):
         return ""
     if row.get("config") == NO_FORCE:
         return "no"
     fig = {k: reader.num(row.get(k), math.nan) for k in ("pos_err_max_mm", "depth_max_mm")}
-    return "yes" if useful(fig, base) else "no"
+    if useful(fig, base):
+        return "yes"
+    if math.isnan(fig["depth_max_mm"]) and fig["pos_err_max_mm"] <= reader.num(base.get("pos_err_max_mm"), math.nan):
+        return ""  # the depth route is open and the row has no depth to take it
+    return "no"
 
 
 def useless_text(row):
@@ -393,7 +400,8 @@ def pareto(rows, floor=0.0, x="t_contact", y="pos_err_max_mm"):
     limit, not "no better than no force"). A row is beaten by another that is no worse on both
     axes and better beyond the noise on one: error by decide (the noise: relative tie, the two
     chatters, the reference's `floor` in mm), time by time_decide (medians apart and ranges
-    disjoint). Rows within the noise of each other on both axes stay on the front together."""
+    disjoint). Two rows within the noise of each other on both axes do not beat each other, but a
+    third row may beat one of them and not the other: the tie is not transitive."""
     ok = [r for r in rows if is_evidence(r) and reader.present(r.get(x + "_us")) and reader.present(r.get(y))]
 
     def beats(o, r):

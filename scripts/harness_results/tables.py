@@ -204,7 +204,21 @@ def scene_tables(root, data):
         align="lrrp{3cm}llrrlrll")
 
 
-def accuracy_row(r):
+def no_force_bases(root):
+    """{scene: its run without contact force} (accuracy_time.csv's baseline rows in `root`; {} without
+    the file): what "helps" is judged against."""
+    rows = reader.read_csv(os.path.join(root, "accuracy_time.csv"), text=reader.STUDY_TEXT, missing=[])
+    return {x["scene"]: x for x in rows if x.get("config") == rules.NO_FORCE}
+
+
+def useless_of(r, bases):
+    """The useless words (rules.useless_text) of one run: its window figures against its scene's run
+    without contact force."""
+    f = dict(reader.window_figures(r["summary"]), scene=r["scene"])
+    return rules.mark_useless([f], bases)[0]["useless"]
+
+
+def accuracy_row(r, bases):
     """accuracy's row of one run."""
     s = r["summary"]
     return [r["title"], r["elim"], r["force"], "%.4g" % (r["voxel"] * 1000.0), "%d" % r["steps"],
@@ -214,29 +228,31 @@ def accuracy_row(r):
             mm(reader.pair_window_stat(s, "pos_err_max", "amplitude")),
             writers.fmt(reader.pair_value(s, "recall"), ".3f"), writers.fmt(reader.pair_value(s, "precision"), ".4f"),
             writers.fmt(reader.tunnelled_peak(s), "d"),
-            rules.classify(s)[0]]
+            rules.classify(s)[0], useless_of(r, bases)]
 
 
 # accuracy.tex's header spans two columns per pair of figures: the line below it names them.
-ACCURACY_SUBHEADER = " & & & & & final & peak & final & peak & window & chatter & & & & \\\\\n"
+ACCURACY_SUBHEADER = " & & & & & final & peak & final & peak & window & chatter & & & & & \\\\\n"
 
 
 def accuracy_table(root, data):
+    bases = no_force_bases(root)
     write_table(
         root, "accuracy",
         "Accuracy per scenario and eliminator. Truly penetrating nodes: guest + host nodes strictly "
         "inside the other body (CGAL), at the last step and the peak over the measured steps. "
         "Depth: deepest node inside the other body (mm), at the last step and its peak over the run. "
         "Position error against the reference: window mean and chatter (max - min over the window), mm. "
-        "Tunnelled: peak of the nodes that passed through. Stability: the studies' rule (rules.py).",
+        "Tunnelled: peak of the nodes that passed through. Stability: the studies' rule (rules.py); "
+        "useless, whatever the stability: tunnels (over the window) or no better than no force.",
         ["scenario", "eliminator", "force", "voxel (mm)", "steps", "pen. final", "pen. peak",
          "depth final (mm)", "depth peak (mm)", "pos. error (mm)", "chatter (mm)",
-         "recall", "precision", "tunnelled", "stability"],
-        [accuracy_row(r) for r in data],
+         "recall", "precision", "tunnelled", "stability", "useless"],
+        [accuracy_row(r, bases) for r in data],
         tex_header=["scenario", "elim.", "force", "$v$ (mm)", "steps", "\\multicolumn{2}{c}{penetrating}",
                     "\\multicolumn{2}{c}{depth (mm)}", "\\multicolumn{2}{c}{pos. error (mm)}", "recall", "prec.",
-                    "tunn.", "stability"],
-        align="lllrrrrrrrrrrrl")
+                    "tunn.", "stability", "useless"],
+        align="lllrrrrrrrrrrrll")
     texp = os.path.join(root, "tables", "accuracy.tex")
     with open(texp) as f:
         t = f.read()

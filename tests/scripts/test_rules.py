@@ -226,6 +226,10 @@ def test_useless_words_and_marks():
                                             "baseline", ""]
     with rules.using(rules.Variant(tunnel_limit=10)):
         assert rules.useless_text(rows[3]) == ""
+    # no depth recorded: a row the depth alone could make help is not judged ("", not "no")
+    assert rules.helps_word({"pos_err_max_mm": 9.5}, base) == ""
+    assert rules.helps_word({"pos_err_max_mm": 10.5}, base) == "no"
+    assert rules.helps_word({"pos_err_max_mm": 8.0}, base) == "yes"
 
 
 def test_median_and_nearest_rank():

@@ -59,9 +59,7 @@ class Context:
                 r = rules.reclassify_row(r)
                 base = self.no_force(r.get("scene"))
                 if base is not None and reader.present(r.get("pos_err_max_mm")):
-                    fig = {key: reader.num(r.get(key), math.nan) for key in ("pos_err_max_mm", "depth_max_mm")}
-                    nothing = r.get("config") == NO_FORCE
-                    r["helps"] = "no" if nothing or not rules.useful(fig, base) else "yes"
+                    r["helps"] = rules.helps_word(r, base)
                 out.append(r)
             self._csv[k] = out
         return self._csv[k]

@@ -9,7 +9,7 @@ figures/ablation_<scene>.{png,pdf}, tables/ablation.md, tables/ablation_defaults
 import json
 import os
 
-from .. import rules, runner, style, writers
+from .. import reader, rules, runner, style, writers
 from ..rules import USEFUL
 from .accuracy import FOOTING_VOXELS
 from .common import (PARETO_CAP_MM, PENALTY, combine, config_sets, figure_path, figures, footing_voxels, force_label,
@@ -115,7 +115,17 @@ def default_text(scene, rows, best, base):
     return out + ("Chosen: %s at %g mm voxels: position error %.3g mm, gap %.3g mm, depth %.3g mm, %.3g µs per "
                   "step for detection and elimination." % (best["force"], best["voxel_mm"], best["pos_err_max_mm"],
                                                             best["gap_max_mm"], best["depth_max_mm"],
-                                                            best["t_contact_us"]))
+                                                            best["t_contact_us"]) + tunnel_note(best))
+
+
+def tunnel_note(best):
+    """What the chosen default's tunnelling means: the defaults' rule does not look at it, the
+    evidence rule does (rules.py)."""
+    n = reader.num(best.get("tunnelled"), 0.0)
+    if n <= 0:
+        return ""
+    return (" It tunnels %d node%s over the window: the defaults' rule does not look at tunnelling, the claims' "
+            "evidence rule does, so this default is useless as evidence." % (n, "" if n == 1 else "s"))
 
 
 def plot_ablation(a, scene, rows):
