@@ -5,6 +5,7 @@
 
 #include "core/collision/detectors/collision_detector.hpp"
 #include "core/scene/contact_spec.hpp"
+#include "core/scene/reference_spec.hpp"
 #include "core/world.hpp"
 
 #include <cstdint>
@@ -14,14 +15,6 @@
 #include <vector>
 
 namespace harness {
-
-struct ReferenceSpec {
-  bool cgal = false;
-  bool fcl = false;
-  bool ccd = false;
-  int every = 1;        // measure on steps that are multiples of `every`
-  bool volume = false;  // penetration volume by corefinement (CGAL), slow
-};
 
 // One pair on one measured step. `has_*` says which groups were measured.
 struct Measurement {

@@ -3,6 +3,7 @@
 // (python/harness/__init__.py) wraps these into the public API.
 #pragma once
 
+#include "core/collision/detectors/collision_detector.hpp"
 #include "core/scene/scene.hpp"
 
 #include <pybind11/pybind11.h>

@@ -1,6 +1,6 @@
 // The record of a run: the exact references measured on their steps (core/measure.hpp), and
 // everything accumulated over the run that summary.json and the test runners read: per pair
-// totals, penetration episodes, timings, the kinetic-energy peak. `harness run` (run.cpp) and
+// totals, penetration episodes, timings, the kinetic-energy peak. `harness run` (run_scene.cpp) and
 // the scene-level tests (tests/reference/scene_runner.hpp) both record through it.
 #pragma once
 

@@ -79,8 +79,8 @@ const std::vector<std::pair<Orient, const char*>>& scene_words<Orient>() {
       {Orient::paper, "paper"}, {Orient::guest, "guest"}, {Orient::outward, "outward"}};
   return w;
 }
-// Detectors and responses are named by their own tables (contact_spec.cpp), effects by theirs
-// (effects.cpp): one home each, which the scene format reads.
+// Detectors and responses are named by their own tables (contact_spec.cpp), effects by the scene
+// layer's effect_names() (readers.cpp; effects.cpp follows its order): one home each.
 template <>
 const std::vector<std::pair<DetectorKind, const char*>>& scene_words<DetectorKind>() {
   static const std::vector<std::pair<DetectorKind, const char*>> w = [] {

@@ -9,7 +9,7 @@
 #pragma once
 
 #include "core/scene/contact_spec.hpp"
-#include "core/measure.hpp"
+#include "core/scene/reference_spec.hpp"
 #include "core/scene/keys.hpp"
 #include "core/types.hpp"
 #include "core/world.hpp"
