@@ -77,10 +77,7 @@ def judge(rows, base, floor_mm=0.0):
         r["useless"] = rules.useless_text(dict(r, tunnelled=r["tunnelled_total"]))  # both bodies' nodes
     good = [r for r in rows if r["stable"] == "yes" and not r["useless"]]
     if not good:
-        return ("No method is stable, helps and keeps every node out here: the no-force run ends %.3g mm from the "
-                "reference, and the closest run (%s, %.3g mm) is %s." % (
-                    base["pos_err_max_mm"], *min(((r["method"], r["pos_err_max_mm"], describe(r)) for r in rows),
-                                                  key=lambda x: x[1] if not math.isnan(x[1]) else math.inf)))
+        return no_good_sentence(rows, base, floor_mm)
     best = min(good, key=lambda r: r["pos_err_max_mm"])
     tied = [r for r in good if r["pos_err_max_mm"] <= best["pos_err_max_mm"] + rules.noise(best, r, floor=floor_mm)]
     if len(tied) > 1:
@@ -97,6 +94,24 @@ def judge(rows, base, floor_mm=0.0):
     if fast is not best:
         out += " The fastest of them is %s: %.3g mm at %.0f us." % (fast["method"], fast["pos_err_max_mm"], fast["t_mean_us"])
     return out
+
+
+def no_good_sentence(rows, base, floor_mm):
+    """The verdict where no method is stable, helps and keeps every node out: the closest run and every
+    run within the noise of it (rules.noise), each with what it is."""
+    measured = [r for r in rows if not math.isnan(r["pos_err_max_mm"])]
+    head = ("No method is stable, helps and keeps every node out here: the no-force run ends %.3g mm from the "
+            "reference" % base["pos_err_max_mm"])
+    if not measured:
+        return head + ", and no run has an error."
+    best = min(measured, key=lambda r: r["pos_err_max_mm"])
+    tied = [r for r in measured if r["pos_err_max_mm"] <= best["pos_err_max_mm"] + rules.noise(best, r, floor=floor_mm)]
+    if len(tied) == 1:
+        return head + ", and the closest run (%s, %.3g mm) is %s." % (best["method"], best["pos_err_max_mm"],
+                                                                    describe(best))
+    return head + (", and the closest runs, within the noise of each other (%.3g to %.3g mm), are %s." % (
+        best["pos_err_max_mm"], max(r["pos_err_max_mm"] for r in tied),
+        "; ".join("%s, %s" % (r["method"], describe(r)) for r in tied)))
 
 
 def describe(r):
