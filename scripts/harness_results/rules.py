@@ -77,6 +77,7 @@ Definitions:
 """
 
 import math
+import os
 import re
 
 from . import reader
@@ -350,6 +351,13 @@ def choose(rows, baseline=None):
         g = min(gaps)
         near = [r for r in near if math.isnan(r["gap_max_mm"]) or r["gap_max_mm"] <= WITHIN * g + 1e-9]
     return min(near, key=lambda r: r["t_contact_us"])
+
+
+def no_force_bases(root):
+    """{scene: its run without contact force}: the NO_FORCE rows of accuracy_time.csv in the results
+    folder `root`, what "helps" is judged against ({} without the file)."""
+    rows = reader.read_csv(os.path.join(root, "accuracy_time.csv"), text=reader.STUDY_TEXT, missing=[])
+    return {r["scene"]: r for r in rows if r.get("config") == NO_FORCE}
 
 
 def helps_word(row, base):

@@ -204,13 +204,6 @@ def scene_tables(root, data):
         align="lrrp{3cm}llrrlrll")
 
 
-def no_force_bases(root):
-    """{scene: its run without contact force} (accuracy_time.csv's baseline rows in `root`; {} without
-    the file): what "helps" is judged against."""
-    rows = reader.read_csv(os.path.join(root, "accuracy_time.csv"), text=reader.STUDY_TEXT, missing=[])
-    return {x["scene"]: x for x in rows if x.get("config") == rules.NO_FORCE}
-
-
 def useless_of(r, bases):
     """The useless words (rules.useless_text) of one run: its window figures against its scene's run
     without contact force."""
@@ -236,7 +229,7 @@ ACCURACY_SUBHEADER = " & & & & & final & peak & final & peak & window & chatter 
 
 
 def accuracy_table(root, data):
-    bases = no_force_bases(root)
+    bases = rules.no_force_bases(root)
     write_table(
         root, "accuracy",
         "Accuracy per scenario and eliminator. Truly penetrating nodes: guest + host nodes strictly "

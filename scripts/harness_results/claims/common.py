@@ -68,11 +68,9 @@ class Context:
         """{pos_err_max_mm, depth_max_mm} of `scene` with no contact force (accuracy_time.csv's
         NO_FORCE row), None without one."""
         if self._base is None:
-            rows = reader.read_csv(os.path.join(self.root, "accuracy_time.csv"),
-                                   numbers=("pos_err_max_mm", "depth_max_mm"), text=reader.STUDY_TEXT, missing=[])
-            self._base = {r["scene"]: {"pos_err_max_mm": reader.num(r.get("pos_err_max_mm"), math.nan),
-                                       "depth_max_mm": reader.num(r.get("depth_max_mm"), math.nan)}
-                          for r in rows if r.get("config") == NO_FORCE}
+            self._base = {scene: {"pos_err_max_mm": reader.num(r.get("pos_err_max_mm"), math.nan),
+                                  "depth_max_mm": reader.num(r.get("depth_max_mm"), math.nan)}
+                          for scene, r in rules.no_force_bases(self.root).items()}
         return self._base.get(scene)
 
     def window_csv(self, name, numbers=()):

@@ -106,10 +106,8 @@ def reference_floor_mm(a, scene):
 
 
 def no_force_bases(a):
-    """{scene: its run without contact force} (the accuracy study's NO_FORCE rows in --results'
-    accuracy_time.csv: what "helps" is judged against); {} without the file."""
-    rows = reader.read_csv(os.path.join(a.results, "accuracy_time.csv"), text=reader.STUDY_TEXT, missing=[])
-    return {r["scene"]: r for r in rows if r.get("config") == rules.NO_FORCE}
+    """{scene: its run without contact force} in --results (rules.no_force_bases)."""
+    return rules.no_force_bases(a.results)
 
 
 def mark_useless(a, rows, bases=None):
