@@ -11,9 +11,12 @@
 
 namespace harness {
 
+// A body's material. No default values of its own (zero until made): the scene loader fills it
+// from the key table's rows "material.*", and a body built by hand starts from
+// material_defaults() (core/scene/scene.hpp).
 struct Material {
-  double density = 1000.0;   // kg/m^3
-  double stiffness = 100.0;  // N/m, per spring (when youngs_modulus is 0)
+  double density = 0.0;    // kg/m^3
+  double stiffness = 0.0;  // N/m, per spring (when youngs_modulus is 0)
   double youngs_modulus = 0.0;  // Pa; > 0: every spring's stiffness from it (elastic_map.hpp)
   double thickness = 0.0;       // m, of a shell (with youngs_modulus)
   SpringLawKind law = SpringLawKind::linear;

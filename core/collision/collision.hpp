@@ -38,11 +38,11 @@ void check_pair(const World& w, const ContactSpec& spec);
 
 class Collision {
  public:
-  // The automatic force separates a contact at v_sep = L / separation_time (ContactSpec, default
-  // kSeparationTime), L the voxel size (see auto_contact_forces): a pair resting in one voxel
-  // leaves it in about this time, a few cm/s for millimetre voxels. A physical time, so that the
-  // rule depends on dt only through the integration.
-  static constexpr double kSeparationTime = harness::kSeparationTime;  // s (contact_spec.hpp)
+  // The automatic force separates a contact at v_sep = L / separation_time (ContactSpec; its
+  // default is the key table's row contact.separation_time), L the voxel size (see
+  // auto_contact_forces): a pair resting in one voxel leaves it in about this time, a few cm/s
+  // for millimetre voxels. A physical time, so that the rule depends on dt only through the
+  // integration.
 
   // Checks the pair (check_pair), makes its detector and configures it once on the current (rest)
   // positions. Throws std::invalid_argument for a detector this program cannot make, bad body

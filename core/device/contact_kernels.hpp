@@ -6,6 +6,7 @@
 // directions.hpp, force_rules.hpp), and the pushes applied in Collision's order.
 #pragma once
 
+#include "core/device/closest_kernels.hpp"
 #include "core/device/kernels.hpp"
 
 namespace harness::dev {
@@ -14,7 +15,6 @@ enum : int { kRegionHalf = 0, kRegionFull = 1, kRegionOverlap = 2 };
 enum : int { kDetVoxel = 0, kDetVoxelExact = 1 };
 enum : int { kElimLine = 0, kElimPlane = 1 };
 enum : int { kForceConstant = 0, kForcePenalty = 1 };
-constexpr int kInteriorFeature = 6;  // VoxelExactDetector::kInterior
 
 // One direction's grid (Initializer and GridGeometry), in device memory: built at the rest state
 // as the CPU's, updated every step by one thread.

@@ -35,10 +35,6 @@ const std::vector<std::pair<EliminatorKind, const char*>>& eliminator_names();
 const char* to_string(DetectorKind k);
 const char* to_string(EliminatorKind k);
 
-// The automatic force's separation time (s): a contact separates at v_sep = L / kSeparationTime
-// (Collision, force_rules.hpp); the default of contacts.N.separation_time (core/scene/keys.cpp).
-inline constexpr double kSeparationTime = 0.1;
-
 // The cookie of a ContactSpec made from the scene's key table (b2DefaultWorldDef's pattern).
 inline constexpr unsigned kContactSpecMade = 0x5CE4E7A8u;
 

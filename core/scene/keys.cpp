@@ -5,6 +5,8 @@
 #include "core/limits.hpp"
 #include "core/scene/scene.hpp"
 
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -126,7 +128,7 @@ SceneKey subdivisions(const char* kind) {
       .range(0, kMaxSubdivisions)
       .fallback(2)
       .shared("subdivisions")
-      .described("Icosphere subdivisions, 0 to " + std::to_string(kMaxSubdivisions) + ".");
+      .described("Icosphere subdivisions.");
 }
 SceneKey fill(const char* kind) {
   return key(kind, "fill", KeyType::word)
@@ -154,9 +156,71 @@ std::string default_text(const json& v) {
   return v.dump();
 }
 
+namespace {
+
+// A bound as the descriptions write it: shortest, powers of ten as "2e9".
+std::string bound_text(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  const double a = std::fabs(v);
+  if (a >= 1e4) {
+    const int e = static_cast<int>(std::floor(std::log10(a)));
+    const double m = v / std::pow(10.0, e);
+    if (std::fabs(m * 100.0 - std::round(m * 100.0)) < 1e-9) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%ge%d", std::round(m * 100.0) / 100.0, e);
+      return b;
+    }
+  }
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
+}  // namespace
+
+std::string range_text(const SceneKey& k) {
+  const bool lo = std::isfinite(k.lo), hi = std::isfinite(k.hi);
+  std::string r;
+  switch (k.type) {
+    case KeyType::string:
+      return lo && k.lo >= 1 ? "non-empty" : "";
+    case KeyType::list:
+      return lo && k.lo >= 1 ? "at least " + bound_text(k.lo) : "";
+    case KeyType::number:
+    case KeyType::integer:
+    case KeyType::length_or_auto:
+    case KeyType::force:
+    case KeyType::vec3:
+    case KeyType::int3:
+      if (k.lo_open)
+        r = "> " + bound_text(k.lo) + (hi ? ", <= " + bound_text(k.hi) : "");
+      else if (lo && hi)
+        r = bound_text(k.lo) + " to " + bound_text(k.hi);
+      else if (lo)
+        r = ">= " + bound_text(k.lo);
+      else if (hi)
+        r = "<= " + bound_text(k.hi);
+      if (r.empty()) return r;
+      if (k.type == KeyType::vec3 || k.type == KeyType::int3) return r + " each";
+      if (k.type == KeyType::length_or_auto) return r + ", or \"auto\"";
+      if (k.type == KeyType::force) return "a number " + r;
+      return r;
+    default:
+      return "";
+  }
+}
+
 std::string key_description(const SceneKey& k) {
-  if (k.presence != Presence::defaulted || k.type == KeyType::object) return k.doc;
-  const std::string tail = "Default: " + default_text(k.def) + ".";
+  // The made tail: "Required; RANGE." / "RANGE. Default: X." from the row.
+  std::string tail;
+  const std::string range = range_text(k);
+  if (k.presence == Presence::required && k.type != KeyType::always_true)
+    tail = range.empty() ? "Required." : "Required; " + range + ".";
+  else if (!range.empty())
+    tail = static_cast<char>(std::toupper(static_cast<unsigned char>(range[0]))) + range.substr(1) + ".";
+  if (k.presence == Presence::defaulted && k.type != KeyType::object)
+    tail += (tail.empty() ? "" : " ") + std::string("Default: ") + default_text(k.def) + ".";
+  if (tail.empty()) return k.doc;
   return k.doc.empty() ? tail : k.doc + " " + tail;
 }
 
@@ -165,98 +229,98 @@ const std::vector<SceneKey>& scene_keys() {
   static const std::vector<SceneKey> keys = {
       key("scene", "name", KeyType::string).computed().described("The scene's name in outputs. Default: the file's stem."),
       key("scene", "seed", KeyType::integer).optional().schema({{"minimum", std::numeric_limits<long long>::min()}, {"maximum", std::numeric_limits<long long>::max()}}).described("Recorded in the outputs; nothing in a run is random. Default: none."),
-      key("scene", "time", KeyType::object).holding("time").described("Time stepping. Required."),
+      key("scene", "time", KeyType::object).holding("time").described("Time stepping."),
       key("scene", "effects", KeyType::words).in(effect_words()).fallback(json::array()).described("Exactly what is simulated; each at most once. A body's pins, drivers, loads and pressure act only when their effect is listed; contact pairs are measured either way but pushed apart only with contact."),
       key("scene", "gravity", KeyType::vec3).fallback({0.0, 0.0, -9.81}).with_unit("m/s^2").described("Gravitational acceleration, m/s^2; used only when the effect gravity is listed."),
-      key("scene", "bodies", KeyType::list).holding("body").range(1, kInf).described("The soft bodies, at least one; names unique. Required."),
+      key("scene", "bodies", KeyType::list).holding("body").range(1, kInf).described("The soft bodies; names unique."),
       key("scene", "contacts", KeyType::list).holding("contact").fallback(json::array()).described("Contact pairs."),
       key("scene", "references", KeyType::object).holding("references").fallback(json::object()).described("Exact measurement beside the run. Default: no solvers."),
       key("scene", "output", KeyType::object).holding("output").fallback(json::object()).described("What is written besides steps.csv and summary.json. Default: no frames."),
-      key("time", "dt", KeyType::number).above(0.0, 1e3).with_unit("s").described("Time step, s. Required; > 0, <= 1000."),
-      key("time", "steps", KeyType::integer).range(0, kMaxSteps).counts(StepCount::count).described("Steps to run (with settle: at least this many). Required; 0 to 2e9."),
+      key("time", "dt", KeyType::number).above(0.0, 1e3).with_unit("s").described("Time step, s."),
+      key("time", "steps", KeyType::integer).range(0, kMaxSteps).counts(StepCount::count).described("Steps to run (with settle: at least this many)."),
       key("time", "integrator", KeyType::word).in(word_list<Integrator>()).fallback("symplectic_euler").described("symplectic_euler, or implicit_euler (linearised backward Euler, conjugate gradient)."),
       key("time", "guard", KeyType::word).in(word_list<Guard>()).fallback("refuse").described("When dt exceeds 0.9 dt_crit (Gershgorin bound on the tangent stiffness): refuse stops at load, substep splits the steps."),
-      key("time", "window", KeyType::integer).range(1, kMaxSteps).fallback(1000).counts(StepCount::count).by_steps_ref().described("Steps of the final window a run is judged over (its error figures as mean, maximum and chatter amplitude; the contact's power against the power put in; the stability verdict), never starting before every moving driver, load ramp and pressure ramp has finished. 1 to 2e9."),
+      key("time", "window", KeyType::integer).range(1, kMaxSteps).fallback(1000).counts(StepCount::count).by_steps_ref().described("Steps of the final window a run is judged over (its error figures as mean, maximum and chatter amplitude; the contact's power against the power put in; the stability verdict), never starting before every moving driver, load ramp and pressure ramp has finished."),
       key("time", "settle", KeyType::object).holding("settle").optional().null_ok().described("Equilibrium: after `steps`, go on until the relative force residual stays at most `tolerance` for 100 steps in a row, or `max_steps` more steps have run. null (or --steps N on the command line): run exactly `steps`. Default: none."),
-      key("settle", "tolerance", KeyType::number).above(0.0, 1.0).fallback(1e-3).described("Relative force residual (dimensionless). > 0, <= 1."),
-      key("settle", "max_steps", KeyType::integer).range(1, kMaxSteps).counts(StepCount::count).by_steps_ref().described("Steps at most after `steps`. Required; 1 to 2e9."),
+      key("settle", "tolerance", KeyType::number).above(0.0, 1.0).fallback(1e-3).described("Relative force residual (dimensionless)."),
+      key("settle", "max_steps", KeyType::integer).range(1, kMaxSteps).counts(StepCount::count).by_steps_ref().described("Steps at most after `steps`."),
       key("references", "solvers", KeyType::words).in(word_list<Solver>()).fallback(json::array()).described("Any of cgal (inside tests, signed distance of every surface vertex), fcl (triangle pairs, depth), ccd (libccd distance); each at most once."),
-      key("references", "every", KeyType::integer).range(1, kMaxSteps).fallback(1).counts(StepCount::count).by_steps_ref().described("Measure every N steps (and the last). 1 to 2e9."),
+      key("references", "every", KeyType::integer).range(1, kMaxSteps).fallback(1).counts(StepCount::count).by_steps_ref().described("Measure every N steps (and the last)."),
       key("references", "volume", KeyType::boolean).fallback(false).described("CGAL's intersection volume (slow)."),
-      key("output", "frames_every", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Surface frames every N steps (plus step 0 and the last); 0 = none. 0 to 2e9."),
+      key("output", "frames_every", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Surface frames every N steps (plus step 0 and the last); 0 = none."),
       key("output", "trajectory", KeyType::boolean).fallback(false).described("trajectory.bin: every surface vertex at every measured step."),
       key("output", "format", KeyType::word).in(word_list<FrameFormat>()).fallback("vtp").described("Frames as VTK XML PolyData (vtp, with a ParaView collection per body), XML UnstructuredGrid (vtu, with a collection) or legacy ASCII (vtk)."),
-      key("body", "name", KeyType::string).range(1, kInf).described("Unique among the bodies. Required; non-empty."),
-      key("body", "shape", KeyType::object).holding("shape").described("Required."),
+      key("body", "name", KeyType::string).range(1, kInf).described("Unique among the bodies."),
+      key("body", "shape", KeyType::object).holding("shape").described(""),
       key("body", "material", KeyType::object).holding("material").fallback(json::object()).described(""),
       key("body", "velocity", KeyType::vec3).fallback({0.0, 0.0, 0.0}).with_unit("m/s").described("Initial velocity of every node, m/s."),
       key("body", "pins", KeyType::list).holding("selection").fallback(json::array()).described("Selections held fixed (effect pins)."),
       key("body", "drivers", KeyType::list).holding("driver").fallback(json::array()).described("Kinematic drivers (effect drivers)."),
       key("body", "loads", KeyType::list).holding("load").fallback(json::array()).described("Applied forces (effect loads)."),
       key("body", "pressure", KeyType::object).holding("pressure").optional().described("Internal pressure (effect pressure). Default: none."),
-      key("shape", "type", KeyType::word).in(word_list<ShapeType>()).described("box (a volumetric lattice), sphere, ellipsoid, cylinder or mesh (an OFF or OBJ file). Required."),
-      key("shape.box", "min", KeyType::vec3).with_unit("m").described("Lower corner, m. Required; below max on every axis."),
-      key("shape.box", "max", KeyType::vec3).with_unit("m").described("Upper corner, m. Required; above min on every axis."),
-      key("shape.box", "cells", KeyType::int3).range(1, 1000).described("Cells along x, y, z, 1 to 1000 each; (nx+1)(ny+1)(nz+1) nodes at most 2e7. Required."),
+      key("shape", "type", KeyType::word).in(word_list<ShapeType>()).described("box (a volumetric lattice), sphere, ellipsoid, cylinder or mesh (an OFF or OBJ file)."),
+      key("shape.box", "min", KeyType::vec3).with_unit("m").described("Lower corner, m; below max on every axis."),
+      key("shape.box", "max", KeyType::vec3).with_unit("m").described("Upper corner, m; above min on every axis."),
+      key("shape.box", "cells", KeyType::int3).range(1, 1000).described("Cells along x, y, z; (nx+1)(ny+1)(nz+1) nodes at most " + bound_text(kMaxBoxNodes) + "."),
       key("shape.box", "fill", KeyType::word).in({scene_word(FillWord::volume)}).fallback(scene_word(FillWord::volume)).described("A box lattice is always volumetric: only \"volume\" is accepted."),
       center("shape.sphere"),
-      key("shape.sphere", "radius", KeyType::number).above(0.0).with_unit("m").described("Radius, m. Required; > 0."),
+      key("shape.sphere", "radius", KeyType::number).above(0.0).with_unit("m").described("Radius, m."),
       subdivisions("shape.sphere"),
       fill("shape.sphere"),
       center("shape.ellipsoid"),
-      key("shape.ellipsoid", "radii", KeyType::vec3).above(0.0).with_unit("m").described("Semi-axes along x, y, z, m. Required; each > 0."),
+      key("shape.ellipsoid", "radii", KeyType::vec3).above(0.0).with_unit("m").described("Semi-axes along x, y, z, m."),
       subdivisions("shape.ellipsoid"),
       fill("shape.ellipsoid"),
       center("shape.cylinder"),
       key("shape.cylinder", "axis", KeyType::vec3).fallback({0.0, 0.0, 1.0}).schema({{"not", {{"items", {{"const", 0}}}}}}).described("Axis direction (normalised by the loader); non-zero."),
-      key("shape.cylinder", "radius", KeyType::number).above(0.0).with_unit("m").described("Radius, m. Required; > 0."),
-      key("shape.cylinder", "length", KeyType::number).above(0.0).with_unit("m").described("Length along the axis, m. Required; > 0."),
-      key("shape.cylinder", "segments", KeyType::integer).range(3, 100000).fallback(16).described("Nodes around a ring, 3 to 100000; segments * (rings + 1) at most 2e7."),
-      key("shape.cylinder", "rings", KeyType::integer).range(1, 100000).fallback(4).described("Rings along the axis, 1 to 100000."),
+      key("shape.cylinder", "radius", KeyType::number).above(0.0).with_unit("m").described("Radius, m."),
+      key("shape.cylinder", "length", KeyType::number).above(0.0).with_unit("m").described("Length along the axis, m."),
+      key("shape.cylinder", "segments", KeyType::integer).range(3, 100000).fallback(16).described("Nodes around a ring; segments * (rings + 1) at most " + bound_text(kMaxCylinderNodes) + "."),
+      key("shape.cylinder", "rings", KeyType::integer).range(1, 100000).fallback(4).described("Rings along the axis."),
       fill("shape.cylinder"),
-      key("shape.mesh", "path", KeyType::string).range(1, kInf).described("A closed triangle surface, OFF or OBJ; relative paths are relative to the scene file. Required; non-empty."),
-      key("shape.mesh", "scale", KeyType::number).above(0.0).fallback(1.0).described("Factor on the file's coordinates. > 0."),
+      key("shape.mesh", "path", KeyType::string).range(1, kInf).described("A closed triangle surface, OFF or OBJ; relative paths are relative to the scene file."),
+      key("shape.mesh", "scale", KeyType::number).above(0.0).fallback(1.0).described("Factor on the file's coordinates."),
       key("shape.mesh", "translate", KeyType::vec3).fallback({0.0, 0.0, 0.0}).with_unit("m").described("Added after scaling, m."),
       fill("shape.mesh"),
-      key("material", "density", KeyType::number).above(0.0).fallback(1000.0).with_unit("kg/m^3").described("kg/m^3; the body's mass is density times its enclosed volume. > 0."),
-      key("material", "youngs_modulus", KeyType::number).above(0.0).optional().with_unit("Pa").described("Pa: spring stiffnesses derived from it. > 0. Not together with stiffness. Default: none."),
-      key("material", "thickness", KeyType::number).above(0.0).optional().with_unit("m").described("Shell thickness, m; required with youngs_modulus on a shell (fill shell, not a box), accepted nowhere else. > 0."),
-      key("material", "stiffness", KeyType::number).above(0.0).fallback(100.0).with_unit("N/m").described("N/m per spring, used when youngs_modulus is not given. > 0."),
+      key("material", "density", KeyType::number).above(0.0).fallback(1000.0).with_unit("kg/m^3").described("kg/m^3; the body's mass is density times its enclosed volume."),
+      key("material", "youngs_modulus", KeyType::number).above(0.0).optional().with_unit("Pa").described("Pa: spring stiffnesses derived from it. Not together with stiffness. Default: none."),
+      key("material", "thickness", KeyType::number).above(0.0).optional().with_unit("m").described("Shell thickness, m; required with youngs_modulus on a shell (fill shell, not a box), accepted nowhere else."),
+      key("material", "stiffness", KeyType::number).above(0.0).fallback(100.0).with_unit("N/m").described("N/m per spring, used when youngs_modulus is not given."),
       key("material", "law", KeyType::word).in(word_list<SpringLawKind>()).fallback("linear").described("The spring's force against strain."),
-      key("material", "nonlinearity", KeyType::number).range(0.0, 1e6).fallback(0.0).described("The law's coefficient a (cubic: f = k eps l0 (1 + a eps^2); exponential: f = k l0 (e^(a eps) - 1)/a), dimensionless. 0 to 1e6."),
-      key("material", "damping", KeyType::number).range(0.0, kInf).fallback(0.0).with_unit("N s/m").described("Dashpot along each spring, N s/m. >= 0."),
-      key("material", "mass_damping", KeyType::number).range(0.0, kInf).fallback(0.0).with_unit("1/s").described("Global damping -alpha m v, alpha in 1/s. >= 0."),
+      key("material", "nonlinearity", KeyType::number).range(0.0, 1e6).fallback(0.0).described("The law's coefficient a (cubic: f = k eps l0 (1 + a eps^2); exponential: f = k l0 (e^(a eps) - 1)/a), dimensionless."),
+      key("material", "damping", KeyType::number).range(0.0, kInf).fallback(0.0).with_unit("N s/m").described("Dashpot along each spring, N s/m."),
+      key("material", "mass_damping", KeyType::number).range(0.0, kInf).fallback(0.0).with_unit("1/s").described("Global damping -alpha m v, alpha in 1/s."),
       key("selection", "side", KeyType::word).in(word_list<Side>()).optional().described("A face of the rest bounding box."),
       key("selection", "box", KeyType::object).holding("selection.box").optional().described("Nodes whose rest position is inside (inclusive); min <= max on every axis."),
       key("selection", "all", KeyType::always_true).optional().described("Every node; must be true."),
-      key("selection.box", "min", KeyType::vec3).with_unit("m").described("Lower corner, m. Required."),
-      key("selection.box", "max", KeyType::vec3).with_unit("m").described("Upper corner, m. Required."),
-      key("driver", "select", KeyType::object).holding("selection").described("The driven nodes. Required."),
-      key("driver", "velocity", KeyType::vec3).with_unit("m/s").described("m/s. Required."),
-      key("driver", "from_step", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::first_step).by_steps_ref().described("First driven step, 0 to 2e9."),
-      key("driver", "to_step", KeyType::integer).range(-1, kMaxSteps).fallback(-1).counts(StepCount::last_step).described("Last driven step, -1 (to the end) to 2e9; not before from_step."),
-      key("load", "select", KeyType::object).holding("selection").described("The loaded nodes. Required."),
-      key("load", "force", KeyType::vec3).with_unit("N").described("Total force, N. Required."),
-      key("load", "ramp_steps", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Steps of the linear ramp from zero, 0 to 2e9."),
-      key("pressure", "from", KeyType::number).range(-1e9, 1e9).fallback(0.0).with_unit("Pa").described("Pa, -1e9 to 1e9."),
-      key("pressure", "to", KeyType::number).range(-1e9, 1e9).with_unit("Pa").described("Pa, -1e9 to 1e9. Required."),
-      key("pressure", "ramp_steps", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Steps of the ramp, 0 to 2e9."),
-      key("contact", "host", KeyType::string).described("A body's name. Required."),
-      key("contact", "guest", KeyType::string).described("Another body's name (not the host). Required."),
-      key("contact", "label", KeyType::string).computed().range(1, kInf).described("The pair's name in the outputs (steps.csv pair, summary.json pairs[].pair, penetration_episodes.csv); non-empty. Default: host/guest."),
+      key("selection.box", "min", KeyType::vec3).with_unit("m").described("Lower corner, m."),
+      key("selection.box", "max", KeyType::vec3).with_unit("m").described("Upper corner, m."),
+      key("driver", "select", KeyType::object).holding("selection").described("The driven nodes."),
+      key("driver", "velocity", KeyType::vec3).with_unit("m/s").described("m/s."),
+      key("driver", "from_step", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::first_step).by_steps_ref().described("First driven step."),
+      key("driver", "to_step", KeyType::integer).range(-1, kMaxSteps).fallback(-1).counts(StepCount::last_step).described("Last driven step; -1: to the end; not before from_step."),
+      key("load", "select", KeyType::object).holding("selection").described("The loaded nodes."),
+      key("load", "force", KeyType::vec3).with_unit("N").described("Total force, N."),
+      key("load", "ramp_steps", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Steps of the linear ramp from zero."),
+      key("pressure", "from", KeyType::number).range(-1e9, 1e9).fallback(0.0).with_unit("Pa").described("Pa."),
+      key("pressure", "to", KeyType::number).range(-1e9, 1e9).with_unit("Pa").described("Pa."),
+      key("pressure", "ramp_steps", KeyType::integer).range(0, kMaxSteps).fallback(0).counts(StepCount::count).by_steps_ref().described("Steps of the ramp."),
+      key("contact", "host", KeyType::string).described("A body's name."),
+      key("contact", "guest", KeyType::string).described("Another body's name (not the host)."),
+      key("contact", "label", KeyType::string).computed().range(1, kInf).described("The pair's name in the outputs (steps.csv pair, summary.json pairs[].pair, penetration_episodes.csv). Default: host/guest."),
       key("contact", "detector", KeyType::word).in(detector_words()).fallback("voxel").described("voxel (the paper's local grid), voxel_exact (the paper's grid with an exact narrow phase: closest host triangle and pseudonormal, exact within a stated band), hash (spatial hashing, Teschner et al. 2003), cgal or fcl (exact; need the reference library)."),
-      key("contact", "voxel_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Voxel edge, m, rounded down to a power of two; > 0, <= 1e6; or \"auto\" (the smallest power of two >= the host's mean surface edge at rest, its node spacing for a body without a surface; for voxel_exact doubled until it exceeds the host's longest surface edge / sqrt(3))."),
-      key("contact", "cell_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Spatial hashing's cell, m; > 0, <= 1e6; or \"auto\" (the host's mean surface edge)."),
+      key("contact", "voxel_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Voxel edge, m, rounded down to a power of two, or \"auto\" (the smallest power of two >= the host's mean surface edge at rest, its node spacing for a body without a surface; for voxel_exact doubled until it exceeds the host's longest surface edge / sqrt(3))."),
+      key("contact", "cell_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Spatial hashing's cell, m, or \"auto\" (the host's mean surface edge at the current positions)."),
       key("contact", "region", KeyType::word).in(word_list<Region>()).fallback("half").described("The voxel grid covers half the host's box, the full box, or their overlap."),
-      key("contact", "margin", KeyType::integer).range(0, 64).fallback(1).described("Voxels added around the region, 0 to 64."),
+      key("contact", "margin", KeyType::integer).range(0, 64).fallback(1).described("Voxels added around the region."),
       key("contact", "host_nodes", KeyType::word).in(word_list<HostNodes>()).fallback("all").described("surface: only surface nodes enter the voxels (voxel_exact always lists the surface vertices)."),
       key("contact", "eliminator", KeyType::word).in(word_list<EliminatorKind>()).fallback("line").described("line (push along the line to the nearest host node), plane (along the normal of the plane through the three nearest), projection (move the node to the surface after the position update)."),
       key("contact", "orient", KeyType::word).in(word_list<Orient>()).fallback("paper").described("Which way line and plane push: paper (line from the nearest host node toward the guest node, plane agreeing with the host's outward normals), guest (both toward the guest node), outward (both agreeing with the host's outward normals)."),
       key("contact", "two_sided", KeyType::boolean).fallback(false).described("Also the other way round (the host's nodes against the guest's surface)."),
       key("contact", "invert_push", KeyType::boolean).fallback(false).described("Every push negated: a broken method, used by tests."),
-      key("contact", "separation_time", KeyType::number).above(0.0, 1e6).fallback(kSeparationTime).with_unit("s").described("s, of force auto: separation speed = voxel size (detectors without a grid: the host's mean spring rest length) / separation_time. > 0, <= 1e6."),
-      key("contact", "force", KeyType::force).holding("force.stiffness").range(0.0, 1e12).fallback("auto").with_unit("N").described("A number: the paper's constant force, N per contact (0 to 1e12); \"auto\": the force that separates within separation_time; {\"stiffness\": k}: penalty k times depth, N/m (0 to 1e12)."),
-      key("force.stiffness", "stiffness", KeyType::number).range(0.0, 1e12).with_unit("N/m").described("Penalty stiffness, N/m, 0 to 1e12. Required."),
+      key("contact", "separation_time", KeyType::number).above(0.0, 1e6).fallback(0.1).with_unit("s").described("s, of force auto: separation speed = voxel size (detectors without a grid: the host's mean spring rest length) / separation_time."),
+      key("contact", "force", KeyType::force).holding("force.stiffness").range(0.0, 1e12).fallback("auto").with_unit("N").described("A number: the paper's constant force, N per contact; \"auto\": the force that separates within separation_time; {\"stiffness\": k}: penalty k times depth, N/m."),
+      key("force.stiffness", "stiffness", KeyType::number).range(0.0, 1e12).with_unit("N/m").described("Penalty stiffness, N/m."),
   };
   return keys;
 }

@@ -127,10 +127,14 @@ const std::vector<SceneKey>& scene_keys();
 // A default as descriptions and docs/scenes.md write it: a word bare, a number shortest (10
 // significant digits), a list in brackets.
 std::string default_text(const nlohmann::json& v);
-// A key's description as the schema and editors show it: its row's prose, then, for a key with a
-// default that is not an object, "Default: X." made from the row (default_text of `def`): the
-// prose never types the default itself.
+// A key's description as the schema and editors show it: its row's prose, then the range and
+// "Required" made from the row (range_text), then, for a key with a default that is not an
+// object, "Default: X." (default_text of `def`): the prose never types the default itself.
 std::string key_description(const SceneKey& k);
+// A key's range as the descriptions write it, made from the row's bounds and type ("> 0, <= 1e6",
+// "0 to 2e9", "1 to 1000 each", "non-empty", "at least 1"; "" for none): key_description appends
+// it, "Required; " before it for a required key, so the prose never types a range either.
+std::string range_text(const SceneKey& k);
 const std::vector<SceneKind>& scene_kinds();
 // The row of a key; throws std::logic_error for one the table does not have (a bug).
 const SceneKey& scene_key(const std::string& kind, const std::string& name);

@@ -348,10 +348,8 @@ void read_contacts(const Ctx& c, Obj& top, Scene& s) {
   });
 }
 
-void read_references(const Ctx& c, Obj& top, Scene& s) {
-  static const json empty = json::object();
-  const json* rj = top.get("references");
-  Obj o(c, rj ? *rj : empty, "references", s.resolved["references"], "references");
+// The references section into `r`, every key from its row of the table.
+void read_reference_spec(const Ctx& c, Obj& o, ReferenceSpec& r) {
   o.out()["solvers"] = json::array();
   if (const json* sv = o.get("solvers")) {
     const SceneKey& k = o.row("solvers");
@@ -360,12 +358,19 @@ void read_references(const Ctx& c, Obj& top, Scene& s) {
       expected += std::string(i == 0 ? "" : i + 1 == k.names.size() ? " or " : ", ") + "\"" + k.names[i] + "\"";
     for (const std::string& n : read_words(c, o.at("solvers"), *sv, k, "solver", expected)) {
       const Solver v = word_value<Solver>(n);
-      (v == Solver::cgal ? s.references.cgal : v == Solver::fcl ? s.references.fcl : s.references.ccd) = true;
+      (v == Solver::cgal ? r.cgal : v == Solver::fcl ? r.fcl : r.ccd) = true;
       o.out()["solvers"].push_back(n);
     }
   }
-  s.references.every = static_cast<int>(o.integer("every"));
-  s.references.volume = o.boolean("volume");
+  r.every = static_cast<int>(o.integer("every"));
+  r.volume = o.boolean("volume");
+}
+
+void read_references(const Ctx& c, Obj& top, Scene& s) {
+  static const json empty = json::object();
+  const json* rj = top.get("references");
+  Obj o(c, rj ? *rj : empty, "references", s.resolved["references"], "references");
+  read_reference_spec(c, o, s.references);
   o.finish();
 }
 
@@ -401,6 +406,23 @@ Scene scene_from_json(const json& doc, const std::string& file, const std::strin
   read_output(c, top, s);
   top.finish();
   return s;
+}
+
+Material material_defaults() {
+  const Ctx c{"(the key table's defaults)"};
+  json resolved = json::object();
+  return read_material(c, nullptr, "material", resolved, false);
+}
+
+ReferenceSpec reference_spec_defaults() {
+  const Ctx c{"(the key table's defaults)"};
+  const json empty = json::object();
+  json resolved = json::object();
+  Obj o(c, empty, "references", resolved, "references");
+  ReferenceSpec r;
+  read_reference_spec(c, o, r);
+  o.finish();
+  return r;
 }
 
 ContactSpec contact_spec_defaults() {

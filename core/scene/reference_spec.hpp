@@ -4,11 +4,13 @@
 
 namespace harness {
 
+// No default values of its own (zero until made): the loader fills it from the key table's rows
+// "references.*"; one built by hand starts from reference_spec_defaults() (scene.hpp).
 struct ReferenceSpec {
   bool cgal = false;
   bool fcl = false;
   bool ccd = false;
-  int every = 1;        // measure on steps that are multiples of `every`
+  int every = 0;        // measure on steps that are multiples of `every` (>= 1 once made)
   bool volume = false;  // penetration volume by corefinement (CGAL), slow
 };
 

@@ -48,11 +48,15 @@ struct Selection {
   std::string path;  // key path, for errors
 };
 
+// The section structs below have no default values of their own: the loader fills every field
+// from its row of the key table (keys.cpp), a missing key with the row's default
+// (tests/core/scene/test_defaults.cpp builds each from an empty section and compares). Their
+// members are zero until then.
 struct DriverSpec {
   Selection select;
   Vec3 velocity = Vec3::Zero();  // m/s
   int from_step = 0;             // first step (1-based step numbers) that is driven
-  int to_step = -1;              // last driven step; -1 = until the end
+  int to_step = 0;               // last driven step; -1 = until the end
 };
 
 struct PressureSpec {
@@ -74,23 +78,23 @@ struct LoadSpec {
 constexpr int kSettleWindow = 100;
 struct SettleSpec {
   bool present = false;
-  double tolerance = 1e-3;
+  double tolerance = 0.0;
   int max_steps = 0;
 };
 
 struct ShapeSpec {
   ShapeType type = ShapeType::box;
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();
-  Vec3i cells = Vec3i::Ones();
+  Vec3i cells = Vec3i::Zero();
   Vec3 center = Vec3::Zero();
   double radius = 0.0;
   Vec3 radii = Vec3::Zero();
-  int subdivisions = 2;
-  Vec3 axis = Vec3::UnitZ();
+  int subdivisions = 0;
+  Vec3 axis = Vec3::Zero();
   double length = 0.0;
-  int segments = 16, rings = 4;
+  int segments = 0, rings = 0;
   std::string path;      // mesh: resolved absolute or scene-relative path
-  double scale = 1.0;
+  double scale = 0.0;
   Vec3 translate = Vec3::Zero();
   bool volume_fill = false;
 };
@@ -119,23 +123,23 @@ struct Scene {
   std::string dir;   // directory mesh paths are relative to
   std::string name;
   std::optional<long long> seed;
-  double dt = 1e-4;
+  double dt = 0.0;
   int steps = 0;
-  Integrator integrator = Integrator::symplectic_euler;
-  Guard guard = Guard::refuse;
+  Integrator integrator{};
+  Guard guard{};
   SettleSpec settle;
   // time.window: the run is judged over its final `window` steps after every driver, load and
   // pressure ramp has finished (run/window.hpp).
-  int window = 1000;
+  int window = 0;
   unsigned effects = 0;
-  Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  Vec3 gravity = Vec3::Zero();
   std::vector<BodySpec> bodies;
   std::vector<ContactPairSpec> contacts;
   ReferenceSpec references;
   int frames_every = 0;
   // output.format: frames as VTK XML PolyData .vtp (default), XML UnstructuredGrid .vtu (what
   // meshio reads), or legacy ASCII .vtk; the XML ones with a ParaView collection per body.
-  FrameFormat frame_format = FrameFormat::vtp;
+  FrameFormat frame_format{};
   bool trajectory = false;  // output.trajectory: DIR/trajectory.bin (run/surfaces.hpp)
   nlohmann::json resolved;  // the scene with every default written in
 
@@ -190,6 +194,11 @@ Scene rescale_dt(const Scene& scene, int factor);
 // reads a contact that gives none of them; host and guest -1. The one way, with the loader, to
 // make a ContactSpec (ContactSpec::made): set its fields after.
 ContactSpec contact_spec_defaults();
+// A body's material and a references section at the key table's defaults (rows "material.*",
+// "references.*"), read as the loader reads an empty section: the ways, with the loader, to make
+// one for a body or a measurement built by hand (tests, experiments).
+Material material_defaults();
+ReferenceSpec reference_spec_defaults();
 
 // Reads a whole text file; throws InputError(path, ...) when missing or unreadable.
 std::string read_text_file(const std::string& path);

@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 ReferenceSpec cgal_only() {
-  ReferenceSpec s;
+  ReferenceSpec s = reference_spec_defaults();
   s.cgal = true;
   return s;
 }

@@ -34,7 +34,7 @@ TEST_CASE("CGAL and FCL agree on intersection over 1000 random poses", "[referen
   ContactSpec pair = contact_spec_defaults();
   pair.host = host;
   pair.guest = guest;
-  ReferenceSpec spec;
+  ReferenceSpec spec = reference_spec_defaults();
   spec.cgal = true;
   spec.fcl = true;
   ReferenceMeasurer m(w, pair, spec);

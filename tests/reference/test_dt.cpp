@@ -26,7 +26,7 @@ SurfaceState settled_state(const std::string& name, int factor,
   const StepsOutcome o = run_steps(sim, [](bool) {});
   REQUIRE(o.failure.empty());
   const ContactSpec& pair = sim.pairs().at(0).spec;
-  ReferenceSpec rs;
+  ReferenceSpec rs = reference_spec_defaults();
   rs.cgal = true;
   ReferenceMeasurer m(sim.world(), pair, rs);
   Measurement out;

@@ -43,7 +43,7 @@ TEST_CASE("cgal detector: contacts are the truly penetrating guest nodes", "[ref
   det.initialize(s.w, s.pair);
   std::vector<Contact> contacts;
   det.detect(s.w, contacts);
-  ReferenceSpec spec;
+  ReferenceSpec spec = reference_spec_defaults();
   spec.cgal = true;
   ReferenceMeasurer m(s.w, s.pair, spec);
   Measurement out;
@@ -147,7 +147,7 @@ TEST_CASE("a diverged state: no contacts, no measurement, no abort", "[reference
   FclDetector fc;
   cg.initialize(s.w, s.pair);
   fc.initialize(s.w, s.pair);
-  ReferenceSpec spec;
+  ReferenceSpec spec = reference_spec_defaults();
   spec.cgal = spec.fcl = spec.ccd = true;
   ReferenceMeasurer m(s.w, s.pair, spec);
   s.w.x[s.w.bodies[s.pair.guest].begin + 3].x() = std::numeric_limits<double>::quiet_NaN();

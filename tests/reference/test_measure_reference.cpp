@@ -17,7 +17,7 @@ using namespace harness::reftest;
 namespace {
 
 ReferenceSpec cgal_only() {
-  ReferenceSpec s;
+  ReferenceSpec s = reference_spec_defaults();
   s.cgal = true;
   return s;
 }
@@ -288,7 +288,7 @@ TEST_CASE("bench: reference cost per measured step", "[.bench][cgal][fcl]") {
     World w;
     const int host = add_body(w, "B", icosphere(Vec3(1.6, 0.05, -0.03), 1.0, sub));
     const int guest = add_body(w, "A", icosphere(Vec3::Zero(), 1.0, sub));
-    ReferenceSpec spec;
+    ReferenceSpec spec = reference_spec_defaults();
     spec.cgal = spec.fcl = spec.ccd = true;
     spec.volume = sub <= 4;
     ReferenceMeasurer m(w, pair_of(host, guest), spec);

@@ -38,7 +38,7 @@ inline void apply_pushes(World& w, const std::vector<Push>& pushes, const std::v
 //       nodes lean on one host node, and their reactions add up n_k times.
 // A kinematic node counts as infinitely heavy (1/m = 0, no acceleration, velocity kin_v).
 // So F beats the deformation forces that press the pair together and stops the approach, and a
-// pair resting in contact is pushed apart slowly. Collision uses v_sep = L / kSeparationTime,
+// pair resting in contact is pushed apart slowly. Collision uses v_sep = L / separation_time,
 // L the voxel size (or the host's node spacing for detectors without a grid).
 // Non-finite terms are ignored. `share` is scratch (one int per node, left all zero). Returns the
 // largest F (0 without contacts).

@@ -451,7 +451,7 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
   PairStep st = col.step(w, dt);
   CHECK(st.contacts == 1);
   const double mu = w.m[0] * w.m[2] / (w.m[0] + w.m[2]);
-  CHECK(st.force == Approx(mu * col.voxel_size() / Collision::kSeparationTime / dt));
+  CHECK(st.force == Approx(mu * col.voxel_size() / s.separation_time / dt));
   w.x[2] = Vec3(5, 5, 5);
   st = col.step(w, dt);
   CHECK(st.contacts == 0);

@@ -106,6 +106,93 @@ TEST_CASE("the sections of a scene that give nothing hold the table's defaults",
   CHECK(sc.bodies[1].shape.rings == def("shape.cylinder", "rings").get<int>());
 }
 
+namespace {
+
+void check_material_defaults(const Material& m) {
+  CHECK(m.density == def("material", "density").get<double>());
+  CHECK(m.stiffness == def("material", "stiffness").get<double>());
+  CHECK(m.youngs_modulus == 0.0);  // optional: absent
+  CHECK(m.thickness == 0.0);
+  CHECK(std::string(scene_word(m.law)) == def("material", "law").get<std::string>());
+  CHECK(m.nonlinearity == def("material", "nonlinearity").get<double>());
+  CHECK(m.damping == def("material", "damping").get<double>());
+  CHECK(m.mass_damping == def("material", "mass_damping").get<double>());
+}
+
+Vec3 vec_of(const char* kind, const char* name) {
+  const json& v = def(kind, name);
+  return Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+}
+
+}  // namespace
+
+TEST_CASE("material_defaults and reference_spec_defaults hold the key table's defaults", "[scene][defaults]") {
+  check_material_defaults(material_defaults());
+  const ReferenceSpec r = reference_spec_defaults();
+  CHECK(r.every == def("references", "every").get<int>());
+  CHECK(r.volume == def("references", "volume").get<bool>());
+  CHECK(def("references", "solvers").empty());
+  CHECK_FALSE((r.cgal || r.fcl || r.ccd));
+  // The structs alone hold none of them: a default written in a struct would show here.
+  const Material bare{};
+  CHECK(bare.density == 0.0);
+  CHECK(bare.stiffness == 0.0);
+  CHECK(ReferenceSpec{}.every == 0);
+}
+
+TEST_CASE("every struct a section fills holds the table's default for each key it leaves out", "[scene][defaults]") {
+  const Scene sc = parse_scene(R"({
+    "time": {"dt": 1e-4, "steps": 10, "settle": {"max_steps": 5}},
+    "effects": ["springs", "drivers", "loads", "pressure"],
+    "bodies": [
+      {"name": "s", "shape": {"type": "sphere", "radius": 0.01},
+       "drivers": [{"select": {"all": true}, "velocity": [0, 0, 1]}],
+       "loads": [{"select": {"side": "+z"}, "force": [0, 0, 1]}],
+       "pressure": {"to": 100}},
+      {"name": "c", "shape": {"type": "cylinder", "center": [0, 0, 0.05], "radius": 0.005, "length": 0.01}},
+      {"name": "e", "shape": {"type": "ellipsoid", "center": [0, 0, 0.1], "radii": [0.01, 0.02, 0.01]}}
+    ]})", "sections.json");
+  CHECK(sc.settle.tolerance == def("settle", "tolerance").get<double>());
+  const BodySpec& s = sc.bodies[0];
+  check_material_defaults(s.material);
+  CHECK(s.velocity == vec_of("body", "velocity"));
+  CHECK(s.shape.center == vec_of("shape.sphere", "center"));
+  CHECK(s.shape.subdivisions == def("shape.sphere", "subdivisions").get<int>());
+  CHECK(s.shape.volume_fill == (def("shape.sphere", "fill") == "volume"));
+  REQUIRE(s.drivers.size() == 1);
+  CHECK(s.drivers[0].from_step == def("driver", "from_step").get<int>());
+  CHECK(s.drivers[0].to_step == def("driver", "to_step").get<int>());
+  REQUIRE(s.loads.size() == 1);
+  CHECK(s.loads[0].ramp_steps == def("load", "ramp_steps").get<int>());
+  CHECK(s.pressure.from == def("pressure", "from").get<double>());
+  CHECK(s.pressure.ramp_steps == def("pressure", "ramp_steps").get<int>());
+  const ShapeSpec& c = sc.bodies[1].shape;
+  CHECK(c.axis == vec_of("shape.cylinder", "axis"));
+  CHECK(c.volume_fill == (def("shape.cylinder", "fill") == "volume"));
+  CHECK(sc.bodies[2].shape.subdivisions == def("shape.ellipsoid", "subdivisions").get<int>());
+}
+
+TEST_CASE("a description's range and Required are made from the row, never typed", "[scene][keys][schema]") {
+  for (const SceneKey& k : scene_keys()) {
+    INFO(k.kind << "." << k.name << ": " << k.doc);
+    const std::string r = range_text(k);
+    if (!r.empty()) {  // compared without the case of the first letter (a sentence starts with it)
+      const std::string tail = r.substr(1);
+      CHECK(k.doc.find(tail) == std::string::npos);
+      CHECK(key_description(k).find(tail) != std::string::npos);
+    }
+    CHECK(k.doc.find("Required") == std::string::npos);
+    if (k.presence == Presence::required && k.type != KeyType::always_true)
+      CHECK(key_description(k).find("Required") != std::string::npos);
+  }
+  CHECK(key_description(scene_key("time", "dt")) == "Time step, s. Required; > 0, <= 1000.");
+  CHECK(key_description(scene_key("time", "window")).find("1 to 2e9. Default: 1000.") != std::string::npos);
+  CHECK(range_text(scene_key("shape.box", "cells")) == "1 to 1000 each");
+  CHECK(range_text(scene_key("contact", "voxel_size")) == "> 0, <= 1e6, or \"auto\"");
+  CHECK(range_text(scene_key("pressure", "to")) == "-1e9 to 1e9");
+  CHECK(range_text(scene_key("material", "damping")) == ">= 0");
+}
+
 TEST_CASE("a ContactSpec not made from the key table is refused", "[scene][defaults][collision]") {
   World w;
   const int host = test::add_body(w, "host", test::icosahedron(Vec3(0, 0, 0), 1.0, true));

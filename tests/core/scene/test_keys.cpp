@@ -88,7 +88,7 @@ TEST_CASE("a description's default is made from the table's, never typed", "[sce
   }
   // The schema shows the made description.
   const SceneKey& margin = scene_key("contact", "margin");
-  CHECK(key_description(margin) == "Voxels added around the region, 0 to 64. Default: 1.");
+  CHECK(key_description(margin) == "Voxels added around the region. 0 to 64. Default: 1.");
   CHECK(scene_schema_text().find("\"" + key_description(margin) + "\"") != std::string::npos);
 }
 
