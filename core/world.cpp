@@ -73,7 +73,7 @@ double mean_rest_length(const World& w, int body) {
   return sum / (b.spring_end - b.spring_begin);
 }
 
-double node_spacing(const World& w, int body) {
+double rest_spring_length(const World& w, int body) {
   const Body& b = w.bodies[body];
   if (b.spring_end > b.spring_begin || b.size() == 0) return mean_rest_length(w, body);
   Vec3 lo, hi;
@@ -89,5 +89,11 @@ double mean_surface_edge(const World& w, int body, const Points& x) {
     for (int k = 0; k < 3; ++k) sum += (x[b.begin + t[k]] - x[b.begin + t[(k + 1) % 3]]).norm();
   return sum / (3.0 * static_cast<double>(b.faces.size()));
 }
+
+double rest_surface_edge(const World& w, int body) {
+  return mean_surface_edge(w, body, w.x0.empty() ? w.x : w.x0);
+}
+
+double current_surface_edge(const World& w, int body) { return mean_surface_edge(w, body, w.x); }
 
 }  // namespace harness

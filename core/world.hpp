@@ -100,15 +100,21 @@ double enclosed_volume(const World& w, int body);
 double kinetic_energy(const World& w);
 // Mean rest length of a body's springs, m (0 without springs).
 double mean_rest_length(const World& w, int body);
-// The node spacing of a body, m, the one estimate of how far apart its nodes are: the mean rest
-// length of its springs; for a body without springs (a rigid or hand-made one) the spacing of a
-// uniform lattice of its nodes over its bounding box, largest extent / cbrt(nodes). The automatic
-// force's length scale without a grid (collision.hpp) is taken from it, and the automatic voxel
-// size of a host without a surface (initializer.hpp: a host with one takes its mean surface edge). (Surface quantities, a hash cell or the spacing a surface
-// leaves for nodes to pass through, use mean_surface_edge below.)
-double node_spacing(const World& w, int body);
 // Mean length of a body's surface edges (faces' edges, each interior edge counted from both of its
 // faces: the mean is unchanged) at positions x (w.x or w.x0), m; 0 without faces.
 double mean_surface_edge(const World& w, int body, const Points& x);
+
+// ---- The contact's three length scales, one home each, named for what they measure:
+// The rest spring length of a body, m: the mean rest length of its springs; for a body without
+// springs (a rigid or hand-made one) the spacing of a uniform lattice of its nodes over its
+// bounding box, largest extent / cbrt(nodes). The automatic force's length scale without a grid
+// (collision.hpp: the separation speed) and the automatic voxel size of a host without a surface.
+double rest_spring_length(const World& w, int body);
+// The mean surface edge at rest (w.x0; w.x before the rest state is recorded), m: the automatic
+// voxel size (initializer.hpp: host_node_spacing) and the grid warnings (run/warnings.cpp).
+double rest_surface_edge(const World& w, int body);
+// The mean surface edge at the current positions (w.x), m: spatial hashing's automatic cell
+// (hash.cpp) and Bullet's collision margin (reference/bullet_engine.cpp).
+double current_surface_edge(const World& w, int body);
 
 }  // namespace harness

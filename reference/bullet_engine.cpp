@@ -87,7 +87,7 @@ class BulletEngine final : public StepEngine {
 
 // The body's mean surface edge at its current positions (world.hpp, the one definition).
 double mean_surface_edge_of(const World& w, const Body& b) {
-  return mean_surface_edge(w, static_cast<int>(&b - w.bodies.data()), w.x);
+  return current_surface_edge(w, static_cast<int>(&b - w.bodies.data()));
 }
 
 // A soft body of a world's body: its nodes at their positions with their lumped masses.

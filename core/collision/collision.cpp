@@ -35,7 +35,7 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
   pushes_.reserve(contacts_.capacity());
   share_.assign(w.x.size(), 0);
   // Length scale of the automatic force for detectors without a grid: the host's node spacing.
-  length_scale_ = node_spacing(w, spec_.host);
+  length_scale_ = rest_spring_length(w, spec_.host);
   if (spec_.two_sided) {
     reverse_spec_ = spec_;
     std::swap(reverse_spec_.host, reverse_spec_.guest);

@@ -36,9 +36,8 @@ double resolve_voxel_size(const World& w, const ContactSpec& spec) {
 }
 
 double host_node_spacing(const World& w, int host) {
-  const Points& rest = w.x0.empty() ? w.x : w.x0;
-  const double e = mean_surface_edge(w, host, rest);
-  return e > 0.0 ? e : node_spacing(w, host);
+  const double e = rest_surface_edge(w, host);
+  return e > 0.0 ? e : rest_spring_length(w, host);
 }
 
 void Initializer::initialize(const World& w, const ContactSpec& spec, VoxelData& grid) {

@@ -30,7 +30,7 @@
 //
 // Voxel size: ContactSpec::voxel_size rounded down to a power of two. voxel_size == 0 means
 // automatic: the smallest power of two >= the host's mean surface edge at rest
-// (host_node_spacing; for a host without a surface its node_spacing, world.hpp). Capacity cap: a region of more than
+// (host_node_spacing; for a host without a surface its rest_spring_length, world.hpp). Capacity cap: a region of more than
 // kMaxVoxels voxels throws std::invalid_argument at initialisation (the scene loader reports
 // it) and std::runtime_error when a rebuild during the run would need it.
 #pragma once
@@ -47,7 +47,7 @@ constexpr long long kMaxVoxels = 64LL * 1000 * 1000;
 // std::invalid_argument for a bad request or when no automatic size can be chosen.
 double resolve_voxel_size(const World& w, const ContactSpec& spec);
 // The spacing of a host's nodes that a voxel must not be below: its mean surface edge at rest,
-// or node_spacing for a body without a surface. The automatic voxel size is the smallest power
+// or rest_spring_length for a body without a surface (world.hpp). The automatic voxel size is the smallest power
 // of two at or above it; a run warns about a paper's grid finer than it.
 double host_node_spacing(const World& w, int host);
 

@@ -39,8 +39,7 @@ std::vector<Warning> start_warnings(const Simulation& sim) {
       out.push_back({key + ".voxel_size", b});
     }
     const int host = pair.spec.host, guest = pair.spec.guest;
-    const Points& rest = w.x0.empty() ? w.x : w.x0;
-    const double hg = mean_surface_edge(w, guest, rest), hh = mean_surface_edge(w, host, rest);
+    const double hg = rest_surface_edge(w, guest), hh = rest_surface_edge(w, host);
     // The paper's grid lists the host's nodes: a voxel finer than their spacing can hold none of
     // them while a guest node sits inside the host there (voxel_exact lists triangles instead).
     const double hs = host_node_spacing(w, host);

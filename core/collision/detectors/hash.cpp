@@ -35,7 +35,7 @@ void HashDetector::initialize(const World& w, const ContactSpec& spec) {
   host_begin_ = h.begin;
   faces_ = h.faces;
   cell_ = spec.cell_size;
-  if (!(cell_ > 0.0)) cell_ = mean_surface_edge(w, spec.host, w.x);  // automatic: the host's mean surface edge
+  if (!(cell_ > 0.0)) cell_ = current_surface_edge(w, spec.host);  // automatic
   if (!(cell_ > 0.0) || !std::isfinite(cell_)) throw std::invalid_argument("hash detector: no positive cell size");
   const std::size_t n = prime_at_least(std::max<std::size_t>(97, 4 * faces_.size()));
   head_.assign(n, -1);
