@@ -52,6 +52,11 @@ struct Measurement {
   // (their distance to the other body's bounding box).
   const std::vector<double>* sd_guest = nullptr;
   const std::vector<double>* sd_host = nullptr;
+  // CGAL: per node (body-local) the parity of its passages through the other body (1: on the far
+  // side of it, tunnelled_guest / tunnelled_host count these); null when not measured. Valid until
+  // the next measure().
+  const std::vector<std::uint8_t>* through_guest = nullptr;
+  const std::vector<std::uint8_t>* through_host = nullptr;
   double t_ccd_us = 0.0;
 };
 

@@ -4,6 +4,7 @@
 #include "core/device/device_step.hpp"
 #include "core/run/machine.hpp"
 #include "core/run/output_dir.hpp"
+#include "core/run/step_stats.hpp"
 #include "core/state_hash.hpp"
 
 #include <algorithm>
@@ -20,13 +21,6 @@ namespace harness {
 
 namespace {
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size()))) - 1);
-  return v[k];
-}
-
 void write_json(const std::string& path, const nlohmann::json& j) {
   const std::string tmp = path + ".tmp";
   {
@@ -38,16 +32,17 @@ void write_json(const std::string& path, const nlohmann::json& j) {
 
 // The step times' record (mean, median, p99, max) and the real-time factors against the scene's dt.
 void add_timing(nlohmann::json& j, const std::vector<double>& us, double dt) {
-  const double mean = us.empty() ? 0.0 : std::accumulate(us.begin(), us.end(), 0.0) / static_cast<double>(us.size());
-  j["timing_us"] = {{"mean", mean},
-                    {"median", percentile(us, 0.5)},
-                    {"p99", percentile(us, 0.99)},
-                    {"max", us.empty() ? 0.0 : *std::max_element(us.begin(), us.end())},
-                    {"steps_timed", us.size()},
+  const StepStats st = step_stats(us);
+  auto zero_nan = [](double v) { return std::isfinite(v) ? v : 0.0; };
+  j["timing_us"] = {{"mean", zero_nan(st.mean)},
+                    {"median", zero_nan(st.median)},
+                    {"p99", zero_nan(st.p99)},
+                    {"max", zero_nan(st.max)},
+                    {"steps_timed", st.n},
                     {"what", "per step, each step waited for (graph launch to completion)"}};
   j["budget_us"] = dt * 1e6;
-  j["realtime_factor_mean"] = mean > 0.0 ? dt * 1e6 / mean : 0.0;
-  j["realtime_factor_p99"] = percentile(us, 0.99) > 0.0 ? dt * 1e6 / percentile(us, 0.99) : 0.0;
+  j["realtime_factor_mean"] = zero_nan(realtime_factor(dt, st.mean));
+  j["realtime_factor_p99"] = zero_nan(realtime_factor(dt, st.p99));
 }
 
 // The CPU's own step over the same steps from the same start (a fresh Simulation), against the
@@ -134,7 +129,7 @@ int run_on_device(const Scene& scene, const DeviceRunOptions& o) {
   write_json(o.out_dir + "/summary.json", j);
   std::fprintf(stderr, "device %s: %s, %d steps, %.2f us/step mean, %.2f p99, real-time factor %.3f (mean) %.3f (p99)%s\n",
                dev->device_name().c_str(), status.c_str(), dev->steps_taken(), j["timing_us"]["mean"].get<double>(),
-               percentile(us, 0.99), j["realtime_factor_mean"].get<double>(), j["realtime_factor_p99"].get<double>(),
+               j["timing_us"]["p99"].get<double>(), j["realtime_factor_mean"].get<double>(), j["realtime_factor_p99"].get<double>(),
                j.contains("cpu_check") ? (", cpu max node distance " + std::to_string(j["cpu_check"]["max_node_distance_m"].get<double>()) + " m").c_str() : "");
   return code;
 }

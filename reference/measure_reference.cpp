@@ -217,6 +217,8 @@ void ReferenceMeasurer::measure_cgal(const World& w, Clock::time_point t0, const
   out.pen_host = &pen_host_;
   out.sd_guest = &sd_guest_;
   out.sd_host = &sd_host_;
+  out.through_guest = &pass_guest_.through;
+  out.through_host = &pass_host_.through;
   const int n_pen = out.true_pen_guest + out.true_pen_host;
   out.max_depth = max_depth;
   out.mean_depth = n_pen > 0 ? sum_depth / n_pen : 0.0;

@@ -18,10 +18,13 @@ Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_
   figures_.resize(pairs.size());
   sd_.resize(w.bodies.size());
   totals_.resize(pairs.size());
-  for (const Pair& p : pairs) {
-    open_.emplace_back(static_cast<std::size_t>(w.bodies[p.spec.guest].size()), -1);
-    open_.emplace_back(static_cast<std::size_t>(w.bodies[p.spec.host].size()), -1);
-  }
+  for (const Pair& p : pairs)
+    for (int body : {p.spec.guest, p.spec.host}) {
+      const auto n = static_cast<std::size_t>(w.bodies[body].size());
+      open_.emplace_back(n, -1);
+      through_last_.emplace_back(n, 0);
+      through_start_.emplace_back(n, 0);
+    }
   for (const Body& b : w.bodies) pen_flags_.emplace_back(static_cast<std::size_t>(b.size()), 0);
   ke_ = ke_peak_ = sim.kinetic_energy();
   series_.resize(pairs.size());
@@ -32,23 +35,37 @@ Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_
   timings_.physics.reserve(static_cast<std::size_t>(sc.steps));
 }
 
-void Recorder::track(std::size_t p, int role, const std::vector<std::uint8_t>& flags, int step, const Simulation& sim) {
+void Recorder::track(std::size_t p, int role, const std::vector<std::uint8_t>& flags,
+                     const std::vector<std::uint8_t>* through, int step, const Simulation& sim) {
   const Pair& pair = sim.pairs()[p];
   const int body = role == 0 ? pair.spec.guest : pair.spec.host;
-  std::vector<int>& open = open_[2 * p + static_cast<std::size_t>(role)];
+  const std::size_t k = 2 * p + static_cast<std::size_t>(role);
+  std::vector<int>& open = open_[k];
+  std::vector<std::uint8_t>& last = through_last_[k];
+  std::vector<std::uint8_t>& start = through_start_[k];
   for (std::size_t i = 0; i < flags.size(); ++i) {
+    const std::uint8_t thr = through && i < through->size() ? (*through)[i] : 0;
     if (flags[i]) {
       pen_flags_[body][i] = 1;
       if (open[i] < 0) {
         open[i] = static_cast<int>(episodes_.size());
+        // Entered since the last measured step: the parity it entered with.
+        start[i] = last[i];
         episodes_.push_back({static_cast<int>(p), body, static_cast<int>(i), step, step, true});
       } else {
         episodes_[open[i]].last = step;
       }
     } else if (open[i] >= 0) {
-      episodes_[open[i]].open = false;
+      Episode& e = episodes_[open[i]];
+      e.open = false;
+      e.tunnelled = thr != start[i];  // left on the other side: gone through, not eliminated
       open[i] = -1;
+    } else if (thr != last[i]) {
+      // Through (or back) between two measured steps, never found inside: an episode unseen but
+      // for its passage.
+      episodes_.push_back({static_cast<int>(p), body, static_cast<int>(i), step, step, false, true});
     }
+    last[i] = thr;
   }
 }
 
@@ -107,8 +124,8 @@ void Recorder::record(const Simulation& sim, bool last) {
       if (pen_step_ != s)
         for (auto& f : pen_flags_) std::fill(f.begin(), f.end(), 0);
       pen_step_ = s;
-      track(p, 0, *m.pen_guest, s, sim);
-      track(p, 1, *m.pen_host, s, sim);
+      track(p, 0, *m.pen_guest, m.through_guest, s, sim);
+      track(p, 1, *m.pen_host, m.through_host, s, sim);
     }
     if (m.has_cgal) {
       t.measured = true;

@@ -55,9 +55,14 @@ struct PairSeries {
 };
 
 // One episode of true penetration: a node found penetrating on consecutive measured steps.
+// `tunnelled`: it ended on the far side of the other body (the node's passage parity differs
+// from the episode's start): not eliminated but gone through, a failure like an open one. A node
+// that passes through between two measured steps without being found inside at either makes an
+// episode of its own, of no measured length, tunnelled.
 struct Episode {
   int pair, body, node, first, last;
   bool open;  // still penetrating when the run ended (censored)
+  bool tunnelled = false;
 };
 
 // Per-step wall times (microseconds) over the run, for medians.
@@ -132,7 +137,8 @@ class Recorder {
 
  private:
   void pair_figures(const Simulation& sim);
-  void track(std::size_t p, int role, const std::vector<std::uint8_t>& flags, int step, const Simulation& sim);
+  void track(std::size_t p, int role, const std::vector<std::uint8_t>& flags, const std::vector<std::uint8_t>* through,
+             int step, const Simulation& sim);
 
   RecorderOptions opt_;
   std::vector<std::unique_ptr<Measurer>> measurers_;
@@ -144,6 +150,9 @@ class Recorder {
   std::vector<PairTotals> totals_;
   std::vector<Episode> episodes_;
   std::vector<std::vector<int>> open_;  // per pair and role (guest, host): open episode per node or -1
+  // Per pair and role: each node's passage parity at the last measured step, and at its open
+  // episode's start.
+  std::vector<std::vector<std::uint8_t>> through_last_, through_start_;
   std::vector<std::vector<std::uint8_t>> pen_flags_;  // per body
   int pen_step_ = -1;
   RunTimings timings_;

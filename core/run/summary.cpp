@@ -1,5 +1,7 @@
 #include "core/run/summary.hpp"
 
+#include "core/run/step_stats.hpp"
+
 #include "core/run/compare.hpp"
 #include "core/run/machine.hpp"
 #include "core/parallel.hpp"
@@ -191,6 +193,23 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& 
   const double n_out = static_cast<double>(t.outside.size()), n_in = static_cast<double>(t.step.size());
   timing["outside_step_mean"] = n_out > 0 ? num_or_null(outside / n_out) : json(nullptr);
   timing["outside_step_share"] = n_out > 0 && inside > 0.0 ? num_or_null((outside / n_out) / (inside / n_in)) : json(nullptr);
+  // The step's and the collision unit's (detection + response) distribution over every step of
+  // the run: mean, 99th percentile and maximum beside the median above, and the real-time factors
+  // against the scene's dt (the budget: one step of simulated time per step of wall time).
+  const StepStats ss = step_stats(t.step);
+  std::vector<double> unit(t.detect.size());
+  for (std::size_t i = 0; i < unit.size() && i < t.eliminate.size(); ++i) unit[i] = t.detect[i] + t.eliminate[i];
+  const StepStats cs = step_stats(unit);
+  timing["step_mean"] = num_or_null(ss.mean);
+  timing["step_p99"] = num_or_null(ss.p99);
+  timing["step_max"] = num_or_null(ss.max);
+  timing["steps_timed"] = ss.n;
+  timing["contact_mean"] = num_or_null(cs.mean);
+  timing["contact_p99"] = num_or_null(cs.p99);
+  timing["contact_max"] = num_or_null(cs.max);
+  sum["budget_us"] = sc.dt * 1e6;
+  sum["realtime_factor_mean"] = num_or_null(realtime_factor(sc.dt, ss.mean));
+  sum["realtime_factor_p99"] = num_or_null(realtime_factor(sc.dt, ss.p99));
   at(sum, key::kStability) = stability_json(sim);
   at(sum, key::kMaxSubsteps) = outcome.stability.max_substeps;
   at(sum, key::kGuardViolations) = outcome.stability.guard_violations;
@@ -291,10 +310,11 @@ void write_episodes(const std::string& dir, const Simulation& sim, const Recorde
   // when the run ended (a censored episode).
   const int every = sim.scene().references.every;
   std::ofstream ep(fs::path(dir) / "penetration_episodes.csv");
-  ep << "pair,body,node,first_step,last_step,steps,open\n";
+  ep << "pair,body,node,first_step,last_step,steps,open,tunnelled\n";
   for (const Episode& e : rec.episodes())
     ep << sim.pairs()[e.pair].label << "," << sim.world().bodies[e.body].name << "," << e.node << "," << e.first
-       << "," << e.last << "," << (e.last - e.first + every) << "," << (e.open ? 1 : 0) << "\n";
+       << "," << e.last << "," << (e.last - e.first + every) << "," << (e.open ? 1 : 0) << ","
+       << (e.tunnelled ? 1 : 0) << "\n";
   if (!ep) throw std::runtime_error("cannot write penetration_episodes.csv");
 }
 

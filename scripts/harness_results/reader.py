@@ -98,10 +98,14 @@ def measured(cols, key):
 
 
 def load_episodes(path):
-    """penetration_episodes.csv (node, first_step, last_step, steps, open as ints); [] without one."""
+    """penetration_episodes.csv (node, first_step, last_step, steps, open, tunnelled as ints); [] without
+    one. `passages` on each row: whether the file records tunnelled episodes (runs before that
+    column: tunnelled 0, passages False)."""
     rows = read_csv(os.path.join(path, "penetration_episodes.csv"), missing=[])
     for r in rows:
-        for k in ("node", "first_step", "last_step", "steps", "open"):
+        r["passages"] = "tunnelled" in r
+        r.setdefault("tunnelled", 0)
+        for k in ("node", "first_step", "last_step", "steps", "open", "tunnelled"):
             r[k] = int(r[k])
     return rows
 
@@ -339,6 +343,22 @@ def timings(s):
 def step_time_us(s):
     """The median time of a step, µs (NaN when not timed)."""
     return num(timings(s).get("step"))
+
+
+def step_distribution(s):
+    """A run's per-step wall times beyond the median (summary timing_us, over every step of the run):
+    the step's mean, p99 and max and the collision unit's (detection + response) mean and p99, µs;
+    the budget (the scene's dt, µs) and the real-time factors on the mean and the p99; the
+    machine's processor and cores and the threads the run used, as the run read them from the
+    system. NaN / "?" where the run did not record them (runs before these keys)."""
+    t = timings(s)
+    m = s.get("machine") or {}
+    return {"step_mean_us": num(t.get("step_mean")), "step_p99_us": num(t.get("step_p99")),
+            "step_max_us": num(t.get("step_max")), "contact_mean_us": num(t.get("contact_mean")),
+            "contact_p99_us": num(t.get("contact_p99")), "budget_us": num(s.get("budget_us")),
+            "realtime_factor_mean": num(s.get("realtime_factor_mean")),
+            "realtime_factor_p99": num(s.get("realtime_factor_p99")),
+            "machine": "%s (%s cores)" % (m.get("cpu", "?"), m.get("cores", "?")), "threads": s.get("threads")}
 
 
 def stepping(s):

@@ -58,8 +58,18 @@ def parallel(a, fn, items):
 
 
 def run_all(a, jobs):
-    """jobs: list of (scene, out, sets[, compare]); runs them -j at once; returns their summaries in order."""
-    return parallel(a, lambda j: run(a, *j), jobs)
+    """jobs: list of (scene, out, sets[, compare[, timed]]); returns their summaries in order. The
+    untimed ones run -j at once; the timed ones (repeated's timing repeats) afterwards one at a
+    time, in rounds over the configurations (repeat 1 of each, then repeat 2, ...), so that each
+    has the machine to itself and a slow spell falls on all of them alike."""
+    out = [None] * len(jobs)
+    untimed = [i for i, j in enumerate(jobs) if not (len(j) > 4 and j[4])]
+    for i, s in zip(untimed, parallel(a, lambda i: run(a, *jobs[i][:4]), untimed)):
+        out[i] = s
+    timed = [i for i, j in enumerate(jobs) if len(j) > 4 and j[4]]
+    for i in sorted(timed, key=lambda i: (jobs[i][4], i)):
+        out[i] = run(a, *jobs[i][:4])
+    return out
 
 
 def run_configs(a, configs):
@@ -70,14 +80,15 @@ def run_configs(a, configs):
 
 
 def repeated(a, scene, folder, sets, repeats=None):
-    """The jobs of a configuration run `repeats` (default --repeats) times: folder, folder_r1,
-    folder_r2, ... under --results/sweeps. The first runs in full (its errors over the window,
-    against the reference); the others for their timings only (no references, no settling: the
-    scene's time.steps; a step's time does not include measurement)."""
+    """The jobs of a configuration: one error run (folder under --results/sweeps: in full, settled,
+    its errors over the window against the reference; not timed) and `repeats` (default --repeats)
+    timing runs, folder_t1, folder_t2, ..., every one the same work (the scene's time.steps, no
+    references, no settling: a step's time includes no measurement), which run_all executes one at
+    a time. The job tuples: (scene, out, sets, compare, timing round or 0)."""
     n = a.repeats if repeats is None else repeats
-    outs = [os.path.join(a.results, "sweeps", folder + ("" if r == 0 else "_r%d" % r)) for r in range(n)]
     timing = [x for x in sets if not x.startswith("references.")] + ["references.solvers=[]", "time.settle=null"]
-    return [(scene, o, sets if r == 0 else timing, r == 0) for r, o in enumerate(outs)]
+    return [(scene, os.path.join(a.results, "sweeps", folder), sets, True, 0)] + [
+        (scene, os.path.join(a.results, "sweeps", folder + "_t%d" % r), timing, False, r) for r in range(1, n + 1)]
 
 
 def reference(a, scene, work, extra=(), quick_levels=3, cached=True):

@@ -7,12 +7,17 @@ up no host node: the claim is about the guest's nodes; the host's are shown besi
 model leaves them inside by design). The claim holds for a body's nodes in a run when:
   separate points   at most 5 % of the body's nodes penetrate at the peak (CGAL, measured steps);
   several steps     the 90th percentile of the episode length is at most 100 steps (5 ms);
-  eliminated        at most 5 % of the episodes are still open when the run ends.
-A run that is not stable (rules.classify) is not judged; a run whose nodes tunnelled through over the
-window is not judged when its episodes meet the criteria (they may have closed by passage, not
-elimination) and counts against when they fail them all the same. The claim is about the episodes a
-run shows, not its accuracy: helping (rules.py, evidence) is not asked. Percentiles are nearest-rank; lengths are
-measured every references.every steps (10), so an episode shorter than that may be missed.
+  eliminated        at most 5 % of the episodes failed: still open when the run ends, or ended on
+                    the far side of the other body (tunnelled: gone through, not eliminated).
+An episode's passage is followed along the node's path between measured steps (CGAL), so a node that
+goes through between two of them without being found inside makes a failed episode of its own. A run
+that is not stable (rules.classify) is not judged. A run whose episodes do not record passages
+(penetration_episodes.csv without `tunnelled`, runs before it) and whose nodes tunnelled over the
+window is not judged when its episodes meet the criteria, and counts against when they fail them.
+The claim is about the episodes a run shows, not its accuracy: helping (rules.py, evidence) is not
+asked. Percentiles are nearest-rank; lengths are measured every references.every steps (10): an
+episode that enters and leaves the same side between two measured steps is not seen (the limit of
+the sampling; one that goes through is).
 Writes tables/claims_b.tex.
 """
 
@@ -29,8 +34,12 @@ def episode_stats(episodes, body, nodes, peak):
     lengths = sorted(int(r["steps"]) for r in episodes if r["body"] == body)
     n = len(lengths)
     nopen = sum(int(r["open"]) for r in episodes if r["body"] == body)
+    nthrough = sum(int(r["tunnelled"]) for r in episodes if r["body"] == body)
+    failed = sum(1 for r in episodes if r["body"] == body and (r["open"] or r["tunnelled"]))
     st = {"episodes": n, "median": rules.nearest_rank(lengths, 50), "p90": rules.nearest_rank(lengths, 90),
-          "max": lengths[-1] if lengths else None, "open": nopen, "open_frac": (nopen / n) if n else 0.0,
+          "max": lengths[-1] if lengths else None, "open": nopen, "through": nthrough,
+          "open_frac": (failed / n) if n else 0.0, "through_frac": (nthrough / n) if n else 0.0,
+          "passages": any(r.get("passages") for r in episodes),
           "peak": peak, "peak_frac": (peak / nodes) if nodes else None}
     reasons = []
     if st["peak_frac"] is not None and st["peak_frac"] > SEPARATE_MAX_FRACTION:
@@ -38,7 +47,7 @@ def episode_stats(episodes, body, nodes, peak):
     if st["p90"] is not None and st["p90"] > P90_MAX_STEPS:
         reasons.append("p90 %d steps > %d" % (st["p90"], P90_MAX_STEPS))
     if st["open_frac"] > OPEN_MAX_FRACTION:
-        reasons.append("%.1f %% open > %g %%" % (100 * st["open_frac"], 100 * OPEN_MAX_FRACTION))
+        reasons.append("%.1f %% failed (open or through) > %g %%" % (100 * st["open_frac"], 100 * OPEN_MAX_FRACTION))
     st["holds"] = not reasons
     st["why"] = "; ".join(reasons) if reasons else "all three met"
     return st
@@ -74,12 +83,14 @@ def run_rows(ctx):
 
 
 def outcome(stab, g):
-    """For (a), against (b), or why the run is not judged: not stable, or its nodes went through
-    while its episodes meet the criteria (an episode closed by tunnelling is not one eliminated, so
-    tunnelling can only make a run pass: one that fails all the same counts against)."""
+    """For (a), against (b), or why the run is not judged: not stable; or, where its episodes do not
+    record passages (older runs), its nodes went through while its episodes meet the criteria (an
+    episode closed by tunnelling was not eliminated, so tunnelling could only make such a run pass:
+    one that fails all the same counts against). Where they do, a tunnelled episode is a failed one
+    and the run is judged as it is."""
     if not rules.counts_stable(stab):
         return rules.NOT_STABLE
-    if g["holds"] and g.get("tunnelled", 0) > rules.CURRENT.tunnel_limit:
+    if g["holds"] and not g.get("passages") and g.get("tunnelled", 0) > rules.CURRENT.tunnel_limit:
         return rules.TUNNELS
     return "a" if g["holds"] else "b"
 
@@ -92,25 +103,29 @@ def judge(ctx):
     md = ["## (b) Penetrating points are few and eliminated within several iterations", "",
           "An episode: a node found truly penetrating on consecutive measured steps (every 10 steps); its length in "
           "steps. Criteria per body: peak penetrating nodes <= %g %% of its nodes, 90th percentile of the episodes "
-          "<= %d steps, open (still penetrating at the end) <= %g %% of its episodes. The claim is judged on the "
-          "guest's nodes (the paper's model keeps those out); the host's are shown beside. A run that is not stable "
-          "is not judged; nor is one whose nodes tunnelled through over the window and whose episodes meet the "
-          "criteria (they may have closed by passage); one that tunnelled and fails them counts against "
-          "(stability: its class, and the nodes tunnelled over the window when any)." % (
+          "<= %d steps, failed (still penetrating at the end, or ended on the far side of the other body: gone "
+          "through, not eliminated) <= %g %% of its episodes; a node that goes through between two measured steps "
+          "makes a failed episode of its own. The claim is judged on the guest's nodes (the paper's model keeps those "
+          "out); the host's are shown beside. A run that is not stable is not judged; where a run's episodes do not "
+          "record passages (runs before that column), one whose nodes tunnelled over the window and whose episodes "
+          "meet the criteria is not judged (they may have closed by passage) and one that fails them counts against "
+          "(stability: its class, and the nodes tunnelled over the window when any). Sampling limit: an episode that "
+          "enters and leaves the same side between two measured steps is not seen." % (
               100 * SEPARATE_MAX_FRACTION, P90_MAX_STEPS, 100 * OPEN_MAX_FRACTION), "",
-          "| scenario | elim. | stability | nodes | episodes | median | p90 | open (%) | peak (% of nodes) | holds |",
-          "|---|---|---|---|---:|---:|---:|---:|---:|---|"]
+          "| scenario | elim. | stability | nodes | episodes | median | p90 | failed (%) | of which through (%) | "
+          "peak (% of nodes) | holds |",
+          "|---|---|---|---|---:|---:|---:|---:|---:|---:|---|"]
     for title, elim, stab, g, h in rows:
         for who, st in (("guest", g), ("host", h)):
-            md.append("| %s | %s | %s | %s | %d | %s | %s | %.1f | %s | %s |" % (
+            md.append("| %s | %s | %s | %s | %d | %s | %s | %.1f | %s | %s | %s |" % (
                 title, elim, stab + (", %d tunnelled" % g["tunnelled"] if g.get("tunnelled", 0) > 0 else ""), who,
                 st["episodes"], fmt(st["median"], "d"), fmt(st["p90"], "d"),
-                100 * st["open_frac"], fmt(None if st["peak_frac"] is None else 100 * st["peak_frac"], ".2f"),
+                100 * st["open_frac"], "%.1f" % (100 * st["through_frac"]) if st["passages"] else "-", fmt(None if st["peak_frac"] is None else 100 * st["peak_frac"], ".2f"),
                 ("yes" if st["holds"] else "no: " + st["why"]) + ("" if who == "guest" else " (not the model's)")))
-    md += ["", verdict_line("(b)", verdict, outcomes, rule="on the guest's nodes of each stable run (one that tunnelled: judged only when it fails)"), ""]
+    md += ["", verdict_line("(b)", verdict, outcomes, rule="on the guest's nodes of each stable run (a tunnelled episode failed; older runs without passages: one that tunnelled judged only when it fails)"), ""]
     tex = ["%% generated by scripts/claims.py; do not edit\n",
            "\\begin{tabular}{lllrrrrrl}\n\\toprule\n",
-           "scenario & elim. & nodes & episodes & median & p90 & open (\\%) & peak (\\% nodes) & holds \\\\\n"
+           "scenario & elim. & nodes & episodes & median & p90 & failed (\\%) & peak (\\% nodes) & holds \\\\\n"
            "\\midrule\n"]
     prev = None
     for title, elim, stab, g, h in rows:

@@ -100,7 +100,8 @@ COLUMNS = ["scene", "config", "detector", "eliminator", "force", "stable", "why_
            "gap_mean_mm", "depth_max_mm", "depth_peak_mm", "tunnelled", "tunnelled_peak", "stability", "verdict",
            "contact_power_ratio", "recall", "precision", "recall_host", "precision_host", "beyond_band_total",
            "t_contact_us", "t_contact_range", "t_contact_min_us", "t_contact_max_us", "t_step_us", "t_step_min_us",
-           "t_step_max_us", "t_bound_us", "voxel_mm", "two_sided", "repeats", "helps", "useless", "front"]
+           "t_step_max_us", "t_bound_us", "voxel_mm", "two_sided", "repeats", "helps", "useless", "front",
+           "t_step_mean_us", "t_step_p99_us", "t_contact_mean_us", "t_contact_p99_us", "machine"]
 
 
 def write(a, rows):
@@ -113,6 +114,7 @@ def write(a, rows):
     for r in rows:
         r["front"] = ""
     repeats = int(max(reader.num(r.get("repeats"), a.repeats) for r in rows)) if rows else a.repeats
+    protocol = any(reader.present(r.get("t_step_mean_us")) for r in rows)
     md = ["# What accuracy costs in time\n\n",
           "Every method on every scenario, judged by its error against the scenario's reference solution "
           "(`references/`) over the run's final window (`time.window` steps after every driver and "
@@ -120,7 +122,7 @@ def write(a, rows):
           "the reference, window mean (max and chatter amplitude beside it); gap_max: largest gap where the "
           "reference has contact, window mean; depth_max: deepest node inside the other body, window maximum; "
           "tunnelled: nodes through the other body; all in mm. Time: detection plus elimination, µs per step, "
-          "median of %d runs (range over them). Stability (scripts/study.py docstring): the contact's power "
+          "median of %d runs (range over them)%s. Stability (scripts/study.py docstring): the contact's power "
           "over the window against the power put in, rho, with a margin of a factor %g around %g: stable "
           "(settled, or chatters with rho <= %g), marginal, unstable; chatter: the window's max - min of "
           "the position error; tunnelled: nodes through the other body, window maximum. Useless, whatever "
@@ -132,7 +134,11 @@ def write(a, rows):
           "medians apart and the ranges over the runs disjoint); rows within the noise of each other on both "
           "stay on it together. Every row is listed with its rho and reason. Made by "
           "`scripts/study.py accuracy`.\n"
-          % (STUDY_EVERY, repeats, MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN, rules.TUNNELS,
+          % (STUDY_EVERY, repeats, ": timing runs that each do the same work (the scene's steps, no settling, no "
+             "references), executed one at a time; the error run is not timed; the pooled mean and the median 99th "
+             "percentile in the CSV" if protocol else ": the first run settled and measured by CGAL, the others "
+             "the scene's steps only, two at a time (the protocol before issue 32's; rerun the study for the "
+             "new one)", MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN, rules.TUNNELS,
              rules.CURRENT.tunnel_limit, rules.NO_HELP, 100 * (1 - rules.USEFUL), 100 * (1 - rules.USEFUL),
              100 * rules.CURRENT.tie)]
     for scene in scenes(a):

@@ -155,10 +155,14 @@ def figures(s):
 
 
 def combine(summaries):
-    """Errors of the first run; contact and step time: median over the runs, and their range (min, max)."""
+    """A configuration's row from runner.repeated's runs: the errors of the first (the error run);
+    the timings from the others (the timing repeats, each the same work, run one at a time; the
+    error run's own where there are none): contact and step time per step, the median of the
+    repeats' medians and their range (min, max), the pooled mean and the median of the repeats'
+    99th percentiles, and the machine as the runs recorded it."""
     f = figures(summaries[0])
     # A repeat not run (study.py --cached-only) has no time: the others' median and range.
-    timed = [s for s in summaries if reader.status(s) != "not run"] or summaries[:1]
+    timed = [s for s in summaries[1:] if reader.status(s) not in ("not run", "refused")] or summaries[:1]
     tc = sorted(figures(s)["t_contact_us"] for s in timed)
     ts = sorted(figures(s)["t_step_us"] for s in timed)
     f["t_contact_us"] = rules.median(tc)
@@ -166,6 +170,12 @@ def combine(summaries):
     f["t_contact_min_us"], f["t_contact_max_us"] = tc[0], tc[-1]
     f["t_step_us"] = rules.median(ts)
     f["t_step_min_us"], f["t_step_max_us"] = ts[0], ts[-1]
+    d = [reader.step_distribution(s) for s in timed]
+    f["t_step_mean_us"] = sum(x["step_mean_us"] for x in d) / len(d)
+    f["t_step_p99_us"] = rules.median([x["step_p99_us"] for x in d])
+    f["t_contact_mean_us"] = sum(x["contact_mean_us"] for x in d) / len(d)
+    f["t_contact_p99_us"] = rules.median([x["contact_p99_us"] for x in d])
+    f["machine"] = d[0]["machine"]
     f["repeats"] = len(timed)
     return f
 

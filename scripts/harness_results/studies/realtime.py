@@ -1,23 +1,25 @@
 """study.py realtime: real time as a reviewer would accept it.
 
-Per scene and method: the collision unit's time per step (detection + response, against a 1 ms
-haptic budget) and the whole simulator's (real-time factor = simulated time per wall time = dt /
-median step), in three modes: at the scene's dt; at 0.9 of the smallest dt_crit the run at the
-scene's dt met (the guard `substep` as a safety net: its substeps are inside the step's time); and
-with implicit Euler at ten times the scene's dt. One and two threads (HARNESS_THREADS). Each row
-carries its error against the reference over the final window (the two-thread run steps the same
-state bit for bit: its error is the one-thread run's) and the ratio of that error to the best
-exact method's at the scene's dt, and the arguments after `harness run SCENE` that reproduce it.
-Timings exclude the references' measurement where the run measured (summary timing_us are the
-step's own). -> realtime.csv, tables/realtime.{md,tex}. Cached like every study run.
+Per scene and method: the collision unit's time per step (detection + response) and the whole
+simulator's (real-time factor = simulated time per wall time = dt / step time), on the mean and the
+99th percentile of the steps, against the budget of one step, the scene's dt (the 1 ms haptic line
+beside), in three modes: at the scene's dt; at 0.9 of the smallest dt_crit the run at the scene's
+dt met (the guard `substep` as a safety net: its substeps are inside the step's time); and with
+implicit Euler at ten times the scene's dt. One and two threads (HARNESS_THREADS). Each row carries
+its error against the reference over the final window, from one untimed run (one thread, settled,
+measured; the two-thread run steps the same state bit for bit: its error is the one-thread run's),
+the ratio of that error to the best exact method's at the scene's dt, its timings from --repeats
+timed runs per thread count that each do the same work, one at a time (run()), the machine as the
+runs recorded it, and the arguments after `harness run SCENE` that reproduce it. Timings exclude
+the references' measurement (no timed run measures). -> realtime.csv, tables/realtime.{md,tex}.
+Cached like every study run.
 """
-
 import json
 import math
 import os
 import shlex
 
-from .. import reader, runner, writers
+from .. import reader, rules, runner, writers
 from .common import (PENALTY, STUDY_EVERY, figures, mark_useless, reference_dir, scene_arg, scene_doc, scenes,
                      table_path)
 
@@ -77,54 +79,92 @@ def modes(a, scene, base, first):
     return out
 
 
-def row_of(scene, label, kind, mode, threads, args, s):
+def timing_of(runs):
+    """The timing columns of a row from its timed repeats (each the same work: the scene's steps,
+    no settling, no references): per step the median (of the repeats' medians), the mean (of their
+    means: equal step counts, so the pooled mean), the p99 (median of the repeats' p99s) and the
+    maximum (over all); the collision unit's median, mean and p99 likewise; the repeats' range of
+    means; the real-time factors on the mean and the p99; the machine and threads as the runs
+    recorded them."""
+    d = [reader.step_distribution(s) for s in runs]
+    med = rules.median([reader.step_time_us(s) for s in runs])
+    mean = sum(x["step_mean_us"] for x in d) / len(d) if d else float("nan")
+    p99 = rules.median([x["step_p99_us"] for x in d])
+    budget = d[0]["budget_us"] if d else float("nan")
+    means = [x["step_mean_us"] for x in d]
+    return {"t_step_us": med, "t_step_mean_us": mean, "t_step_p99_us": p99,
+            "t_step_max_us": max((x["step_max_us"] for x in d), default=float("nan")),
+            "t_step_mean_range": "%.4g-%.4g" % (min(means), max(means)) if means else "",
+            "t_contact_us": rules.median([reader.contact_time_us(s) for s in runs]),
+            "t_contact_mean_us": sum(x["contact_mean_us"] for x in d) / len(d) if d else float("nan"),
+            "t_contact_p99_us": rules.median([x["contact_p99_us"] for x in d]), "budget_us": budget,
+            "realtime_factor": budget / med if med > 0 else float("nan"),
+            "realtime_factor_mean": budget / mean if mean > 0 else float("nan"),
+            "realtime_factor_p99": budget / p99 if p99 > 0 else float("nan"),
+            "repeats": len(runs), "machine": d[0]["machine"] if d else "", "threads_recorded": d[0]["threads"] if d else ""}
+
+
+def row_of(scene, label, kind, mode, threads, args, s, timed):
+    """A row: the error run `s` (one thread, settled, measured against the reference) and the
+    timed repeats `timed` of the same configuration at `threads` threads."""
     st = reader.stepping(s)
-    dt = st["dt"]
-    step_us = reader.step_time_us(s)
-    contact_us = reader.contact_time_us(s)
     f = figures(s)
-    return {"scene": scene, "method": label, "kind": kind, "mode": mode, "threads": threads, "dt": dt,
-            "integrator": st["integrator"], "substeps_max": st["max_substeps"], "overrides": shell_args(args),
-            "t_step_us": step_us, "t_contact_us": contact_us, "contact_budget_share": contact_us / HAPTIC_BUDGET_US,
-            "realtime_factor": dt * 1e6 / step_us if step_us > 0 else float("nan"),
-            "pos_err_max_mm": f["pos_err_max_mm"], "tunnelled": f["tunnelled"], "stability": f["stability"],
-            "status": reader.status(s), "steps": reader.steps_run_or_none(s)}
+    r = {"scene": scene, "method": label, "kind": kind, "mode": mode, "threads": threads, "dt": st["dt"],
+         "integrator": st["integrator"], "substeps_max": st["max_substeps"], "overrides": shell_args(args),
+         "pos_err_max_mm": f["pos_err_max_mm"], "tunnelled": f["tunnelled"], "stability": f["stability"],
+         "status": reader.status(s), "steps": reader.steps_run_or_none(s)}
+    r.update(timing_of(timed))
+    r["contact_budget_share"] = r["t_contact_mean_us"] / r["budget_us"] if r["budget_us"] > 0 else float("nan")
+    r["contact_haptic_share"] = r["t_contact_mean_us"] / HAPTIC_BUDGET_US
+    return r
+
+
+def timed_run(a, scene, folder, args, threads):
+    """One timed repeat: the scene's time.steps (at the mode's dt), no settling, no references, no
+    frames; `threads` threads."""
+    return realtime_run(a, scene, folder, args + ["--set", "time.settle=null"], threads, False)
 
 
 def run(a):
+    """The protocol (what a referee accepts): the error of each configuration comes from one run on
+    one thread, settled and measured against the reference, which is not timed; its timings come
+    from --repeats runs at one thread and --repeats at two, every one doing the same work (the
+    scene's steps at the mode's dt, without settling or references), executed one at a time on the
+    otherwise idle machine whatever -j says."""
     rows = []
-    # One thread, measured against the reference: the scene's dt first (its smallest dt_crit sets
-    # the dt of the second mode), then the other modes; -j of them at once (one core each). Then
-    # the two-thread runs one at a time (both cores), timing only: the scene's steps without
-    # settling and without the references (they step the same state bit for bit as one thread, so
-    # their error is the one-thread run's).
     plan = []
     for scene in scenes(a):
         for label, kind, sets in realtime_methods(a, scene):
             tag = label.split(" (")[0].replace(" ", "_").replace(",", "")
             plan.append((scene, label, kind, runner.sets_args(sets), tag))
+    # The error runs (untimed: -j at once): the scene's dt first (its smallest dt_crit sets the
+    # dt of the second mode), then the other modes.
     firsts = runner.parallel(a, lambda p: realtime_run(a, p[0], "%s/%s_scene_dt_t1" % (p[0], p[4]), p[3], 1, True), plan)
-    jobs = []
+    configs = []
     for (scene, label, kind, base, tag), first in zip(plan, firsts):
         for mode, args in modes(a, scene, base, first):
             stem = "%s/%s_%s" % (scene, tag, mode.split(",")[0].replace(" ", "_").replace(".", ""))
+            configs.append((scene, label, kind, mode, args, stem, first if mode == "scene dt" else None))
+    todo = [c for c in configs if c[6] is None]
+    errs = dict(zip([c[5] for c in todo],
+                    runner.parallel(a, lambda c: realtime_run(a, c[0], c[5] + "_t1", c[4], 1, True), todo)))
+    # The timed repeats, one at a time, alternating the configurations so that a slow spell of the
+    # machine falls on all of them alike.
+    timed = {}
+    for r in range(a.repeats):
+        for (scene, label, kind, mode, args, stem, first) in configs:
             for threads in [1, 2]:
-                jobs.append((scene, label, kind, mode, threads, args, stem + "_t%d" % threads,
-                             first if (mode == "scene dt" and threads == 1) else None))
-    one = [j for j in jobs if j[4] == 1 and j[7] is None]
-    done = dict(zip([j[6] for j in one], runner.parallel(a, lambda j: realtime_run(a, j[0], j[6], j[5], 1, True), one)))
-    for j in jobs:
-        if j[4] == 2:
-            done[j[6]] = realtime_run(a, j[0], j[6], j[5] + ["--set", "time.settle=null"], 2, False)
+                timed.setdefault((stem, threads), []).append(
+                    timed_run(a, scene, "%s_timed_t%d_r%d" % (stem, threads, r), args, threads))
     for scene in scenes(a):
-        srows = [row_of(scene, label, kind, mode, threads, args, first if first is not None else done[folder])
-                 for (sc, label, kind, mode, threads, args, folder, first) in jobs if sc == scene]
-        # Two threads step the same state as one (bit-identical): their error is the one-thread run's.
-        for r in srows:
-            if r["threads"] == 2:
-                twin = next(o for o in srows if o["method"] == r["method"] and o["mode"] == r["mode"] and o["threads"] == 1)
-                for k in ["pos_err_max_mm", "tunnelled", "stability"]:
-                    r[k] = twin[k]
+        srows = []
+        for (sc, label, kind, mode, args, stem, first) in configs:
+            if sc != scene:
+                continue
+            err = first if first is not None else errs[stem]
+            for threads in [1, 2]:
+                runs = [t for t in timed[(stem, threads)] if reader.status(t) == "ok"]
+                srows.append(row_of(scene, label, kind, mode, threads, args, err, runs or [err]))
         # The best exact method's error at the scene's dt: every row's error against it.
         exact = [r["pos_err_max_mm"] for r in srows if r["kind"] == "exact" and r["mode"] == "scene dt"
                  and r["threads"] == 1 and not math.isnan(r["pos_err_max_mm"])]
@@ -183,9 +223,7 @@ def device_rows(a, cpu_rows):
 def plots(a):
     """--plots-only: realtime.csv's CPU rows as they are, the device rows made again from
     results/device/runs/, and the tables; runs nothing."""
-    rows = reader.read_csv(os.path.join(a.results, "realtime.csv"),
-                           text=("scene", "method", "kind", "mode", "integrator", "stability", "status", "overrides",
-                                 "device", "machine", "tunnelled"), missing=[])
+    rows = reader.read_csv(os.path.join(a.results, "realtime.csv"), text=TEXT, missing=[])
     cpu = [r for r in rows if r.get("device") in (None, "", "cpu")]
     for r in cpu:  # the device rows' columns, empty on the CPU's
         for k in ("cpu_twin_pos_err_max_mm", "cpu_twin_error_over_best", "cpu_twin_stability", "cpu_twin_steps"):
@@ -199,7 +237,10 @@ COLS = ["scene", "method", "kind", "mode", "threads", "dt", "integrator", "subst
         "contact_budget_share", "realtime_factor", "pos_err_max_mm", "tunnelled", "best_exact_mm", "error_over_best",
         "stability", "useless", "status", "steps", "overrides", "device", "t_step_mean_us", "t_step_p99_us", "t_step_max_us",
         "budget_us", "realtime_factor_mean", "realtime_factor_p99", "machine", "cpu_twin_pos_err_max_mm",
-        "cpu_twin_error_over_best", "cpu_twin_stability", "cpu_twin_steps"]
+        "cpu_twin_error_over_best", "cpu_twin_stability", "cpu_twin_steps", "t_step_mean_range", "t_contact_mean_us",
+        "t_contact_p99_us", "contact_haptic_share", "repeats", "threads_recorded"]
+TEXT = ("scene", "method", "kind", "mode", "integrator", "stability", "status", "overrides", "device", "machine",
+        "tunnelled", "t_step_mean_range")
 
 
 def write_outputs(a, rows):
@@ -208,34 +249,39 @@ def write_outputs(a, rows):
     cols = COLS
     mark_useless(a, rows)
     writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
-    heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps", "step (µs)",
-             "detect+response (µs)", "of 1 ms", "real-time factor", "pos. error (mm)", "tunnelled", "best exact (mm)",
-             "error / best", "stability", "useless", "status", "steps", "arguments after `harness run SCENE`", "device",
-             "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget (µs)", "RTF mean", "RTF p99", "machine",
-             "CPU twin's error (mm)", "CPU twin's error / best", "CPU twin's stability", "CPU twin's steps"]
+    heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps", "step median (µs)",
+             "detect+response median (µs)", "detect+response mean / dt", "RTF (median)", "pos. error (mm)", "tunnelled",
+             "best exact (mm)", "error / best", "stability", "useless", "status", "steps", "arguments after "
+             "`harness run SCENE`", "device", "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget = dt (µs)",
+             "RTF mean", "RTF p99", "machine", "CPU twin's error (mm)", "CPU twin's error / best", "CPU twin's stability",
+             "CPU twin's steps", "repeats' step means (µs)", "detect+response mean (µs)", "detect+response p99 (µs)",
+             "detect+response mean / 1 ms", "repeats", "threads recorded"]
     with open(table_path(a, "realtime.md"), "w") as f:
-        f.write("# Real time\n\nPer scene and method: the collision unit's time per step (detection + response, "
-                "median over the run's steps, against a 1 ms haptic budget) and the whole step's (the simulator's: "
-                "real-time factor = simulated time per wall time = dt / median step), at the scene's dt, at 0.9 of "
-                "the smallest dt_crit the run at the scene's dt met (guard `substep` as a safety net: its substeps are "
-                "inside the step's time), and with implicit Euler at ten times the scene's dt; one and two threads "
-                "(HARNESS_THREADS; the two-thread runs time the scene's steps without settling or references); the "
-                "error against the reference over the final window beside it (the two-thread run steps the same "
-                "state bit for bit: its error is the one-thread run's), and its ratio to the best exact method's at "
-                "the scene's dt; useless beside the stability: tunnels, or no better than no force. Timings "
-                "exclude the references' measurement. `arguments`: what follows `harness run SCENE` to reproduce "
-                "the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary. Rows whose `device` is "
-                "not cpu: the completed model on a GPU (`harness run SCENE --device cuda`, scripts/device_check.sh), "
-                "over the scene's time.steps (no settling) with every step waited for (mean, median, p99, max), on "
-                "another machine than the CPU rows (its `machine`; the CPU rows' machine was not recorded: the "
-                "shared two-core machine of the studies). A device measures no error: theirs is empty, and the "
-                "CPU twin's (same method, scene dt, one thread, over its settled run) stands beside it; the GPU's "
-                "states agree with the CPU's over the steps both ran (results/device/state_check.csv).\n\n"
+        f.write("# Real time\n\nPer scene and method: the whole step's time (the simulator's: real-time factor RTF = "
+                "simulated time per wall time = dt / step time, on the mean and on the 99th percentile of the steps) "
+                "and the collision unit's (detection + response), against the real-time budget of one step, the "
+                "scene's dt (the 1 ms haptic line beside), at the scene's dt, at 0.9 of the smallest dt_crit the "
+                "run at the scene's dt met (guard `substep` as a safety net: its substeps are inside the step's "
+                "time), and with implicit Euler at ten times the scene's dt; one and two threads (HARNESS_THREADS). "
+                "The protocol: the error comes from one run on one thread, settled and measured against the "
+                "reference over its final window, and is not timed (the two-thread run steps the same state bit for "
+                "bit: its error is the one-thread run's); the timings come from `repeats` runs per thread count, "
+                "every one the same work (the scene's steps at the mode's dt, no settling, no references), executed "
+                "one at a time; per step the median (of the repeats' medians), mean (pooled), p99 (median of the "
+                "repeats') and maximum; `machine` and `threads recorded` as the runs read them from the system. The "
+                "error's ratio to the best exact method's at the scene's dt beside; useless beside the stability: "
+                "tunnels, or no better than no force. `arguments`: what follows `harness run SCENE` to reproduce "
+                "the row. Made by `scripts/study.py realtime`; the machine is shared: timings vary. Rows whose "
+                "`device` is not cpu: the completed model on a GPU (`harness run SCENE --device cuda`, "
+                "scripts/device_check.sh), over the scene's time.steps (no settling) with every step waited for, on "
+                "another machine (its `machine`). A device measures no error: theirs is empty, and the CPU twin's "
+                "(same method, scene dt, one thread, over its settled run) stands beside it; the GPU's states agree "
+                "with the CPU's over the steps both ran (results/device/state_check.csv).\n\n"
                 + writers.md_table(rows, cols, heads))
     with open(table_path(a, "realtime.tex"), "w") as f:
-        tcols = ["scene", "method", "mode", "device", "threads", "t_step_us", "t_contact_us", "realtime_factor",
-                 "error_over_best"]
+        tcols = ["scene", "method", "mode", "device", "threads", "t_step_mean_us", "t_step_p99_us",
+                 "t_contact_mean_us", "realtime_factor_mean", "realtime_factor_p99", "error_over_best"]
         f.write(writers.tex_table([dict(r, scene=r["scene"].replace("_", " "),
                                         device="CPU" if r.get("device") == "cpu" else "GPU") for r in rows], tcols,
-                                  ["scene", "method", "mode", "on", "threads", "step ($\\mu$s)", "collision ($\\mu$s)",
-                                   "real-time factor", "error / best exact"], "Real time"))
+                                  ["scene", "method", "mode", "on", "threads", "step mean ($\\mu$s)", "step p99 ($\\mu$s)",
+                                   "collision mean ($\\mu$s)", "RTF mean", "RTF p99", "error / best exact"], "Real time"))
