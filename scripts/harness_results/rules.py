@@ -473,6 +473,18 @@ def decide(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
     return WITHIN_NOISE
 
 
+def decide_stable_wins(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
+    """decide, but where one row is evidence and the other is not stable, the evidence wins ("a" or
+    "b"): a setting that holds against one that does not is a finding whatever the errors (the swap
+    study's rule). Both not stable, or one stable but not evidence: as decide."""
+    ga, gb = evidence_gap(a), evidence_gap(b)
+    if ga is None and gb == NOT_STABLE:
+        return "a"
+    if gb is None and ga == NOT_STABLE:
+        return "b"
+    return decide(a, b, key, floor, tie)
+
+
 def time_decide(a, b, key="t_contact", factor=1.0):
     """Two rows by time (`key`_us median, `key`_min_us / `key`_max_us the range over repeats): "a"
     when a is faster by more than `factor` (its median times factor below b's) and a's slowest run is

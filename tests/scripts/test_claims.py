@@ -69,6 +69,17 @@ def test_a_run_that_tunnels_or_does_not_help_is_not_evidence():
     assert rules.tally([rules.TUNNELS, rules.NO_HELP]) == {"for": 0, "against": 0, "noise": 0, "not judged": 2}
 
 
+def test_swap_an_evidence_run_beats_one_that_is_not_stable():
+    good = row(3.5, tunnelled=0, helps="yes")
+    bad = row(69.0, stable="no", tunnelled=1568, helps="no")
+    assert rules.decide_stable_wins(good, bad) == "a"
+    assert rules.decide_stable_wins(bad, good) == "b"
+    assert rules.decide_stable_wins(row(2.0, stable="no"), bad) == rules.NOT_STABLE  # neither holds
+    # stable but tunnelling is not evidence: no win over an unstable run
+    assert rules.decide_stable_wins(row(4.7, tunnelled=1, helps="yes"), bad) == rules.TUNNELS
+    assert rules.decide_stable_wins(good, row(2.0, tunnelled=0, helps="yes")) == "b"  # both evidence: by error
+
+
 def test_helps_is_marked_against_the_scene_without_contact_force(tmp_path):
     write(tmp_path, "accuracy_time.csv", "scene,config,stable,stability,pos_err_max_mm,depth_max_mm\n"
           "s,no contact force,yes,stable,10,5\ns,voxel 8 mm,yes,stable,8.9,5\ns,voxel 16 mm,yes,stable,9.5,5\n"

@@ -1,7 +1,8 @@
 """Which body carries the grid (left open by the paper), on results/swap.csv (scripts/study.py swap):
-a finding, judged by the same rule as claim (a) and its orientation study (rules.decide: a position
-error smaller beyond the noise; a pair with a run that is not stable is not judged). Per setting,
-the grid as the scene has it against swapped.
+a finding, judged by the rule of claim (a) (a position error smaller beyond the noise between two
+runs that are evidence) with one addition (rules.decide_stable_wins): where one placement's run is
+evidence (stable, helps, tunnels nothing) and the other's is not stable, the evidence wins. Per
+setting, the grid as the scene has it against swapped.
 """
 
 from .. import rules
@@ -20,8 +21,10 @@ def judge(ctx):
     md = ["## Which body carries the grid (host and guest swapped)", "",
           "The paper leaves open which body carries the grid. The voxel model as the scene has it and with the roles "
           "swapped, against the reference over the final window (scripts/study.py swap, results/tables/swap.md); "
-          "judged by the rule of claim (a): a position error smaller beyond the noise, a pair with a run that is not "
-          "stable not judged.", "",
+          "judged by the rule of claim (a): a position error smaller beyond the noise between two runs that are "
+          "evidence (stable, helps, tunnels nothing); and where one placement's run is evidence and the other's is "
+          "not stable, the evidence wins (the unstable placement loses); other pairs with a run that is not evidence "
+          "are not judged.", "",
           "| scenario | elim. | force | voxel (mm) | grid as the scene (mm) | grid swapped (mm) | better |",
           "|---|---|---|---:|---:|---:|---|"]
     settings = {}
@@ -32,13 +35,13 @@ def judge(ctx):
         if "no" not in pair or "yes" not in pair:
             continue
         a, b = pair["no"], pair["yes"]
-        o = rules.decide(a, b, floor=floor_mm(ctx, scene))
+        o = rules.decide_stable_wins(a, b, floor=floor_mm(ctx, scene))
         outcomes.append(o)
         md.append("| %s | %s | %s | %g | %s (grid on %s) | %s (grid on %s) | %s |" % (
             scene, elim, force, vox, figure(a), a["host"], figure(b), b["host"], word(o, "as the scene", "swapped")))
     t = rules.tally(outcomes, "a")
     md += ["", "**Finding:** the grid as the scenes place it is better in %d settings, swapped in %d, within the noise "
-           "in %d, not judged in %d (a run not stable)." % (t["for"], t["against"], t["noise"], t["not judged"]), ""]
+           "in %d, not judged in %d (a run not evidence, the other not an evidence run against an unstable one)." % (t["for"], t["against"], t["noise"], t["not judged"]), ""]
     macros = [("SwapSceneWins", str(t["for"])), ("SwapSwappedWins", str(t["against"])),
               ("SwapNoise", str(t["noise"])), ("SwapNotJudged", str(t["not judged"])), ("SwapSettings", str(len(outcomes)))]
     return Verdict("swap", None, md, macros, data=outcomes)
