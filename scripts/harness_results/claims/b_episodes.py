@@ -115,10 +115,18 @@ def judge(ctx):
           "| scenario | elim. | stability | nodes | episodes | median | p90 | failed (%) | of which through (%) | "
           "peak (% of nodes) | holds |",
           "|---|---|---|---|---:|---:|---:|---:|---:|---:|---|"]
+    def stability(stab, g, h):
+        """The run's class and the nodes tunnelled over the window (both bodies), split by body where
+        the episodes record passages (each tunnelled node ends one through-episode)."""
+        if g.get("tunnelled", 0) <= 0:
+            return stab
+        split = " (%d guest, %d host, by episode)" % (g["through"], h["through"]) if g["passages"] else ""
+        return stab + ", %d tunnelled%s" % (g["tunnelled"], split)
+
     for title, elim, stab, g, h in rows:
         for who, st in (("guest", g), ("host", h)):
             md.append("| %s | %s | %s | %s | %d | %s | %s | %.1f | %s | %s | %s |" % (
-                title, elim, stab + (", %d tunnelled" % g["tunnelled"] if g.get("tunnelled", 0) > 0 else ""), who,
+                title, elim, stability(stab, g, h), who,
                 st["episodes"], fmt(st["median"], "d"), fmt(st["p90"], "d"),
                 100 * st["open_frac"], "%.1f" % (100 * st["through_frac"]) if st["passages"] else "-", fmt(None if st["peak_frac"] is None else 100 * st["peak_frac"], ".2f"),
                 ("yes" if st["holds"] else "no: " + st["why"]) + ("" if who == "guest" else " (not the model's)")))

@@ -249,7 +249,8 @@ def write_outputs(a, rows):
     cols = COLS
     mark_useless(a, rows)
     writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
-    heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps", "step median (µs)",
+    heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps (error run's max)",
+             "step median (µs)",
              "detect+response median (µs)", "detect+response mean / dt", "RTF (median)", "pos. error (mm)", "tunnelled",
              "best exact (mm)", "error / best", "stability", "useless", "status", "steps", "arguments after "
              "`harness run SCENE`", "device", "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget = dt (µs)",
