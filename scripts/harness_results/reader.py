@@ -348,7 +348,7 @@ def step_time_us(s):
 def step_distribution(s):
     """A run's per-step wall times beyond the median (summary timing_us, over every step of the run):
     the step's mean, p99 and max and the collision unit's (detection + response) mean and p99, µs;
-    the budget (the scene's dt, µs) and the real-time factors on the mean and the p99; the
+    the budget (the run's dt, µs: the scene's unless --dt changed it) and the real-time factors on the mean and the p99; the
     machine's processor and cores and the threads the run used, as the run read them from the
     system. NaN / "?" where the run did not record them (runs before these keys)."""
     t = timings(s)

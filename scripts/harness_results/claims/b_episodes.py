@@ -102,7 +102,7 @@ def judge(ctx):
     fmt = writers.fmt
     md = ["## (b) Penetrating points are few and eliminated within several iterations", "",
           "An episode: a node found truly penetrating on consecutive measured steps (every 10 steps); its length in "
-          "steps. Criteria per body: peak penetrating nodes <= %g %% of its nodes, 90th percentile of the episodes "
+          "steps from its first to its last measured step plus 10 (one seen once counts 10). Criteria per body: peak penetrating nodes <= %g %% of its nodes, 90th percentile of the episodes "
           "<= %d steps, failed (still penetrating at the end, or ended on the far side of the other body: gone "
           "through, not eliminated) <= %g %% of its episodes; a node that goes through between two measured steps "
           "makes a failed episode of its own. The claim is judged on the guest's nodes (the paper's model keeps those "

@@ -12,6 +12,27 @@ NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "ma
            "true_pen_final", "t_contact_us", "voxel_mm", "margin"]
 
 
+def robustness_line(judged):
+    """The finding's counts under every variant of the rule's choices (robustness.VARIANTS): how many
+    distinct counts, and the variants that move them."""
+    from .. import robustness
+    counts = {}
+    for v in robustness.VARIANTS:
+        with rules.using(v):
+            t = rules.tally(judged(), "a")
+        counts.setdefault((t["for"], t["against"], t["noise"], t["not judged"]), []).append(v)
+    default = max(counts, key=lambda k: any(v.name() == "the rule as written" for v in counts[k]))
+    moved = {k: vs for k, vs in counts.items() if k != default}
+    if not moved:
+        return ("**Robustness:** the same counts under all %d variants of the rule's choices (rho over the loading "
+                "period not applicable: swap.csv records no run lengths)." % len(robustness.VARIANTS))
+    return ("**Robustness:** %d different counts over the %d variants of the rule's choices: %s. swap.csv records no "
+            "run lengths, so rho over the loading period cannot be applied to it; under that normalisation a run "
+            "unstable by a small margin here could read marginal." % (
+                len(counts), len(robustness.VARIANTS), "; ".join(
+                    "%d-%d-%d-%d in %d (e.g. %s)" % (k + (len(vs), vs[0].name())) for k, vs in sorted(moved.items()))))
+
+
 def judge(ctx):
     sw = ctx.window_csv("swap.csv", NUMBERS)
     if not sw:
@@ -30,18 +51,28 @@ def judge(ctx):
     settings = {}
     for r in sw:
         settings.setdefault((r["scene"], r["eliminator"], r["force"], r["voxel_mm"]), {})[r["swapped"]] = r
-    outcomes = []
-    for (scene, elim, force, vox), pair in sorted(settings.items()):
-        if "no" not in pair or "yes" not in pair:
-            continue
-        a, b = pair["no"], pair["yes"]
-        o = rules.decide_stable_wins(a, b, floor=floor_mm(ctx, scene))
-        outcomes.append(o)
+    pairs = [(scene, elim, force, vox, pair["no"], pair["yes"]) for (scene, elim, force, vox), pair in
+             sorted(settings.items()) if "no" in pair and "yes" in pair]
+
+    floors = {}  # (scene, the rule's floor choice) -> mm: read once, not once per variant
+
+    def floor_of(scene):
+        key = (scene, rules.CURRENT.floor)
+        if key not in floors:
+            floors[key] = floor_mm(ctx, scene)
+        return floors[key]
+
+    def judged():
+        return [rules.decide_stable_wins(a, b, floor=floor_of(scene)) for scene, _e, _f, _v, a, b in pairs]
+
+    outcomes = judged()
+    for (scene, elim, force, vox, a, b), o in zip(pairs, outcomes):
         md.append("| %s | %s | %s | %g | %s (grid on %s) | %s (grid on %s) | %s |" % (
             scene, elim, force, vox, figure(a), a["host"], figure(b), b["host"], word(o, "as the scene", "swapped")))
     t = rules.tally(outcomes, "a")
-    md += ["", "**Finding:** the grid as the scenes place it is better in %d settings, swapped in %d, within the noise "
-           "in %d, not judged in %d (a run not evidence, the other not an evidence run against an unstable one)." % (t["for"], t["against"], t["noise"], t["not judged"]), ""]
+    md += ["", "**Finding:** the grid as the scenes place it is better in %d of %d settings, swapped in %d, within the "
+           "noise in %d, not judged in %d (a run not evidence, the other not an evidence run against an unstable one)."
+           % (t["for"], len(outcomes), t["against"], t["noise"], t["not judged"]), "", robustness_line(judged), ""]
     macros = [("SwapSceneWins", str(t["for"])), ("SwapSwappedWins", str(t["against"])),
               ("SwapNoise", str(t["noise"])), ("SwapNotJudged", str(t["not judged"])), ("SwapSettings", str(len(outcomes)))]
     return Verdict("swap", None, md, macros, data=outcomes)

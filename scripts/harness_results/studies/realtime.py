@@ -101,7 +101,8 @@ def timing_of(runs):
             "realtime_factor": budget / med if med > 0 else float("nan"),
             "realtime_factor_mean": budget / mean if mean > 0 else float("nan"),
             "realtime_factor_p99": budget / p99 if p99 > 0 else float("nan"),
-            "repeats": len(runs), "machine": d[0]["machine"] if d else "", "threads_recorded": d[0]["threads"] if d else ""}
+            "repeats": len(runs), "machine": d[0]["machine"] if d else "", "threads_recorded": d[0]["threads"] if d else "",
+            "timed_steps": reader.steps_run_or_none(runs[0]) if runs else ""}
 
 
 def row_of(scene, label, kind, mode, threads, args, s, timed):
@@ -238,7 +239,7 @@ COLS = ["scene", "method", "kind", "mode", "threads", "dt", "integrator", "subst
         "stability", "useless", "status", "steps", "overrides", "device", "t_step_mean_us", "t_step_p99_us", "t_step_max_us",
         "budget_us", "realtime_factor_mean", "realtime_factor_p99", "machine", "cpu_twin_pos_err_max_mm",
         "cpu_twin_error_over_best", "cpu_twin_stability", "cpu_twin_steps", "t_step_mean_range", "t_contact_mean_us",
-        "t_contact_p99_us", "contact_haptic_share", "repeats", "threads_recorded"]
+        "t_contact_p99_us", "contact_haptic_share", "repeats", "threads_recorded", "timed_steps"]
 TEXT = ("scene", "method", "kind", "mode", "integrator", "stability", "status", "overrides", "device", "machine",
         "tunnelled", "t_step_mean_range")
 
@@ -252,16 +253,16 @@ def write_outputs(a, rows):
     heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps (error run's max)",
              "step median (µs)",
              "detect+response median (µs)", "detect+response mean / dt", "RTF (median)", "pos. error (mm)", "tunnelled",
-             "best exact (mm)", "error / best", "stability", "useless", "status", "steps", "arguments after "
-             "`harness run SCENE`", "device", "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget = dt (µs)",
+             "best exact (mm)", "error / best", "stability", "useless", "status", "error run's steps", "arguments after "
+             "`harness run SCENE`", "device", "step mean (µs)", "step p99 (µs)", "step max (µs)", "budget = the run's dt (µs)",
              "RTF mean", "RTF p99", "machine", "CPU twin's error (mm)", "CPU twin's error / best", "CPU twin's stability",
              "CPU twin's steps", "repeats' step means (µs)", "detect+response mean (µs)", "detect+response p99 (µs)",
-             "detect+response mean / 1 ms", "repeats", "threads recorded"]
+             "detect+response mean / 1 ms", "repeats", "threads recorded", "timed steps"]
     with open(table_path(a, "realtime.md"), "w") as f:
         f.write("# Real time\n\nPer scene and method: the whole step's time (the simulator's: real-time factor RTF = "
                 "simulated time per wall time = dt / step time, on the mean and on the 99th percentile of the steps) "
                 "and the collision unit's (detection + response), against the real-time budget of one step, the "
-                "scene's dt (the 1 ms haptic line beside), at the scene's dt, at 0.9 of the smallest dt_crit the "
+                "run's dt (the scene's dt in mode scene dt; the 1 ms haptic line beside), at the scene's dt, at 0.9 of the smallest dt_crit the "
                 "run at the scene's dt met (guard `substep` as a safety net: its substeps are inside the step's "
                 "time), and with implicit Euler at ten times the scene's dt; one and two threads (HARNESS_THREADS). "
                 "The protocol: the error comes from one run on one thread, settled and measured against the "
