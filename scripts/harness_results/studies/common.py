@@ -154,6 +154,19 @@ def figures(s):
     return dict(reader.window_figures(s), **rules.stability_fields(s))
 
 
+def pooled(timed):
+    """Over timing repeats that each did the same work: the step's and the collision unit's pooled
+    mean (the mean of the repeats' means: equal step counts) and the median of the repeats' 99th
+    percentiles, µs, and the machine as the first run recorded it (NaN / "" without runs)."""
+    d = [reader.step_distribution(s) for s in timed]
+    nan = float("nan")
+    return {"t_step_mean_us": sum(x["step_mean_us"] for x in d) / len(d) if d else nan,
+            "t_step_p99_us": rules.median([x["step_p99_us"] for x in d]),
+            "t_contact_mean_us": sum(x["contact_mean_us"] for x in d) / len(d) if d else nan,
+            "t_contact_p99_us": rules.median([x["contact_p99_us"] for x in d]),
+            "machine": d[0]["machine"] if d else ""}
+
+
 def combine(summaries):
     """A configuration's row from runner.repeated's runs: the errors of the first (the error run);
     the timings from the others (the timing repeats, each the same work, run one at a time; the
@@ -170,12 +183,7 @@ def combine(summaries):
     f["t_contact_min_us"], f["t_contact_max_us"] = tc[0], tc[-1]
     f["t_step_us"] = rules.median(ts)
     f["t_step_min_us"], f["t_step_max_us"] = ts[0], ts[-1]
-    d = [reader.step_distribution(s) for s in timed]
-    f["t_step_mean_us"] = sum(x["step_mean_us"] for x in d) / len(d)
-    f["t_step_p99_us"] = rules.median([x["step_p99_us"] for x in d])
-    f["t_contact_mean_us"] = sum(x["contact_mean_us"] for x in d) / len(d)
-    f["t_contact_p99_us"] = rules.median([x["contact_p99_us"] for x in d])
-    f["machine"] = d[0]["machine"]
+    f.update(pooled(timed))
     f["repeats"] = len(timed)
     return f
 

@@ -20,8 +20,8 @@ import os
 import shlex
 
 from .. import reader, rules, runner, writers
-from .common import (PENALTY, STUDY_EVERY, figures, mark_useless, reference_dir, scene_arg, scene_doc, scenes,
-                     table_path)
+from .common import (PENALTY, STUDY_EVERY, figures, mark_useless, pooled, reference_dir, scene_arg, scene_doc,
+                     scenes, table_path)
 
 HAPTIC_BUDGET_US = 1000.0
 # (label, kind, --set overrides): kind "exact" (an exact detector), "completed" (voxel_exact), "paper".
@@ -87,22 +87,20 @@ def timing_of(runs):
     means; the real-time factors on the mean and the p99; the machine and threads as the runs
     recorded them."""
     d = [reader.step_distribution(s) for s in runs]
+    out = pooled(runs)
     med = rules.median([reader.step_time_us(s) for s in runs])
-    mean = sum(x["step_mean_us"] for x in d) / len(d) if d else float("nan")
-    p99 = rules.median([x["step_p99_us"] for x in d])
+    mean, p99 = out["t_step_mean_us"], out["t_step_p99_us"]
     budget = d[0]["budget_us"] if d else float("nan")
     means = [x["step_mean_us"] for x in d]
-    return {"t_step_us": med, "t_step_mean_us": mean, "t_step_p99_us": p99,
-            "t_step_max_us": max((x["step_max_us"] for x in d), default=float("nan")),
-            "t_step_mean_range": "%.4g-%.4g" % (min(means), max(means)) if means else "",
-            "t_contact_us": rules.median([reader.contact_time_us(s) for s in runs]),
-            "t_contact_mean_us": sum(x["contact_mean_us"] for x in d) / len(d) if d else float("nan"),
-            "t_contact_p99_us": rules.median([x["contact_p99_us"] for x in d]), "budget_us": budget,
-            "realtime_factor": budget / med if med > 0 else float("nan"),
-            "realtime_factor_mean": budget / mean if mean > 0 else float("nan"),
-            "realtime_factor_p99": budget / p99 if p99 > 0 else float("nan"),
-            "repeats": len(runs), "machine": d[0]["machine"] if d else "", "threads_recorded": d[0]["threads"] if d else "",
-            "timed_steps": reader.steps_run_or_none(runs[0]) if runs else ""}
+    out.update({"t_step_us": med, "t_step_max_us": max((x["step_max_us"] for x in d), default=float("nan")),
+                "t_step_mean_range": "%.4g-%.4g" % (min(means), max(means)) if means else "",
+                "t_contact_us": rules.median([reader.contact_time_us(s) for s in runs]), "budget_us": budget,
+                "realtime_factor": budget / med if med > 0 else float("nan"),
+                "realtime_factor_mean": budget / mean if mean > 0 else float("nan"),
+                "realtime_factor_p99": budget / p99 if p99 > 0 else float("nan"),
+                "repeats": len(runs), "threads_recorded": d[0]["threads"] if d else "",
+                "timed_steps": reader.steps_run_or_none(runs[0]) if runs else ""})
+    return out
 
 
 def row_of(scene, label, kind, mode, threads, args, s, timed):
