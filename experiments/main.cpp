@@ -4,6 +4,7 @@
 #include "core/scene/bundled.hpp"
 #include "core/scene/scene.hpp"
 #include "experiments/bench.hpp"
+#include "experiments/detection.hpp"
 #include "experiments/device_run.hpp"
 #include "experiments/reference.hpp"
 #include "experiments/sweep.hpp"
@@ -289,6 +290,35 @@ struct BenchCommand {
   }
 };
 
+struct DetectionCommand {
+  CLI::App* cmd = nullptr;
+  DetectionOptions o;
+  std::vector<std::string> scenes, sets;
+
+  void setup(CLI::App& app) {
+    cmd = app.add_subcommand("detection", "detection alone, every detector on the same states, timed and scored "
+                                          "against CGAL's exact sets (claim (d)); one CSV");
+    cmd->add_option("scenes", scenes, "scenes whose runs give the states (default: sphere_collision, "
+                                      "cylinder_press, implant_expansion unless --sizes is given)");
+    cmd->add_option("--out", o.out, "CSV file")->required();
+    cmd->add_option("--set", sets, "KEY=JSON override applied to every scene");
+    cmd->add_option("--sizes", o.sizes, "generated bench scenes, nodes per body (their initial state)")->delimiter(',');
+    cmd->add_option("--states", o.states, "states per scene, evenly spaced over its steps")->capture_default_str();
+    cmd->add_option("--min-rounds", o.min_rounds, "timed rounds at least")->capture_default_str();
+    cmd->add_option("--min-time", o.min_seconds, "seconds of timed rounds per source at least")->capture_default_str();
+  }
+  int exec() {
+    if (o.states < 1) throw InputError("--states", "must be >= 1");
+    if (o.min_rounds < 1) throw InputError("--min-rounds", "must be >= 1");
+    if (!(o.min_seconds >= 0.0)) throw InputError("--min-time", "must be >= 0");
+    for (long long n : o.sizes)
+      if (n < 8) throw InputError("--sizes", "nodes per body must be >= 8");
+    if (scenes.empty() && o.sizes.empty()) scenes = {"sphere_collision", "cylinder_press", "implant_expansion"};
+    for (const std::string& s : scenes) o.scenes.emplace_back(s, edited_scene(s, sets, false, 0, 1, false, 0.0));
+    return run_detection(o);
+  }
+};
+
 }  // namespace
 
 // HARNESS_THREADS, when set, must be a whole number of threads from 1 to 1024.
@@ -315,6 +345,8 @@ int main(int argc, char** argv) {
   bench.setup(app);
   ReferenceCommand reference;
   reference.setup(app);
+  DetectionCommand detection;
+  detection.setup(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -332,6 +364,7 @@ int main(int argc, char** argv) {
     if (bench.cmd->parsed()) return bench.exec();
     if (sweep.cmd->parsed()) return sweep.exec(argv[0]);
     if (reference.cmd->parsed()) return reference.exec();
+    if (detection.cmd->parsed()) return detection.exec();
     return run.exec();
   } catch (const InputError& e) {
     std::fprintf(stderr, "harness: error: %s\n", e.what());

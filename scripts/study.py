@@ -16,8 +16,10 @@
   study.py region       region.csv, tables/region.md: claim (e), region half/full/overlap x margin
   study.py orient       orient.csv, tables/orient.md: claim (a) without its confound
   study.py bullet       bullet.csv, tables/bullet.{md,tex}: Bullet's soft bodies beside the harness
+  study.py detection    detection.csv, tables/detection.md: claim (d) as stated, detection alone, every
+                        detector timed and scored against CGAL's exact sets on the same states
   study.py all          every one of them, in this order (or name several: study.py accuracy realtime)
-  study.py all --scene FILE --out DIR   (or name some of accuracy ablation convergence refinement realtime swap)
+  study.py all --scene FILE --out DIR   (or name some of accuracy ablation convergence refinement realtime swap detection)
                         the same studies on a scene of your own: the same tables, figures and CSV files in DIR
                         (its reference: --reference REF, else made into DIR/references/<name>); nothing in results/
                         (references, region, orient and bullet are about the bundled scenes and claims)
@@ -30,7 +32,7 @@ Options: --harness PATH (default build/bin/harness), --results DIR (default resu
          --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
          --repeats N (runs per configuration for the timings, default 5),
          --plots-only (runs nothing: writes the tables and figures of accuracy, ablation,
-         convergence, orient, swap, region and realtime again from their CSVs in --results, judged
+         convergence, orient, swap, region, realtime and detection again from their CSVs in --results, judged
          under the current rules: helps, useless and the front included; the others have none),
          --cached-only (runs nothing: writes a study's files from the runs already cached in
          results/sweeps/; a configuration not run yet is listed with status "not run").

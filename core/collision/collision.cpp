@@ -91,6 +91,13 @@ PairStep Collision::project(World& w, double h) {
   const auto t0 = Clock::now();
   detect_all(w);
   const auto t1 = Clock::now();
+  if (spec_.eliminator == EliminatorKind::volume) {  // the bound and the restriction (responses/volume.hpp)
+    pushes_.clear();
+    magnitude_.clear();
+    const double pixel = volume_pixel(w, spec_.host, spec_.guest, spec_.volume_pixel);
+    s.force = restrict_volume(w, spec_.host, spec_.guest, pixel, h, volume_step_, spec_.invert_push);
+    return finish(s, us_between(t0, t1), t1);
+  }
   all_pushes(w);
   if (spec_.invert_push)
     for (Push& p : pushes_) p.normal = -p.normal;
@@ -132,6 +139,12 @@ PairStep Collision::step(World& w, double h) {
 
 double Collision::work(const World& w, const Points& dx) const {
   double sum = 0.0;
+  if (spec_.eliminator == EliminatorKind::volume) {
+    // restrict_volume moved node i by dx_i: the equivalent force m dx_i / h^2
+    if (!(projected_h_ > 0.0)) return 0.0;
+    for (const auto& [i, d] : volume_step_.moves) sum += w.m[i] / (projected_h_ * projected_h_) * d.dot(dx[i]);
+    return sum;
+  }
   if (projects()) {
     // project_pushes moved the guest by inv_g lambda n and host k by -w_k inv_k lambda n: the
     // equivalent forces m dx / h^2 (kinematic nodes do not move).

@@ -10,6 +10,7 @@
 #include "core/scene/contact_spec.hpp"
 #include "core/collision/detectors/collision_detector.hpp"
 #include "core/collision/responses/collision_eliminator.hpp"
+#include "core/collision/responses/volume.hpp"
 #include "core/world.hpp"
 
 #include <memory>
@@ -56,7 +57,11 @@ class Collision {
   // Projection (eliminator "projection"), after the position update: detect, then move the
   // penetrating nodes to the surface (responses/projection.hpp). step() does nothing for it.
   PairStep project(World& w, double h);
-  bool projects() const { return spec_.eliminator == EliminatorKind::projection; }
+  bool projects() const {
+    return spec_.eliminator == EliminatorKind::projection || spec_.eliminator == EliminatorKind::volume;
+  }
+  // The volume response's last restriction (responses/volume.hpp): the bound and the moves.
+  const VolumeStep& volume_step() const { return volume_step_; }
   // Detection only (tests, benchmarks, measurement); returns the number of contacts.
   int detect(const World& w);
   // The next step()'s detection, made now (from the positions alone, which nothing changes before
@@ -112,6 +117,7 @@ class Collision {
   bool ahead_ = false;         // detect_ahead() done: step() takes its contacts
   double ahead_us_[2] = {0.0, 0.0};  // and their times
   double projected_h_ = 0.0;  // the substep of the last project()
+  VolumeStep volume_step_;    // eliminator volume: the last restriction
 };
 
 // One contact pair of the scene. `collision` exists only when the scene lists "contact";

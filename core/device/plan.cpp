@@ -40,7 +40,7 @@ void check_device_support(const Simulation& sim) {
       refuse(s, p + ".detector", std::string("detector \"") + to_string(c.detector) + "\"");
     // voxel_exact's pushes with the penalty force are the contact point's whatever the rule (line or
     // plane: penalty_depth); with a constant force only the line rule is on a device.
-    if (c.eliminator == EliminatorKind::projection ||
+    if (c.eliminator == EliminatorKind::projection || c.eliminator == EliminatorKind::volume ||
         (c.detector == DetectorKind::voxel_exact && c.eliminator != EliminatorKind::line && c.force_rule != ForceRule::penalty))
       refuse(s, p + ".eliminator", std::string("eliminator \"") + to_string(c.eliminator) + "\" with detector \"" +
                                        to_string(c.detector) + "\"");

@@ -178,12 +178,14 @@ bool merge_signed_distances(std::vector<std::vector<double>>& sd, const std::vec
 
 // The guest's truly penetrating nodes outside the box [lo, hi] (the grid's region).
 int penetrating_outside(const World& w, const Body& g, const std::vector<std::uint8_t>& pen, const Vec3& lo,
-                        const Vec3& hi) {
+                        const Vec3& hi, int& inside_region) {
   int outside = 0;
+  inside_region = 0;
   for (int i = 0; i < g.size(); ++i) {
-    if (!pen[static_cast<std::size_t>(i)]) continue;
     const Vec3& x = w.x[g.begin + i];
-    if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) ++outside;
+    const bool out = (x.array() < lo.array()).any() || (x.array() > hi.array()).any();
+    inside_region += !out;
+    if (pen[static_cast<std::size_t>(i)] && out) ++outside;
   }
   return outside;
 }
@@ -245,11 +247,21 @@ void Recorder::pair_figures(const Simulation& sim) {
       Vec3 lo, hi;
       const Collision* c = pairs[p].collision.get();
       if (c && m.pen_guest && c->detector().region(lo, hi)) {
-        const int outside = penetrating_outside(w, w.bodies[pairs[p].spec.guest], *m.pen_guest, lo, hi);
+        int in_region = 0;
+        const int outside = penetrating_outside(w, w.bodies[pairs[p].spec.guest], *m.pen_guest, lo, hi, in_region);
         ser.outside_region.add(step, outside);
         t.has_region = true;
         t.outside_region_final = outside;
         t.outside_region_peak = std::max(t.outside_region_peak, outside);
+        const double v = c->voxel_size();
+        long long voxels = 1;
+        for (int k = 0; k < 3; ++k) voxels *= std::llround((hi[k] - lo[k]) / v);
+        t.region_voxels_final = voxels;
+        t.region_voxels_peak = std::max(t.region_voxels_peak, voxels);
+        t.region_voxels_sum += static_cast<double>(voxels);
+        ++t.region_samples;
+        t.region_guest_sum += in_region;
+        t.region_pen_sum += m.true_pen_guest - outside;
       }
     }
     if (!any) continue;

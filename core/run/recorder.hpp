@@ -34,6 +34,13 @@ struct PairTotals {
   // the last measured step and the most at one; has_region: the detector has a region.
   bool has_region = false;
   int outside_region_final = 0, outside_region_peak = 0;
+  // The grid's region in voxels on the measured steps (its size: it moves with the host, and grows
+  // when the host outgrows it): the last, the largest and the sum (mean = sum / samples).
+  long long region_voxels_final = 0, region_voxels_peak = 0, region_samples = 0;
+  double region_voxels_sum = 0.0;
+  // Guest nodes inside the region's box, and truly penetrating ones among them, summed over the
+  // same steps: the precision of a detector that flags every guest node in its region.
+  long long region_guest_sum = 0, region_pen_sum = 0;
 };
 
 // Guest nodes that have passed through the host, and host nodes through the guest, at the last

@@ -134,12 +134,23 @@ json pair_json(const Simulation& sim, const Recorder& rec, const RunOutcome& out
   at(pj, key::kPrecision) = ratio(t.tp, t.tp + t.fp);
   pj["recall_host"] = ratio(t.tp_host, t.tp_host + t.fn_host);
   pj["precision_host"] = ratio(t.tp_host, t.tp_host + t.fp_host);
+  // The counts behind them, summed over the measured steps (null without CGAL).
+  pj["scores"] = t.measured ? json{{"tp", t.tp}, {"fp", t.fp}, {"fn", t.fn}, {"tp_host", t.tp_host},
+                                   {"fp_host", t.fp_host}, {"fn_host", t.fn_host}}
+                            : json(nullptr);
   pj["measured_steps"] = static_cast<long long>(rec.series()[pi].tunnelled.size());
   const WindowSpan& span = outcome.judged.span;
   const PairSeries& ser = rec.series()[pi];
   // Truly penetrating guest nodes outside the detector's grid region (null without a region).
   pj["outside_region"] = t.has_region ? json(t.outside_region_final) : json(nullptr);
   pj["outside_region_peak"] = t.has_region ? json(t.outside_region_peak) : json(nullptr);
+  // The grid's region in voxels over the measured steps (null without a region), and the guest
+  // nodes inside its box with the truly penetrating ones among them, summed over those steps.
+  pj["region_voxels"] = t.has_region && t.region_samples > 0
+                            ? json{{"final", t.region_voxels_final}, {"peak", t.region_voxels_peak},
+                                   {"mean", t.region_voxels_sum / static_cast<double>(t.region_samples)},
+                                   {"guest_nodes_inside", t.region_guest_sum}, {"penetrating_inside", t.region_pen_sum}}
+                            : json(nullptr);
   pj["window"] = {{"depth_max", stat_json(ser.depth_max.over(span))},
                   {"true_pen", stat_json(ser.true_pen.over(span))},
                   {"true_pen_guest", stat_json(ser.true_pen_guest.over(span))},

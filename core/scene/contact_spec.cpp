@@ -18,6 +18,7 @@ const std::vector<std::pair<EliminatorKind, const char*>>& eliminator_names() {
       {EliminatorKind::line, "line"},
       {EliminatorKind::plane, "plane"},
       {EliminatorKind::projection, "projection"},
+      {EliminatorKind::volume, "volume"},
   };
   return names;
 }

@@ -13,9 +13,10 @@ enum class Region { half, full, overlap };
 enum class HostNodes { all, surface };
 // Which detection drives elimination. `exact` detectors need the reference library.
 enum class DetectorKind { voxel, hash, cgal, fcl, voxel_exact };
-// The response (responses/): the direction rule of the penalty push (line, plane), or
-// position-based projection (a penetrating node moved to the surface).
-enum class EliminatorKind { line, plane, projection };
+// The response (responses/): the direction rule of the penalty push (line, plane), position-based
+// projection (a penetrating node moved to the surface), or the restriction with a practical bound
+// (volume: the shared volume's gradient, by layered depth images, moves both surfaces).
+enum class EliminatorKind { line, plane, projection, volume };
 // How large each contact's force is: the paper's constant F, `auto`, or a penalty k_c x depth
 // (force_rules.hpp).
 enum class ForceRule { constant, automatic, penalty };
@@ -49,6 +50,7 @@ struct ContactSpec {
   DetectorKind detector;
   double voxel_size;  // requested, m; rounded down to a power of two; 0 = automatic
   double cell_size;   // spatial hashing's cell, m; 0 = automatic (mean host edge)
+  double volume_pixel;  // the volume response's image pixel, m; 0 = automatic (responses/volume.hpp)
   Region region;
   int margin;  // voxels added around the region
   HostNodes host_nodes;

@@ -283,6 +283,7 @@ void read_contact_spec(const Ctx& c, Obj& o, ContactSpec& cs) {
   cs.detector = o.word<DetectorKind>("detector");
   cs.voxel_size = o.length_or_auto("voxel_size");
   cs.cell_size = o.length_or_auto("cell_size");
+  cs.volume_pixel = o.length_or_auto("volume_pixel");
   cs.region = o.word<Region>("region");
   cs.margin = static_cast<int>(o.integer("margin"));
   cs.host_nodes = o.word<HostNodes>("host_nodes");

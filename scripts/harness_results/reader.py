@@ -20,7 +20,7 @@ import os
 NAN = float("nan")
 # The columns of the studies' CSV files (scripts/study.py) that are text whatever their cells hold.
 STUDY_TEXT = frozenset([
-    "scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "t_contact_range",
+    "scene", "deformation", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "t_contact_range",
     "front", "helps", "useless", "stability", "verdict", "status", "host", "guest", "swapped", "region", "orient", "engine",
     "reference_converged", "resolution", "body", "steps_per_s_range", "reference", "comparison", "converged"])
 

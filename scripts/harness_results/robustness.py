@@ -30,7 +30,7 @@ VARIANTS = [rules.Variant(rho, marginal, tie, floor, tunnel, minimum, helps, nor
             for marginal in ("unstable", "stable") for tie in (0.10, 0.05, 0.0) for floor in ("floor", "richardson", "double")]
 NOT_VARIED = ("the window's length (halved, doubled) and the reference's kind (one-sided against both ways), which "
               "need the studies run again; the share of 20 % that separates mixed from the two verdicts; each claim's "
-              "own thresholds ((b)'s 5 %, 100 steps and 5 %, (c)'s and (d)'s factor 2, real time's budget of one step (the scene's dt) and 1.5x). "
+              "own thresholds ((b)'s 5 %, 100 steps and 5 %, (c)'s factor 2 and that of (d)'s collision unit, real time's budget of one step (the scene's dt) and 1.5x; (d) as stated and (e) vary their own thresholds in their sections). "
               "orient.csv, swap.csv and region.csv have no rho column (their unstable and marginal rows give it in "
               "their reasons): their stable rows stay stable under every rho limit; realtime.csv records neither rho "
               "nor reasons: its classes stand under every variant; rho over the loading period converts only the "

@@ -6,7 +6,7 @@ import os
 
 import pytest
 
-from harness_results import rules
+from harness_results import reader, rules
 from harness_results.claims import a_plane, c_restrictions, completed, d_voxel_speed, e_region, realtime, swap
 from harness_results.claims.common import Context, Verdict
 
@@ -176,19 +176,45 @@ def test_claim_c_counts_the_bound(tmp_path):
     assert v.data == ["a"] and v.verdict == "inconclusive"  # one decisive comparison: too few
 
 
-REGION = ("scene,force,region,margin,stable,stability,outside_share,outside_mean,outside_peak,pen_guest_mean,recall,"
-          "depth_max_mm,max_depth_peak_mm,t_contact_us\n")
+REGION = ("scene,deformation,force,region,margin,stable,stability,outside_share,outside_mean,outside_peak,pen_guest_mean,"
+          "recall,precision,precision_flag_all,precision_flag_region,region_voxels_mean,region_voxels_peak,depth_max_mm,max_depth_peak_mm,"
+          "t_contact_us\n")
 
 
-def test_claim_e(tmp_path):
-    def table(half_share, full_recall, overlap_recall=1.0):
-        return REGION + "".join("claims/region_wrap,F=0,%s,%d,yes,settled,%s,1,1,10,%s,1,1,10\n" % r for m in (0, 1) for r in [
-            ("half", m, half_share, 0.6), ("full", m, 0.0, full_recall), ("overlap", m, 0.0, overlap_recall)])
-    assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.4, 1.0)))).verdict == "supported"
-    assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.4, 0.9)))).verdict == "mixed"
-    assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.4, 0.9, 0.9)))).verdict == "not supported"
-    # nothing left the half region: the scene does not exercise the claim
-    assert e_region.judge(Context(write(tmp_path, "region.csv", table(0.0, 1.0)))).verdict == "not tested"
+def region_rows(deformation, half_peak, full_recall=1.0, overlap_recall=1.0, precision=0.5, flag=0.1):
+    """One deformation's detection-alone rows: half (losing half_peak nodes at its worst), full, overlap;
+    `flag` the precision of flagging every guest node in the region (and, lower, of flagging all)."""
+    return "".join("s_%s,%s,F=0,%s,%d,yes,stable,%s,1,%s,10,%s,%s,%s,%s,%d,%d,1,1,10\n" % (
+        deformation, deformation, reg, m, share, peak, rec, precision, flag / 2, flag, vox + 10 * m, vox + 10 * m)
+        for m in (0, 1) for reg, share, peak, rec, vox in [
+            ("half", 0.1 if half_peak else 0.0, half_peak, 0.6, 50), ("full", 0.0, 0, full_recall, 100),
+            ("overlap", 0.0, 0, overlap_recall, 150)])
+
+
+def test_claim_e_one_comparison_per_deformation(tmp_path):
+    def verdict(*groups):
+        return e_region.judge(Context(write(tmp_path, "region.csv", REGION + "".join(groups))))
+    good = [region_rows(d, 5) for d in ("wrap", "twist", "compression", "shear")]
+    v = verdict(*good)
+    assert (v.verdict, v.data) == ("supported", ["a"] * 4)
+    # a large region that misses: that deformation is against; one of four stays within the mixed share
+    v = verdict(*(good[:3] + [region_rows("shear", 5, full_recall=0.9)]))
+    assert v.data == ["a", "a", "a", "b"] and v.verdict == "mixed"
+    # a region that flags everything (its precision no better than flagging every node in it) does not pass
+    v = verdict(*[region_rows(d, 5, precision=0.1, flag=0.1) for d in ("wrap", "twist", "compression")])
+    assert (v.verdict, v.data) == ("not supported", ["b"] * 3)
+    # a deformation in which nothing leaves the half region does not test the claim: too few tests left
+    v = verdict(good[0], good[1], region_rows("shear", 0))
+    assert v.data == ["a", "a", rules.MISSING] and v.verdict == "inconclusive"
+    # large: the full region as written; by size, every region at least as large as full with no margin
+    det = [dict(region=r, margin=m, region_voxels_mean=v) for r, m, v in
+           [("half", 0, 50.0), ("full", 0, 100.0), ("overlap", 0, 80.0), ("half", 3, 120.0)]]
+    assert [(r["region"], r["margin"]) for r in e_region.large(det)] == [("full", 0)]
+    assert [(r["region"], r["margin"]) for r in e_region.large(det, "size")] == [("full", 0), ("half", 3)]
+    assert [(r["region"], r["margin"]) for r in e_region.large(det, "names")] == [("full", 0), ("overlap", 0)]
+    # the large regions' outside peak decides, not the window's mean
+    assert not e_region.detects_all(dict(outside_peak=3.0, outside_share=0.0, recall=1.0, precision=1.0,
+                                         precision_flag_all=0.1, precision_flag_region=0.1))
 
 
 def test_claims_without_their_table(tmp_path):
@@ -198,3 +224,45 @@ def test_claims_without_their_table(tmp_path):
         assert m.judge(ctx).verdict == "not tested"
     assert a_plane.judge(ctx).verdict == "not tested"
     assert not os.listdir(str(tmp_path))
+
+
+DETECTION_HEAD = ("source,kind,nodes,host_nodes,guest_nodes,pair,detector,setting,voxel_mm,states,rounds,threads,"
+                  "detect_us,detect_min_us,detect_max_us,detect_warm_us,detect_warm_min_us,detect_warm_max_us,true_pen_guest,tp,fp,fn,recall,precision,true_pen_host,tp_host,"
+                  "fp_host,fn_host,recall_host,precision_host,beyond_band,device,machine\n")
+
+
+def detection_source(name, pen, voxel, others):
+    """Rows of one source: voxel settings [(us, recall)], others {detector: (us, recall)}; spread +-5 %."""
+    out = []
+    for i, (us, rec) in enumerate(voxel):
+        out.append((name, "voxel", "v%d" % i, us, rec))
+    for det, (us, rec) in others.items():
+        out.append((name, det, "auto", us, rec))
+    return "".join("%s,scene,10,5,5,h/g,%s,%s,4,2,5,1,%g,%g,%g,%g,%g,%g,%d,0,0,0,%s,0.5,0,0,0,0,,,,cpu,m\n" % (
+        s, d, st, us, 0.95 * us, 1.05 * us, us, 0.95 * us, 1.05 * us, pen, rec) for s, d, st, us, rec in out)
+
+
+def test_d_detection_alone_among_comparable_recall(tmp_path):
+    exact = {"voxel_exact": (30.0, 1.0), "hash": (90.0, 1.0), "fcl": (5.0, 0.46), "cgal": (100.0, 1.0)}
+    # the paper's grid at its best recall (0.98, 12 us): fcl is faster but its recall is not comparable;
+    # the fastest of comparable recall (voxel_exact, 30 us) is slower: for
+    fast = detection_source("s1", 50, [(10.0, 0.5), (12.0, 0.98)], exact)
+    # the exact detectors 3x faster than the paper's grid beyond the spread: against
+    slow = detection_source("s2", 50, [(100.0, 1.0)], {"voxel_exact": (30.0, 1.0), "cgal": (200.0, 1.0)})
+    # nothing penetrates in the states: not judged
+    empty = detection_source("s3", 0, [(10.0, 1.0)], exact)
+    root = write(tmp_path, "detection.csv", DETECTION_HEAD + fast + slow + empty)
+    sources = dict(d_voxel_speed.detection_sources(
+        reader.read_csv(os.path.join(root, "detection.csv"), text=d_voxel_speed.DETECTION_TEXT)))
+    o, mine, f = d_voxel_speed.detection_outcome(sources["s1"])
+    assert (o, mine["setting"], f["detector"]) == ("a", "v1", "voxel_exact")
+    # the pair's own setting (recall 0.5): fcl (0.46) becomes comparable and is 2x faster: within the
+    # factor 2, beyond 1.5
+    assert d_voxel_speed.detection_outcome(sources["s1"], setting="own")[0] == "a"
+    assert d_voxel_speed.detection_outcome(sources["s1"], factor=1.5, setting="own")[0] == "b"
+    assert d_voxel_speed.detection_outcome(sources["s2"])[0] == "b"
+    assert d_voxel_speed.detection_outcome(sources["s3"])[0] == rules.MISSING
+    v, md, macros, _own = d_voxel_speed.judge_detection(Context(root))
+    assert v == "inconclusive"  # 1 for, 1 against: fewer than three decisive comparisons
+    assert dict(macros)["ClaimDNotJudged"] == "1"
+    assert any("fragile over its own thresholds" in line or "robust over" in line for line in md)

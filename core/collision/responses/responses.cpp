@@ -4,6 +4,7 @@
 #include "core/collision/responses/line.hpp"
 #include "core/collision/responses/plane.hpp"
 #include "core/collision/responses/projection.hpp"
+#include "core/collision/responses/volume.hpp"
 
 #include <stdexcept>
 
@@ -14,6 +15,7 @@ std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind) {
     case EliminatorKind::line: return std::make_unique<LineEliminator>();
     case EliminatorKind::plane: return std::make_unique<PlaneEliminator>();
     case EliminatorKind::projection: return std::make_unique<ProjectionEliminator>();
+    case EliminatorKind::volume: return std::make_unique<VolumeEliminator>();
   }
   throw std::invalid_argument("unknown eliminator kind");
 }

@@ -15,7 +15,7 @@ stable is not judged.
 import math
 
 from .. import reader, rules
-from .common import SCENE_ORDER, Verdict, floor_mm, tally_macros, verdict_line
+from .common import SCENE_ORDER, Verdict, floor_mm, scene_cell, tally_macros, verdict_line
 
 MUCH = 2.0
 NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "t_contact_us", "t_contact_min_us",
@@ -86,7 +86,7 @@ def judge(ctx):
                 if reader.present(b) and q["t_contact_us"] > 0 and o in ("a", "b"):  # the judged pairs'
                     bound_ratios.append(wb["t_contact_us"] / q["t_contact_us"])
                 md.append("| %s | %s | %.3g | %.3g | %s | %s | %.3g | %.3g | %s |" % (
-                    scene, p["config"], q["t_contact_us"], p["t_contact_us"], "%.3g" % b if reader.present(b) else "-",
+                    scene_cell(ctx, scene), p["config"], q["t_contact_us"], p["t_contact_us"], "%.3g" % b if reader.present(b) else "-",
                     "%.3g" % (wb["t_contact_us"] / q["t_contact_us"]) if q["t_contact_us"] > 0 else "-",
                     q["pos_err_max_mm"], p["pos_err_max_mm"],
                     {"a": "for (%s)" % why, "b": "against (%s)" % why}.get(o, "not judged (penalty: %s)" % o)))

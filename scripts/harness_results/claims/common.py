@@ -17,15 +17,21 @@ class Verdict:
     """One claim's record. key: its module's name; verdict: "supported", "partly supported", "not
     supported", "inconclusive", "not tested ..." (None for a finding, which has no verdict); md: its
     section of claims.md (lines); macros: [(name, value)] for tables/claims_macros.tex; tex: {file
-    name under tables/: text} of its own LaTeX tables; data: whatever else a caller may want."""
+    name under tables/: text} of its own LaTeX tables; data: whatever else a caller may want; own:
+    {verdict prefix: text} for a claim that varies its own thresholds and finds that they change its
+    verdict (the text says how): the verdict is then stated fragile whatever the rule's variants say;
+    rule_free: the verdict prefixes that no choice of the rule's variants enters (no stability, noise
+    or tunnelling): their robustness says the variants do not apply instead of "robust"."""
 
-    def __init__(self, key, verdict=None, md=(), macros=(), tex=None, data=None):
+    def __init__(self, key, verdict=None, md=(), macros=(), tex=None, data=None, own=None, rule_free=()):
         self.key = key
         self.verdict = verdict
         self.md = list(md)
         self.macros = list(macros)
         self.tex = dict(tex or {})
         self.data = data
+        self.own = dict(own or {})
+        self.rule_free = list(rule_free)
 
     def __repr__(self):
         return "Verdict(%r, %r)" % (self.key, self.verdict)
@@ -134,6 +140,23 @@ def floor_mm(ctx, name):
                if r.get("reference") == name and reader.present(r.get("error_estimate_mm"))]
         return est[-1] if est else floor
     return floor
+
+
+def reference_converged(ctx, name):
+    """Whether results/references/<name> converged (references.csv, its last level's `converged`);
+    None when the file does not say."""
+    rows = [r for r in ctx.csv("references.csv") if r.get("reference") == name and reader.present(r.get("converged"))]
+    if not rows:
+        return None
+    return str(rows[-1]["converged"]) in ("True", "true", "yes", "1", "1.0")
+
+
+def scene_cell(ctx, scene):
+    """A scenario's name in a claim's table, marked where the reference its errors are measured
+    against did not converge (the errors below its floor are not resolved)."""
+    if reference_converged(ctx, scene) is False:
+        return "%s (reference not converged: floor %.3g mm)" % (scene, reader.reference_floor_mm(ctx.root, scene))
+    return scene
 
 
 def word(outcome, a_name, b_name):

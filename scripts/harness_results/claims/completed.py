@@ -13,7 +13,7 @@ import math
 
 from .. import rules
 from .c_restrictions import accuracy_rows
-from .common import SCENE_ORDER, Verdict, figure, floor_mm, tally_macros, verdict_line
+from .common import SCENE_ORDER, Verdict, figure, floor_mm, scene_cell, tally_macros, verdict_line
 
 EXACT = ["cgal", "hash"]
 
@@ -51,7 +51,7 @@ def judge(ctx):
         if f is not None and v["t_contact_us"] > 0:
             speedups.append(f["t_contact_us"] / v["t_contact_us"])
         md.append("| %s | %s | %s | %.3g | %s | %s | %s | %s | %s | %s |" % (
-            scene, "%s, %s" % (v["config"], v["force"]), figure(v), v["t_contact_us"], "%s, %s" % (e["config"], e["force"]),
+            scene_cell(ctx, scene), "%s, %s" % (v["config"], v["force"]), figure(v), v["t_contact_us"], "%s, %s" % (e["config"], e["force"]),
             figure(e), "%s, %s" % (f["config"], f["force"]) if f else "none", "%.3g" % f["t_contact_us"] if f else "-",
             "%.3g" % (f["t_contact_us"] / v["t_contact_us"]) if f and v["t_contact_us"] > 0 else "-",
             "for" if o == "a" else "within the noise (as accurate; the times' ranges overlap)" if o == rules.WITHIN_NOISE

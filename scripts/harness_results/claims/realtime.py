@@ -17,7 +17,7 @@ steps (a real-time step must meet its budget on most steps, not on the median on
 import math
 
 from .. import rules
-from .common import SCENE_ORDER, Verdict, tally_macros, verdict_line
+from .common import SCENE_ORDER, Verdict, scene_cell, tally_macros, verdict_line
 
 HAPTIC_US = 1000.0
 ACCURATE = 1.5
@@ -91,7 +91,7 @@ def judge(ctx):
             "" if not gap else " (not judged: the paper's run %s)" % (
                 p.get("stability") if gap == rules.NOT_STABLE else gap))) if p else "-"
         md.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-            scene, "%.3g" % budget if p else "-", "%.3g" % um if p else "-", "%.3g" % u99 if p else "-", within,
+            scene_cell(ctx, scene), "%.3g" % budget if p else "-", "%.3g" % um if p else "-", "%.3g" % u99 if p else "-", within,
             ("yes" if u99 <= HAPTIC_US else "no") if p else "-",
             "%s, %s, %d thread%s" % (best["method"], best["mode"], best["threads"], "" if best["threads"] == 1 else "s")
             if best else "none stable and accurate",

@@ -8,7 +8,7 @@ each claim's own tables (claims_b.tex).
 import os
 import sys
 
-from .. import robustness, runs, writers
+from .. import robustness, rules, runs, writers
 from . import judge_all
 from .common import Context
 
@@ -87,7 +87,8 @@ def title_of(key, prefix, n):
     """A verdict's title: its claim's, with the part for a claim of several verdicts."""
     title = TITLES.get(key, key)
     if n > 1:
-        title += " (%s)" % {"ClaimRTUnit": "collision unit", "ClaimRTSim": "simulator"}.get(prefix, prefix)
+        title += " (%s)" % {"ClaimRTUnit": "collision unit", "ClaimRTSim": "simulator", "ClaimD": "detection alone, as stated",
+                            "ClaimDUnit": "detection + elimination at matched error: a second finding"}.get(prefix, prefix)
     return title
 
 
@@ -105,6 +106,13 @@ def with_robustness(records, results):
             if name.endswith("Verdict") and p in summ:
                 r.macros[i] = (name, robustness.stated_verdict(summ[p]))
                 text = robustness.robustness_text(summ[p])
+                if p in r.rule_free and not summ[p]["flips"]:
+                    text = ("the rule's variants do not apply: no stability, noise or tunnelling enters it (all %d "
+                            "leave it unchanged by construction)" % summ[p]["total"])
+                if p in r.own:  # its own thresholds change it: fragile whatever the rule's variants say
+                    if not r.macros[i][1].startswith("fragile") and summ[p]["verdict"] != rules.NOT_TESTED:
+                        r.macros[i] = (name, "fragile (%s as written)" % summ[p]["verdict"])
+                    text += "; %s" % r.own[p]
                 r.macros.append((p + "Robust", text))
                 if p in loading:
                     lv, lt = loading[p]
@@ -114,7 +122,7 @@ def with_robustness(records, results):
                     " (")[-1].rstrip(")"), text))
         if lines:
             if len(names) == 1 and r.verdict is not None:
-                r.verdict = robustness.stated_verdict(summ[names[0][:-len("Verdict")]])
+                r.verdict = dict(r.macros)[names[0]]
             r.md += lines + [""]
     return records
 
@@ -130,12 +138,14 @@ def verdict_tex(records):
 
 # The macros the report uses, defined whatever the claims found: a claim not tested (its input
 # missing) still defines them, as "not tested" and "--", so the report builds and shows the hole.
-TALLY_PREFIXES = ["ClaimA", "ClaimB", "ClaimC", "ClaimD", "ClaimE", "ClaimVE", "ClaimRTUnit", "ClaimRTSim"]
+TALLY_PREFIXES = ["ClaimA", "ClaimB", "ClaimC", "ClaimD", "ClaimDUnit", "ClaimE", "ClaimVE", "ClaimRTUnit", "ClaimRTSim"]
 EXTRA_DEFAULTS = ["ClaimAGridFor", "ClaimAGridAgainst", "ClaimAGridNoise", "ClaimAGridNotJudged", "ClaimAOrientFor",
                   "ClaimAOrientAgainst", "ClaimAOrientNoise", "ClaimAOrientNotJudged", "ClaimAFloor", "ClaimABestLine",
                   "ClaimABestPlane", "ClaimBRuns", "ClaimBSepMax", "ClaimBPninetyMax", "ClaimBOpenMax",
                   "ClaimBStableRuns", "ClaimCMuch", "ClaimCRatioMin", "ClaimCRatioMax", "ClaimDFactor",
-                  "ClaimEHalfOutside", "ClaimERecallAll", "SwapSceneWins", "SwapSwappedWins", "SwapNoise",
+                  "ClaimDSlack", "ClaimDSpeedup", "ClaimDPrecision", "ClaimDPricePrecision", "ClaimDOwn",
+                  "ClaimEHalfOutside", "ClaimERecallAll", "ClaimEPrecisionGain", "ClaimEDeformations", "ClaimEOwn",
+                  "ClaimEResponse", "SwapSceneWins", "SwapSwappedWins", "SwapNoise",
                   "SwapNotJudged", "SwapSettings", "ClaimVESpeedupMin", "ClaimVESpeedupMax", "ClaimRTSimMin",
                   "ClaimRTSimMax"]
 

@@ -6,7 +6,7 @@ setting, the grid as the scene has it against swapped.
 """
 
 from .. import rules
-from .common import Verdict, figure, floor_mm, word
+from .common import Verdict, figure, floor_mm, scene_cell, word
 
 NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "recall",
            "true_pen_final", "t_contact_us", "voxel_mm", "margin"]
@@ -68,7 +68,7 @@ def judge(ctx):
     outcomes = judged()
     for (scene, elim, force, vox, a, b), o in zip(pairs, outcomes):
         md.append("| %s | %s | %s | %g | %s (grid on %s) | %s (grid on %s) | %s |" % (
-            scene, elim, force, vox, figure(a), a["host"], figure(b), b["host"], word(o, "as the scene", "swapped")))
+            scene_cell(ctx, scene), elim, force, vox, figure(a), a["host"], figure(b), b["host"], word(o, "as the scene", "swapped")))
     t = rules.tally(outcomes, "a")
     md += ["", "**Finding:** the grid as the scenes place it is better in %d of %d settings, swapped in %d, within the "
            "noise in %d, not judged in %d (a run not evidence, the other not an evidence run against an unstable one)."

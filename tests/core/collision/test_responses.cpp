@@ -5,6 +5,7 @@
 #include "core/collision/collision.hpp"
 #include "core/collision/responses/force_rules.hpp"
 #include "core/collision/responses/projection.hpp"
+#include "core/collision/intersection_volume.hpp"
 #include "tests/core/collision/collision_test_worlds.hpp"
 
 #include <catch2/catch.hpp>
@@ -131,4 +132,63 @@ TEST_CASE("projection of one node onto a plane: the depth split by inverse mass"
   const double plane = 0.5 * w.x[0].z() + 0.25 * w.x[1].z() + 0.25 * w.x[2].z();
   CHECK(w.x[3].z() == Approx(plane));
   CHECK(w.v[3].z() == Approx(lambda / 3.0 / 0.01));
+}
+
+TEST_CASE("the volume restriction: momentum and centre of mass kept, the shared volume reduced, work booked",
+          "[collision][responses][volume]") {
+  std::mt19937 rng(36);
+  int reduced = 0;
+  for (int t = 0; t < 20; ++t) {
+    World w = overlapping(rng);
+    ContactSpec s = spec(EliminatorKind::volume, ForceRule::automatic);
+    s.volume_pixel = 0.02;
+    Collision col(w, s);
+    const Vec3 p0 = momentum(w), c0 = mass_moment(w);
+    const double v0 = intersection_volume(w, w.x, 0, 1, s.volume_pixel).volume;
+    REQUIRE(v0 > 0.0);
+    std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
+    const Points x0 = w.x;
+    const PairStep st = col.project(w, 1e-3);
+    CHECK(st.force > 0.0);
+    CHECK(col.volume_step().volume == Approx(v0));
+    CHECK((momentum(w) - p0).norm() <= 1e-12 * (1.0 + p0.norm()));
+    CHECK((mass_moment(w) - c0).norm() <= 1e-12 * (1.0 + c0.norm()));
+    // interior nodes are left to their springs; only surface vertices move
+    for (int b = 0; b < 2; ++b)
+      for (int i = w.bodies[b].begin + w.bodies[b].n_surface; i < w.bodies[b].end; ++i) CHECK(w.x[i] == x0[i]);
+    // one Newton step on V = 0: the shared volume falls (the linearisation is not exact)
+    const double v1 = intersection_volume(w, w.x, 0, 1, s.volume_pixel).volume;
+    CHECK(v1 < v0);
+    reduced += v1 < 0.5 * v0;
+    // the energy audit's contact work is the force m dx / h^2 it booked, dotted with the moves
+    Points dx(w.x.size(), Vec3::Zero());
+    double expect = 0.0;
+    for (int i = 0; i < w.num_nodes(); ++i) {
+      dx[i] = w.x[i] - x0[i];
+      expect += w.f[i].dot(dx[i]);
+    }
+    CHECK(col.work(w, dx) == Approx(expect).epsilon(1e-12));
+  }
+  CHECK(reduced >= 15);
+}
+
+TEST_CASE("the volume restriction broken (pushed the wrong way) grows the shared volume; kinematic nodes stay",
+          "[collision][responses][volume]") {
+  std::mt19937 rng(37);
+  World w = overlapping(rng);
+  for (int i = w.bodies[0].begin; i < w.bodies[0].end; ++i) w.kinematic[i] = Kinematic::pinned;
+  ContactSpec s = spec(EliminatorKind::volume, ForceRule::automatic);
+  s.volume_pixel = 0.02;
+  const double v0 = intersection_volume(w, w.x, 0, 1, s.volume_pixel).volume;
+  {
+    World a = w;
+    Collision col(a, s);
+    col.project(a, 1e-3);
+    for (int i = a.bodies[0].begin; i < a.bodies[0].end; ++i) CHECK(a.x[i] == w.x[i]);  // the pinned host
+    CHECK(intersection_volume(a, a.x, 0, 1, s.volume_pixel).volume < v0);
+  }
+  s.invert_push = true;
+  Collision col(w, s);
+  col.project(w, 1e-3);
+  CHECK(intersection_volume(w, w.x, 0, 1, s.volume_pixel).volume > v0);
 }
