@@ -5,6 +5,7 @@
 #include "core/collision/collision.hpp"
 #include "core/parallel.hpp"
 #include "core/run/machine.hpp"
+#include "core/run/signals.hpp"
 #include "core/simulation.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
@@ -44,6 +45,16 @@ int run_detection(const DetectionOptions&) {
 #else
 
 namespace {
+
+// SIGINT or SIGTERM: the command stops between two states, removes its unfinished CSV and exits
+// 128 + the signal.
+struct Interrupted {
+  int signal;
+};
+
+void check_stop() {
+  if (const int s = stop_signal()) throw Interrupted{s};
+}
 
 double us_since(Clock::time_point t0) { return std::chrono::duration<double, std::micro>(Clock::now() - t0).count(); }
 
@@ -132,6 +143,7 @@ class Source {
     for (int k = 1; k <= K; ++k) {
       const int at = static_cast<int>(static_cast<long long>(k) * steps / K);
       for (; next <= at; ++next) sim_->step();
+      check_stop();
       states_.push_back(w.x);
     }
     if (opt_.progress)
@@ -207,6 +219,7 @@ class Source {
       if (r >= opt_.min_rounds && us_since(start) >= 1e6 * opt_.min_seconds) break;
       std::vector<double> sum(D, 0.0), warm(D, 0.0);
       for (std::size_t k = 0; k < S; ++k) {
+        check_stop();
         load(k);
         for (std::size_t j = 0; j < D; ++j) {
           const std::size_t d = (j + static_cast<std::size_t>(r)) % D;
@@ -232,6 +245,7 @@ class Source {
     Candidate& truth = cs.back();  // cgal
     Scorer sg, sh;
     for (std::size_t k = 0; k < states_.size(); ++k) {
+      check_stop();
       load(k);
       both_ways(*truth.scored, w);
       const std::vector<std::uint8_t> tg = truth_of(truth.scored->contacts(), guest);
@@ -296,6 +310,7 @@ int run_detection(const DetectionOptions& o) {
   for (std::size_t i = 0; i < cols.size(); ++i) std::fprintf(out, "%s%s", i ? "," : "", cols[i].c_str());
   std::fprintf(out, "\n");
   const int threads_before = threads();
+  const StopSignals signals;
   try {
     for (const auto& [label, scene] : o.scenes) {
       if (scene.contacts.empty()) throw InputError(scene.file, "contacts: the scene has no contact pair to detect");
@@ -310,6 +325,12 @@ int run_detection(const DetectionOptions& o) {
       s.collect(false);
       s.write(out);
     }
+  } catch (const Interrupted& s) {
+    std::fclose(out);
+    std::remove(tmp.c_str());
+    set_threads(threads_before);
+    std::fprintf(stderr, "harness: detection interrupted (signal %d): %s not written\n", s.signal, o.out.c_str());
+    return 128 + s.signal;
   } catch (...) {
     std::fclose(out);
     std::remove(tmp.c_str());

@@ -29,7 +29,8 @@
 // recorder scores them): tp, fp, fn summed over the states, guest and host apart. Recall
 // tp / (tp + fn) and precision tp / (tp + fp) are empty where their denominator is 0.
 //
-// The CSV is written to FILE.tmp and renamed when complete.
+// The CSV is written to FILE.tmp and renamed when complete; on SIGINT or SIGTERM the command stops
+// between two states, removes FILE.tmp and exits 128 + the signal (FILE untouched).
 #pragma once
 
 #include "core/scene/scene.hpp"
@@ -53,8 +54,8 @@ struct DetectionOptions {
 // The CSV's columns, in order.
 const std::vector<std::string>& detection_columns();
 
-// Runs it and writes the CSV. Returns 0. Throws std::runtime_error where this program has no
-// reference library (the truth is CGAL's).
+// Runs it and writes the CSV. Returns 0, or 128 + the signal when interrupted. Throws
+// std::runtime_error where this program has no reference library (the truth is CGAL's).
 int run_detection(const DetectionOptions& options);
 
 }  // namespace harness

@@ -36,6 +36,7 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
   share_.assign(w.x.size(), 0);
   // Length scale of the automatic force for detectors without a grid: the host's node spacing.
   length_scale_ = rest_spring_length(w, spec_.host);
+  if (spec_.eliminator == EliminatorKind::volume) volume_pixel_ = volume_pixel(w, spec_.host, spec_.guest, spec_.volume_pixel);
   if (spec_.two_sided) {
     reverse_spec_ = spec_;
     std::swap(reverse_spec_.host, reverse_spec_.guest);
@@ -94,8 +95,7 @@ PairStep Collision::project(World& w, double h) {
   if (spec_.eliminator == EliminatorKind::volume) {  // the bound and the restriction (responses/volume.hpp)
     pushes_.clear();
     magnitude_.clear();
-    const double pixel = volume_pixel(w, spec_.host, spec_.guest, spec_.volume_pixel);
-    s.force = restrict_volume(w, spec_.host, spec_.guest, pixel, h, volume_step_, spec_.invert_push);
+    s.force = restrict_volume(w, spec_.host, spec_.guest, volume_pixel_, h, volume_step_, spec_.invert_push);
     return finish(s, us_between(t0, t1), t1);
   }
   all_pushes(w);

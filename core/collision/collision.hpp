@@ -118,6 +118,7 @@ class Collision {
   double ahead_us_[2] = {0.0, 0.0};  // and their times
   double projected_h_ = 0.0;  // the substep of the last project()
   VolumeStep volume_step_;    // eliminator volume: the last restriction
+  double volume_pixel_ = 0.0;  // and its images' pixel (set once, at rest)
 };
 
 // One contact pair of the scene. `collision` exists only when the scene lists "contact";

@@ -39,7 +39,6 @@ class Image {
     lo_u_ = box.lo[u_], lo_v_ = box.lo[v_];
     nu_ = std::max(1, static_cast<int>(std::ceil((box.hi[u_] - lo_u_) / h_)));
     nv_ = std::max(1, static_cast<int>(std::ceil((box.hi[v_] - lo_v_) / h_)));
-    cells_.assign(static_cast<std::size_t>(nu_) * nv_, {});
   }
 
   void rasterise(const Body& body, const Points& x, int which) {
@@ -95,30 +94,39 @@ class Image {
           fr.enters = enters;
           fr.tri = static_cast<int>(t);
           for (int m = 0; m < 3; ++m) fr.w[idx[m]] = wq[m];
-          cells_[static_cast<std::size_t>(i) * nv_ + j].push_back(fr);
-          ++fragments_;
+          frags_.push_back(fr);
+          pixel_of_.push_back(i * nv_ + j);
         }
       }
     }
   }
 
-  // V_k, and its gradient into ga, gb (component k).
+  // V_k, and its gradient into ga, gb (component k). The fragments are grouped by pixel (a
+  // counting sort: one flat array, no list per pixel), then each pixel's sorted by depth.
   double integrate(const Body& A, const Body& B, std::vector<Vec3>& ga, std::vector<Vec3>& gb) {
     const double px = h_ * h_;
     double length = 0.0;
-    for (auto& frs : cells_) {
-      if (frs.size() < 4) {  // each body crossed at least twice for a shared interval
-        bool both[2] = {false, false};
-        for (const Fragment& f : frs) both[f.body] = true;
-        if (!(both[0] && both[1])) continue;
-      }
-      std::sort(frs.begin(), frs.end(), [](const Fragment& p, const Fragment& q) {
-        return p.depth < q.depth || (p.depth == q.depth && p.enters < q.enters);  // leave before enter
+    const std::size_t P = static_cast<std::size_t>(nu_) * nv_;
+    std::vector<int> start_of(P + 1, 0);
+    for (int p : pixel_of_) ++start_of[static_cast<std::size_t>(p) + 1];
+    for (std::size_t p = 0; p < P; ++p) start_of[p + 1] += start_of[p];
+    std::vector<Fragment> by_pixel(frags_.size());
+    {
+      std::vector<int> at(start_of.begin(), start_of.end() - 1);
+      for (std::size_t n = 0; n < frags_.size(); ++n) by_pixel[static_cast<std::size_t>(at[pixel_of_[n]]++)] = frags_[n];
+    }
+    for (std::size_t p = 0; p < P; ++p) {
+      Fragment* first = by_pixel.data() + start_of[p];
+      Fragment* last = by_pixel.data() + start_of[p + 1];
+      if (last - first < 4) continue;  // a shared interval needs both bodies crossed twice
+      std::sort(first, last, [](const Fragment& a, const Fragment& b) {
+        return a.depth < b.depth || (a.depth == b.depth && a.enters < b.enters);  // leave before enter
       });
       int wind[2] = {0, 0};
       bool shared = false;
       double start = 0.0;
-      for (const Fragment& f : frs) {
+      for (const Fragment* it = first; it != last; ++it) {
+        const Fragment& f = *it;
         wind[f.body] += f.enters;
         const bool now = wind[0] > 0 && wind[1] > 0;
         if (now == shared) continue;
@@ -135,15 +143,15 @@ class Image {
   }
 
   long long pixels() const { return static_cast<long long>(nu_) * nv_; }
-  long long fragments() const { return fragments_; }
+  long long fragments() const { return static_cast<long long>(frags_.size()); }
 
  private:
   int k_, u_, v_;
   double h_;
   double lo_u_ = 0.0, lo_v_ = 0.0;
   int nu_ = 1, nv_ = 1;
-  std::vector<std::vector<Fragment>> cells_;
-  long long fragments_ = 0;
+  std::vector<Fragment> frags_;  // in rasterisation order
+  std::vector<int> pixel_of_;    // each fragment's pixel (i * nv + j)
 };
 
 }  // namespace

@@ -59,5 +59,11 @@ for args in "--states 0" "--sizes 3" "no_such_scene" "--set time.dt=-1 sphere_co
   "$H" detection $args --out "$T/x.csv" 2>"$T/err"; rc=$?
   [[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 && ! -e "$T/x.csv" && ! -e "$T/x.csv.tmp" ]] && ok || { bad "detection $args: exit $rc"; cat "$T/err"; }
 done
+# interrupted: the unfinished CSV removed, a finished one left as it was, exit 128 + SIGTERM
+cp "$T/s.csv" "$T/keep.csv"
+"$H" detection --sizes 100000 --min-time 5 --out "$T/keep.csv" 2>"$T/err" & pid=$!
+for _ in $(seq 1 100); do [[ -e "$T/keep.csv.tmp" ]] && break; sleep 0.1; done
+sleep 0.5; kill -TERM $pid; wait $pid; rc=$?
+[[ $rc -eq 143 && ! -e "$T/keep.csv.tmp" ]] && cmp -s "$T/keep.csv" "$T/s.csv" && ok || { bad "interrupted: exit $rc"; cat "$T/err"; }
 echo "test_detection: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]

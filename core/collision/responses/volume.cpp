@@ -15,7 +15,7 @@ void VolumeEliminator::pushes(const World& w, const ContactSpec& spec, const Col
 
 double volume_pixel(const World& w, int host, int guest, double requested) {
   if (requested > 0.0) return requested;
-  return 0.5 * std::min(current_surface_edge(w, host), current_surface_edge(w, guest));
+  return 0.5 * std::min(rest_surface_edge(w, host), rest_surface_edge(w, guest));
 }
 
 double restrict_volume(World& w, int host, int guest, double pixel, double h, VolumeStep& out, bool invert) {

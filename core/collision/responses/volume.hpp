@@ -34,7 +34,7 @@ struct VolumeStep {
 };
 
 // The pixel edge for a pair: `requested` when positive, else half the smaller of the two bodies'
-// mean surface edges at the current positions.
+// mean surface edges at rest (the pair's Collision asks once, when it is made).
 double volume_pixel(const World& w, int host, int guest, double requested);
 
 // The Newton step above for bodies host and guest, in a (sub)step of h seconds: moves positions
