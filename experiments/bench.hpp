@@ -69,6 +69,10 @@ struct BenchOptions {
   bool progress = true;              // one line per row on stderr
 };
 
+// The median of repeated timings (the mean of the middle two for an even count); the bench's and
+// `harness detection`'s.
+double median_of(std::vector<double> v);
+
 // The method names, in the order of the rows.
 const std::vector<std::string>& bench_methods();
 

@@ -13,7 +13,6 @@
 #endif
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -54,14 +53,6 @@ struct Interrupted {
 
 void check_stop() {
   if (const int s = stop_signal()) throw Interrupted{s};
-}
-
-double us_since(Clock::time_point t0) { return std::chrono::duration<double, std::micro>(Clock::now() - t0).count(); }
-
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // One detector of the comparison: its one-sided Collision (timed) and its two-sided one (scored).

@@ -113,6 +113,7 @@ def judge(ctx):
     outcomes, half_peaks, response = [], [], []
     for name, rs in groups:
         det = [r for r in rs if r.get("force") == "F=0"]
+        on = large([r for r in rs if r.get("force") != "F=0"])  # the response on: its large regions
         o = outcome(det)
         outcomes.append(o)
         half_peaks += [r["outside_peak"] for r in det if r["region"] == "half" and not math.isnan(r["outside_peak"])]
@@ -120,13 +121,12 @@ def judge(ctx):
                "| force | region | margin | stability | outside peak | outside share | recall | precision | flag-all | "
                "flag-region | region (voxels) | large | detects all |",
                "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---|"]
-        big = {id(r) for r in large(det)} | {id(r) for r in large([x for x in rs if x.get("force") != "F=0"])}
+        big = {id(r) for r in large(det) + on}
         for r in rs:
             md.append("| %s | %s | %d | %s | %.3g | %.3g | %.4g | %.3g | %.3g | %.3g | %.4g | %s | %s |" % (
                 r["force"], r["region"], r["margin"], r["stability"], r["outside_peak"], r["outside_share"],
                 r["recall"], r["precision"], r["precision_flag_all"], r["precision_flag_region"],
                 r["region_voxels_mean"], "yes" if id(r) in big else "no", "yes" if detects_all(r) else "no"))
-        on = large([r for r in rs if r.get("force") not in (None, "F=0")])
         stable = [r for r in on if rules.counts_stable(r["stability"])]
         response.append((name, len(stable), len(on), sum(detects_all(r) for r in stable)))
         md += ["", "Outcome: %s. With the response on: %d of %d large-region runs stable, %d of them detect "
