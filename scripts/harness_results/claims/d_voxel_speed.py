@@ -114,7 +114,7 @@ def judge_detection(ctx):
             int(max(reader.num(r.get("states"), 1) for r in rows)), RECALL_SLACK, FASTEST, rows[0].get("machine", "-")),
         "", "| source | the paper's model (setting) | voxel_exact | hash | fcl | cgal | fastest comparable | outcome |",
         "|---|---|---|---|---|---|---|---|"]
-    outcomes, speed, prec, price, cg_cold, cg_warm = [], [], [], [], [], []
+    outcomes, speed, prec, price, cg_cold, cg_warm, host, ve_low = [], [], [], [], [], [], [], []
     for source, rs in sources:
         o, mine, f = detection_outcome(rs)
         outcomes.append(o)
@@ -125,6 +125,9 @@ def judge_detection(ctx):
             word += " (%.3gx)" % (f["detect_us"] / mine["detect_us"])
         if mine is not None:
             prec.append(reader.num(mine.get("precision")))
+            host.append(reader.num(mine.get("recall_host")))
+            if "voxel_exact" in by and reader.num(by["voxel_exact"].get("recall"), 1.0) < 0.99:
+                ve_low.append("%s (%.3g)" % (source, reader.num(by["voxel_exact"]["recall"])))
             if "voxel_exact" in by:
                 price.append(by["voxel_exact"]["detect_us"] / mine["detect_us"])
             if "cgal" in by:
@@ -156,6 +159,10 @@ def judge_detection(ctx):
            "ran (cold caches, seeds from another state), the warm one repeats it at once; a run's step lies "
            "between (`timing_us.detect` of a run's summary). CGAL gains most from warmth (its closest-face seeds): "
            "cold %s, warm %s times the paper's model's." % (rng(cg_cold), rng(cg_warm)), "",
+           "The paper's model is one-sided: the host nodes inside the guest are found only where its own grid, "
+           "the other way round, lists guest vertices near them (host recall %s at its chosen settings). "
+           "voxel_exact misses penetrating guest nodes beyond its band at %s: its recall there is not what "
+           "a completed model promises, noted and not fixed here." % (rng(host), ", ".join(ve_low) or "no source"), "",
            "The bench sizes are one generated state at four sizes (a cylinder shell pressed into a layer, not "
            "deformed); on the bundled scenes alone the verdict is %s (%s)." % (
                rules.claim_verdict(scene_only, "a"), rules.tally_text(rules.tally(scene_only, "a"))), "",
@@ -164,13 +171,19 @@ def judge_detection(ctx):
     macros = tally_macros("ClaimD", verdict, outcomes) + [
         ("ClaimDFactor", "%g" % FASTEST), ("ClaimDSlack", "%g" % RECALL_SLACK), ("ClaimDSpeedup", rng(speed)),
         ("ClaimDPrecision", "%s to %s" % ("%.2g" % min(prec), "%.2g" % max(prec)) if prec else "--"),
-        ("ClaimDPricePrecision", rng(price)), ("ClaimDOwn", own_text)]
+        ("ClaimDPricePrecision", rng(price)), ("ClaimDOwn", own_text), ("ClaimDHostRecall", rng(host)),
+        ("ClaimDExactLow", ", ".join(ve_low).replace("_", "\\_") or "none")]
     return verdict, md, macros, (own_text if flips else None)
+
+
+def num_text(x):
+    """Two significant digits, without an exponent (143 as 140, not 1.4e+02)."""
+    return "%.2g" % x if abs(x) < 100 else "%d" % int(float("%.2g" % x))
 
 
 def rng(xs):
     xs = [x for x in xs if not math.isnan(x)]
-    return "%.2g to %.2g" % (min(xs), max(xs)) if xs else "--"
+    return "%s to %s" % (num_text(min(xs)), num_text(max(xs))) if xs else "--"
 
 
 def judge(ctx):

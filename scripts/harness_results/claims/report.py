@@ -144,6 +144,7 @@ EXTRA_DEFAULTS = ["ClaimAGridFor", "ClaimAGridAgainst", "ClaimAGridNoise", "Clai
                   "ClaimABestPlane", "ClaimBRuns", "ClaimBSepMax", "ClaimBPninetyMax", "ClaimBOpenMax",
                   "ClaimBStableRuns", "ClaimCMuch", "ClaimCRatioMin", "ClaimCRatioMax", "ClaimDFactor",
                   "ClaimDSlack", "ClaimDSpeedup", "ClaimDPrecision", "ClaimDPricePrecision", "ClaimDOwn",
+                  "ClaimDHostRecall", "ClaimDExactLow", "ClaimEBaseline", "ClaimEKnife",
                   "ClaimEHalfOutside", "ClaimERecallAll", "ClaimEPrecisionGain", "ClaimEDeformations", "ClaimEOwn",
                   "ClaimEResponse", "SwapSceneWins", "SwapSwappedWins", "SwapNoise",
                   "SwapNotJudged", "SwapSettings", "ClaimVESpeedupMin", "ClaimVESpeedupMax", "ClaimRTSimMin",
