@@ -131,6 +131,7 @@ PairStep Collision::step(World& w, double h) {
       s.force = pushes_.empty() ? 0.0 : spec_.force;
       break;
   }
+  if (spec_.damping > 0.0) s.force = damp_contact_forces(w, pushes_, spec_.damping, magnitude_);
   if (spec_.invert_push)
     for (Push& p : pushes_) p.n = -p.n;
   apply_pushes(w, pushes_, magnitude_);

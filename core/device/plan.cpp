@@ -46,6 +46,7 @@ void check_device_support(const Simulation& sim) {
                                        to_string(c.detector) + "\"");
     if (c.force_rule == ForceRule::automatic) refuse(s, p + ".force", "the automatic force \"auto\"");
     if (c.orient != Orient::paper) refuse(s, p + ".orient", "an orientation other than \"paper\"");
+    if (c.damping > 0.0) refuse(s, p + ".damping", "the contact damping variant");
   }
 }
 

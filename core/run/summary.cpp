@@ -218,6 +218,13 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& 
   timing["contact_mean"] = num_or_null(cs.mean);
   timing["contact_p99"] = num_or_null(cs.p99);
   timing["contact_max"] = num_or_null(cs.max);
+  // The unit's two parts apart (a response that needs no detection, the volume restriction, is
+  // judged on its own part): mean and 99th percentile of each.
+  const StepStats ds = step_stats(t.detect), es = step_stats(t.eliminate);
+  timing["detect_mean"] = num_or_null(ds.mean);
+  timing["detect_p99"] = num_or_null(ds.p99);
+  timing["eliminate_mean"] = num_or_null(es.mean);
+  timing["eliminate_p99"] = num_or_null(es.p99);
   sum["budget_us"] = sc.dt * 1e6;
   sum["realtime_factor_mean"] = num_or_null(realtime_factor(sc.dt, ss.mean));
   sum["realtime_factor_p99"] = num_or_null(realtime_factor(sc.dt, ss.p99));

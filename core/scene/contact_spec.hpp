@@ -60,6 +60,7 @@ struct ContactSpec {
   double force;      // N per contact (ForceRule::constant)
   double stiffness;  // N/m per contact (ForceRule::penalty)
   double separation_time;  // s, of the automatic force: v_sep = L / separation_time
+  double damping;  // N s/m per contact: F -> max(0, F - damping v_n) where F > 0 (0: none; a variant)
   // Also the other way round: the guest's surface keeps the host's nodes out as well (a second
   // detector with the roles swapped). The paper's model is one-sided (false).
   bool two_sided;

@@ -320,6 +320,7 @@ const std::vector<SceneKey>& scene_keys() {
       key("contact", "two_sided", KeyType::boolean).fallback(false).described("Also the other way round (the host's nodes against the guest's surface)."),
       key("contact", "invert_push", KeyType::boolean).fallback(false).described("Every push negated: a broken method, used by tests."),
       key("contact", "separation_time", KeyType::number).above(0.0, 1e6).fallback(0.1).with_unit("s").described("s, of force auto: separation speed = voxel size (detectors without a grid: the host's mean spring rest length) / separation_time."),
+      key("contact", "damping", KeyType::number).range(0.0, 1e9).fallback(0.0).with_unit("N s/m").described("A damping term on the contact force, a variant (not the paper's method): where a contact's force F is positive it becomes max(0, F - c v_n), v_n the guest node's speed away from its hosts along the push, c this value, N s/m per contact; 0: none. Not used by projection and volume."),
       key("contact", "force", KeyType::force).holding("force.stiffness").range(0.0, 1e12).fallback("auto").with_unit("N").described("A number: the paper's constant force, N per contact; \"auto\": the force that separates within separation_time; {\"stiffness\": k}: penalty k times depth, N/m."),
       key("force.stiffness", "stiffness", KeyType::number).range(0.0, 1e12).with_unit("N/m").described("Penalty stiffness, N/m."),
   };

@@ -292,6 +292,7 @@ void read_contact_spec(const Ctx& c, Obj& o, ContactSpec& cs) {
   cs.two_sided = o.boolean("two_sided");
   cs.invert_push = o.boolean("invert_push");
   cs.separation_time = o.number("separation_time");
+  cs.damping = o.number("damping");
   cs.force = 0.0;
   cs.stiffness = 0.0;
   // force: a number of newtons (constant), "auto", or {"stiffness": k} (penalty).

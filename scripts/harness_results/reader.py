@@ -20,7 +20,7 @@ import os
 NAN = float("nan")
 # The columns of the studies' CSV files (scripts/study.py) that are text whatever their cells hold.
 STUDY_TEXT = frozenset([
-    "scene", "deformation", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "t_contact_range",
+    "scene", "deformation", "config", "rho_norm", "regime", "response", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "t_contact_range",
     "front", "helps", "useless", "stability", "verdict", "status", "host", "guest", "swapped", "region", "orient", "engine",
     "reference_converged", "resolution", "body", "steps_per_s_range", "reference", "comparison", "converged"])
 
@@ -347,7 +347,8 @@ def step_time_us(s):
 
 def step_distribution(s):
     """A run's per-step wall times beyond the median (summary timing_us, over every step of the run):
-    the step's mean, p99 and max and the collision unit's (detection + response) mean and p99, µs;
+    the step's mean, p99 and max and the collision unit's (detection + response) mean and p99, and
+    of its two parts apart (detect_*, eliminate_*: runs since those keys), µs;
     the budget (the run's dt, µs: the scene's unless --dt changed it) and the real-time factors on the mean and the p99; the
     machine's processor and cores and the threads the run used, as the run read them from the
     system. NaN / "?" where the run did not record them (runs before these keys)."""
@@ -356,6 +357,9 @@ def step_distribution(s):
     return {"step_mean_us": num(t.get("step_mean")), "step_p99_us": num(t.get("step_p99")),
             "step_max_us": num(t.get("step_max")), "contact_mean_us": num(t.get("contact_mean")),
             "contact_p99_us": num(t.get("contact_p99")), "budget_us": num(s.get("budget_us")),
+            "detect_mean_us": num(t.get("detect_mean")), "detect_p99_us": num(t.get("detect_p99")),
+            "eliminate_mean_us": num(t.get("eliminate_mean")), "eliminate_p99_us": num(t.get("eliminate_p99")),
+            "eliminate_median_us": num(t.get("eliminate")),
             "realtime_factor_mean": num(s.get("realtime_factor_mean")),
             "realtime_factor_p99": num(s.get("realtime_factor_p99")),
             "machine": "%s (%s cores)" % (m.get("cpu", "?"), m.get("cores", "?")), "threads": s.get("threads")}
@@ -399,6 +403,9 @@ def window_figures(s):
     mm = lambda v: 1e3 * v
     return {
         "status": status(s), "verdict": s.get("stability_verdict"),
+        # rho over the loading period (the harness's rule since it records window.input_period_s) or
+        # over the whole time before the window (runs before it): rules.loading_rho converts only those
+        "rho_norm": "loading" if "input_period_s" in w else "before window",
         "contact_power_ratio": num(w.get("contact_power_ratio")),
         "settled": s.get("settled"), "steps": s.get("steps_run"), "window_from": w.get("from_step"),
         "pos_err_max_mm": mm(window_stat(ew, "pos_err_max")), "pos_err_max_max_mm": mm(window_stat(ew, "pos_err_max", "max")),

@@ -30,12 +30,13 @@ VARIANTS = [rules.Variant(rho, marginal, tie, floor, tunnel, minimum, helps, nor
             for marginal in ("unstable", "stable") for tie in (0.10, 0.05, 0.0) for floor in ("floor", "richardson", "double")]
 NOT_VARIED = ("the window's length (halved, doubled) and the reference's kind (one-sided against both ways), which "
               "need the studies run again; the share of 20 % that separates mixed from the two verdicts; each claim's "
-              "own thresholds ((b)'s 5 %, 100 steps and 5 %, (c)'s factor 2 and that of (d)'s collision unit, real time's budget of one step (the scene's dt) and 1.5x; (d) as stated and (e) vary their own thresholds in their sections). "
+              "own thresholds ((b)'s 5 %, 100 steps and 5 %, the factor 2 of (d)'s collision unit, real time's budget of one step (the scene's dt) and 1.5x; (c), (d) as stated and (e) vary their own thresholds in their sections). "
               "orient.csv, swap.csv and region.csv have no rho column (their unstable and marginal rows give it in "
               "their reasons): their stable rows stay stable under every rho limit; realtime.csv records neither rho "
               "nor reasons: its classes stand under every variant; rho over the loading period converts only the "
-              "rows that record their length (accuracy_time.csv) and the report's runs: ablation.csv and the files "
-              "above keep the rho they were run with. The rho limits were set under the old normalisation and are "
+              "rows that record their length and were run before it (accuracy_time.csv) and the report's runs: "
+              "ablation.csv and the files above keep the rho they were run with, and restriction.csv and regime.csv "
+              "recorded it over the loading period already (rho_norm). The rho limits were set under the old normalisation and are "
               "not recalibrated (for these scenes the new rho is 5 to 14 times smaller)")
 COLUMNS = ["claim", "variant", "rho_scale", "marginal", "tie", "floor", "tunnel_limit", "min_decisive", "helps",
            "rho_norm", "verdict", "for", "against", "noise", "not_judged", "share_for"]

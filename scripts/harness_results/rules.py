@@ -237,7 +237,10 @@ def loading_rho(row, rho):
     """A study row's rho (recorded over the time before its window) over its scene's loading period
     instead: rho forcing_end / (from - 1), from = max(steps - window + 1, forcing_end + 1), where the
     row records its steps and its scene is bundled and forced; else rho as recorded (said in
-    robustness.NOT_VARIED)."""
+    robustness.NOT_VARIED), and so for a row whose run recorded it over the loading period already
+    (rho_norm "loading": the studies run since)."""
+    if row.get("rho_norm") == "loading":  # recorded over the loading period already
+        return rho
     steps = reader.num(row.get("steps"))
     f = forcing_end(row.get("scene") or "")
     if math.isnan(rho) or not reader.present(steps) or f is None:
@@ -474,13 +477,13 @@ def decide(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
 
 
 def decide_stable_wins(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
-    """decide, but where one row is evidence and the other is not stable, the evidence wins ("a" or
-    "b"): a setting that holds against one that does not is a finding whatever the errors (the swap
-    study's rule). Both not stable, or one stable but not evidence: as decide."""
+    """decide, but where one row is evidence and the other is not (not stable, tunnels, or no better
+    than no force), the evidence wins ("a" or "b"): a setting that holds against one that does not is
+    a finding whatever the errors (the swap's rule). Neither evidence: as decide (why not judged)."""
     ga, gb = evidence_gap(a), evidence_gap(b)
-    if ga is None and gb == NOT_STABLE:
+    if ga is None and gb is not None:
         return "a"
-    if gb is None and ga == NOT_STABLE:
+    if gb is None and ga is not None:
         return "b"
     return decide(a, b, key, floor, tie)
 

@@ -16,8 +16,9 @@ from . import reader
 
 
 def sets_args(sets):
-    """["--set", s, ...] for every `KEY=JSON` in sets."""
-    return sum((["--set", s] for s in sets), [])
+    """["--set", s, ...] for every `KEY=JSON` in sets; an option of the command line itself
+    (`--dt-divide=8`: it starts with "--") is passed as it is."""
+    return sum(([s] if s.startswith("--") else ["--set", s] for s in sets), [])
 
 
 def harness(a, args, out, check=False, show_stderr=False, cached=True, threads="1"):

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A scene of the user's through every study that takes one (scripts/study.py all --scene FILE --out
-# DIR: accuracy, ablation, convergence, refinement, realtime, swap) and its card: the tutorial's scene (docs/tutorial.md), --quick runs, its
+# DIR: accuracy, ablation, convergence, refinement, realtime, swap, detection, restriction, regime) and its card: the tutorial's scene (docs/tutorial.md), --quick runs, its
 # reference made by the study; every output in DIR, nothing written into the repository's results/.
 # Usage: test_user_studies.sh HARNESS SOURCE_DIR
 set -u
@@ -21,7 +21,8 @@ cd "$T"
   > log 2>&1 || { bad "study.py all --scene"; tail -20 log; }
 for f in st/accuracy_time.csv st/ablation.csv st/defaults.json st/tables/accuracy_time.md st/tables/ablation.md \
          st/figures/pareto_my_press.png st/figures/ablation_my_press.png st/references/my_press/summary.json \
-         st/convergence.csv st/refinement.csv st/realtime.csv st/swap.csv st/tables/realtime.md st/tables/swap.md; do
+         st/convergence.csv st/refinement.csv st/realtime.csv st/swap.csv st/tables/realtime.md st/tables/swap.md \
+         st/restriction.csv st/tables/restriction.md st/regime.csv st/tables/regime.md; do
   [[ -s "$f" ]] || bad "no $f"
 done
 "$PY" - st <<'PY' || bad "the studies' rows"
@@ -34,7 +35,7 @@ assert {r["voxel_mm"] for r in acc if r["detector"] == "voxel"} == {"7.8125", "1
 assert "no contact force" in {r["config"] for r in acc}
 assert all(r["stability"] in ("stable", "marginal", "unstable", "failed") for r in acc + abl)
 assert list(json.load(open(sys.argv[1] + "/defaults.json"))) == ["my_press"]
-for name in ["convergence", "refinement", "realtime", "swap"]:
+for name in ["convergence", "refinement", "realtime", "swap", "restriction", "regime"]:
     rows = list(csv.DictReader(open("%s/%s.csv" % (sys.argv[1], name))))
     assert rows and {r["scene"] for r in rows} == {"my_press"}, name
 # useless beside stable, and a front of the evidence only (no stable run that tunnels or does not help)

@@ -69,14 +69,16 @@ def test_a_run_that_tunnels_or_does_not_help_is_not_evidence():
     assert rules.tally([rules.TUNNELS, rules.NO_HELP]) == {"for": 0, "against": 0, "noise": 0, "not judged": 2}
 
 
-def test_swap_an_evidence_run_beats_one_that_is_not_stable():
+def test_swap_an_evidence_run_beats_one_that_is_not_evidence():
     good = row(3.5, tunnelled=0, helps="yes")
     bad = row(69.0, stable="no", tunnelled=1568, helps="no")
     assert rules.decide_stable_wins(good, bad) == "a"
     assert rules.decide_stable_wins(bad, good) == "b"
     assert rules.decide_stable_wins(row(2.0, stable="no"), bad) == rules.NOT_STABLE  # neither holds
-    # stable but tunnelling is not evidence: no win over an unstable run
+    # stable but tunnelling is not evidence: no win over an unstable run, and it loses to evidence
     assert rules.decide_stable_wins(row(4.7, tunnelled=1, helps="yes"), bad) == rules.TUNNELS
+    assert rules.decide_stable_wins(good, row(68.9, tunnelled=1448, helps="no")) == "a"
+    assert rules.decide_stable_wins(row(64.0, helps="no"), good) == "b"
     assert rules.decide_stable_wins(good, row(2.0, tunnelled=0, helps="yes")) == "b"  # both evidence: by error
 
 
@@ -163,17 +165,61 @@ def test_claim_a_grid_best_and_oriented(tmp_path):
     assert a_plane.judge(Context(str(tmp_path))).data[-1] == rules.TUNNELS
 
 
-def test_claim_c_counts_the_bound(tmp_path):
-    # The projection as fast as the penalty, as accurate: against the claim; with the bound's cost
-    # (corefinement) it costs 11x: for it.
+def test_claim_c_exact_bound_counts_the_bound(tmp_path):
+    # Without restriction.csv (c) is not tested and the exact bound is judged on accuracy_time.csv:
+    # the projection as fast as the penalty, as accurate: against; with the bound's cost
+    # (corefinement) it costs 11x: for.
     rows = [("sphere_collision", "cgal", "cgal", "line", "k=500", "no", "yes", "stable", 0.5, 0, 0.3, 0.2, 100, 95, 105, 400, "", "", "95-105"),
             ("sphere_collision", "cgal", "cgal", "projection", "positions", "no", "yes", "stable", 0.5, 0, 0.3, 0.2, 100, 95, 105, 400, "", "", "95-105")]
     write(tmp_path, "accuracy_time.csv", acc(*rows))
-    assert c_restrictions.judge(Context(str(tmp_path))).data == ["b"]
+    v = c_restrictions.judge(Context(str(tmp_path)))
+    assert v.data == ["b"] and v.verdict == "not tested"
     rows[1] = rows[1][:16] + (1000,) + rows[1][17:]
     write(tmp_path, "accuracy_time.csv", acc(*rows))
     v = c_restrictions.judge(Context(str(tmp_path)))
-    assert v.data == ["a"] and v.verdict == "inconclusive"  # one decisive comparison: too few
+    assert v.data == ["a"] and dict(v.macros)["ClaimCExactVerdict"] == "inconclusive"  # one decisive: too few
+
+
+RESTRICTION = ("scene,config,detector,eliminator,response,force,stable,stability,tunnelled,pos_err_max_mm,pos_err_amp_mm,"
+               "depth_max_mm,t_contact_us,t_contact_min_us,t_contact_max_us,t_contact_mean_us,t_contact_mean_min_us,"
+               "t_contact_mean_max_us,t_contact_p99_us,t_contact_p99_min_us,t_contact_p99_max_us,t_bound_us\n")
+
+
+def restriction_rows(scene, volume_mean, volume_spread=1.0, volume_stable="yes", volume_err=0.5, pen_stable="yes",
+                     volume_p99=None, bound=1000.0):
+    """A scene's penalty, volume, projection and projection + exact bound rows: the penalty's mean
+    100 us (95-105), p99 200 us; the volume's mean `volume_mean` (its repeats' range +-volume_spread)."""
+    p99 = 2 * volume_mean if volume_p99 is None else volume_p99
+
+    def row(resp, elim, stable, err, mean, spread, p, b=""):
+        return "%s,cgal,cgal,%s,%s,k=500,%s,%s,0,%s,0,0.1,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n" % (
+            scene, elim, resp, stable, "stable" if stable == "yes" else "unstable", err, mean, mean - spread,
+            mean + spread, mean, mean - spread, mean + spread, p, p - spread, p + spread, b)
+    return (row("penalty", "line", pen_stable, 0.5, 100, 5, 200) + row("volume (LDI bound)", "volume", volume_stable,
+            volume_err, volume_mean, volume_spread, p99) + row("projection", "projection", "yes", 0.5, 90, 5, 180) +
+            row("projection + exact bound", "projection", "yes", 0.5, 90, 5, 180, bound))
+
+
+def test_claim_c_judged_on_the_practical_bound(tmp_path):
+    def judge(*scenes):
+        return c_restrictions.judge(Context(write(tmp_path, "restriction.csv", RESTRICTION + "".join(scenes))))
+    s = ["s%d" % k for k in range(3)]
+    # the volume at 11x the penalty's mean: for, in all three; the exact bound too (90 + 1000 us)
+    v = judge(*[restriction_rows(x, 1100) for x in s])
+    assert v.verdict == "supported" and v.data == ["a"] * 6
+    assert dict(v.macros)["ClaimCExactVerdict"] == "supported"
+    # at 1.5x and as accurate: against; unstable: improper, for; the penalty unstable: not judged
+    v = judge(restriction_rows(s[0], 150), restriction_rows(s[1], 150, volume_stable="no"),
+              restriction_rows(s[2], 150, pen_stable="no"))
+    assert v.data == ["b", "a", rules.NOT_STABLE] + ["a", "a", rules.NOT_STABLE]  # then the exact bound's
+    # less accurate beyond the noise at equal time: for
+    assert judge(restriction_rows(s[0], 100, volume_err=5.0)).data[0] == "a"
+    # 2.5x, but the repeats' ranges overlap the penalty's: within the noise
+    assert judge(restriction_rows(s[0], 250, volume_spread=160)).data[0] == rules.WITHIN_NOISE
+    # 2.5x clearly in three scenes: for as written, against under the factor 3 of its own thresholds: fragile
+    v = judge(*[restriction_rows(x, 250, volume_p99=500) for x in s])
+    assert v.verdict == "supported" and "fragile over its own thresholds" in dict(v.macros)["ClaimCOwn"]
+    assert v.own == {"ClaimC": dict(v.macros)["ClaimCOwn"]}
 
 
 REGION = ("scene,deformation,force,region,margin,stable,stability,outside_share,outside_mean,outside_peak,pen_guest_mean,"
@@ -266,3 +312,68 @@ def test_d_detection_alone_among_comparable_recall(tmp_path):
     assert v == "inconclusive"  # 1 for, 1 against: fewer than three decisive comparisons
     assert dict(macros)["ClaimDNotJudged"] == "1"
     assert any("fragile over its own thresholds" in line or "robust over" in line for line in md)
+
+
+REGIME_HEAD = ("scene,config,eliminator,force,voxel_mm,regime,swapped,host,guest,stable,stability,tunnelled,helps,"
+               "pos_err_max_mm,pos_err_amp_mm,depth_max_mm,ep_episodes,ep_p90,ep_failed_frac,ep_peak_frac,ep_holds,ep_why\n")
+
+
+def regime_row(elim, regime, err, stable="yes", force="F=0.003", swapped="no", helps="yes", holds="yes", tunnelled=0):
+    return "s,voxel 8 mm,%s,%s,8,%s,%s,a,b,%s,%s,%d,%s,%s,0.01,0.1,12,%d,0.01,0.01,%s,%s\n" % (
+        elim, force, regime, swapped, stable, "stable" if stable == "yes" else "unstable", tunnelled, helps, err,
+        30 if holds == "yes" else 300, holds, "all three met" if holds == "yes" else "p90 300 steps > 100")
+
+
+def test_regime_claims_name_their_regimes(tmp_path):
+    from harness_results.claims import regime
+
+    def judge(*rows):
+        return regime.judge(Context(write(tmp_path, "regime.csv", REGIME_HEAD + "".join(rows))))
+    # As written nothing is evidence; at dt/8 the plane beats the line in three settings: supported, from dt/8.
+    rows = [regime_row(e, "as written", 60.0, stable="no") for e in ("line", "plane")]
+    for f in ("F=0.001", "F=0.003", "F=0.01"):
+        rows += [regime_row("line", "dt/8", 4.0, force=f), regime_row("plane", "dt/8", 2.0, force=f)]
+    v = judge(*rows)
+    m = dict(v.macros)
+    assert m["ClaimARegimeVerdict"] == "supported" and m["ClaimARegimeFrom"] == "dt/8 (3)"
+    assert (m["ClaimARegimeFor"], m["ClaimARegimeNotJudged"]) == ("3", "0")  # F=0.003 once, from dt/8
+    # (b): each configuration once (the runs that are evidence): six; the variant has none
+    assert m["ClaimBRegimeVerdict"] == "supported" and m["ClaimBRegimeFor"] == "6"
+    assert m["ClaimBRegimeDampedVerdict"] == "not tested"
+    # the same configurations in a regime that only changes the numerics count once: unchanged
+    full = [regime_row(e, "region full", x, force=f) for f in ("F=0.001", "F=0.003", "F=0.01")
+            for e, x in (("line", 4.0), ("plane", 2.0))]
+    m2 = dict(judge(*(rows + full)).macros)
+    assert (m2["ClaimARegimeFor"], m2["ClaimBRegimeFor"]) == ("3", "6") and m2["ClaimARegimeFrom"] == "dt/8+region full (3)"
+    # ... and disagreeing regimes of one configuration are within the noise
+    m2 = dict(judge(*(rows + full[:-1] + [regime_row("plane", "region full", 9.0, force="F=0.01")])).macros)
+    assert (m2["ClaimARegimeFor"], m2["ClaimARegimeAgainst"], m2["ClaimARegimeNoise"]) == ("2", "0", "1")
+    # the damping variant is judged apart
+    m2 = dict(judge(*(rows + [regime_row("plane", "damping 0.1", 2.0, holds="no")])).macros)
+    assert (m2["ClaimBRegimeFor"], m2["ClaimBRegimeDampedAgainst"]) == ("6", "1")
+    assert m2["ClaimBRegimeDampedVerdict"] == "inconclusive"
+    rows[-1] = regime_row("plane", "dt/8", 2.0, force="F=0.01", holds="no")
+    v = judge(*rows)
+    m = dict(v.macros)
+    assert (m["ClaimBRegimeFor"], m["ClaimBRegimeAgainst"]) == ("5", "1")
+    assert m["ClaimBRegimeVerdict"] == "supported" and m["ClaimBRegimeOwn"].startswith("robust")
+    # two runs fail on a p90 of 300 steps: mixed as written, supported under the own threshold of 400: fragile
+    rows[-2] = regime_row("line", "dt/8", 4.0, force="F=0.01", holds="no")
+    v = judge(*rows)
+    m = dict(v.macros)
+    assert m["ClaimBRegimeVerdict"] == "mixed"
+    assert "fragile over its own thresholds" in m["ClaimBRegimeOwn"] and v.own == {"ClaimBRegime": m["ClaimBRegimeOwn"]}
+    rows[-2] = regime_row("line", "dt/8", 4.0, force="F=0.01")
+    # a run that does not help is not evidence: that (a) pair is not judged, nor its (b) run
+    rows[-1] = regime_row("plane", "dt/8", 2.0, force="F=0.01", helps="no")
+    m = dict(judge(*rows).macros)
+    assert (m["ClaimARegimeFor"], m["ClaimARegimeNotJudged"]) == ("2", "1")
+    assert m["ClaimARegimeVerdict"] == "inconclusive"
+    assert m["ClaimARegimeSwapRule"] == "2-1-0-0"  # the line's evidence beats the useless plane there
+    # swap: the scene's placement evidence, the swapped one unstable: the scene's wins
+    rows.append(regime_row("line", "dt/8", 9.0, force="F=0.001", swapped="yes", stable="no"))
+    m = dict(judge(*rows).macros)
+    assert (m["SwapRegimeSceneWins"], m["SwapRegimeFrom"]) == ("1", "dt/8 (1)")
+    # no regime.csv: not tested
+    os.remove(os.path.join(str(tmp_path), "regime.csv"))
+    assert regime.judge(Context(str(tmp_path))).verdict == "not tested"

@@ -53,7 +53,7 @@ def defined_macros():
 def test_every_result_macro_is_defined():
     # The macros the result files define start with these; a report that uses one they do not
     # define fails to build (or prints a stale name).
-    prefixes = ("Claim", "Acc", "Abl", "Conv", "Bench", "Realtime", "Swap", "Num", "Ref", "Runs", "Measure", "Region")
+    prefixes = ("Claim", "Acc", "Abl", "Conv", "Bench", "Realtime", "Swap", "Num", "Ref", "Runs", "Measure", "Region", "Regime")
     with open(MAIN) as f:
         used = set(re.findall(r"\\([A-Za-z]+)", "\n".join(prose_lines(f.read()))))
     missing = sorted(m for m in used if m.startswith(prefixes) and m not in defined_macros())

@@ -54,6 +54,20 @@ Vec3 acceleration(const World& w, int i) {
 double inverse_mass(const World& w, int i) { return is_kinematic(w, i) ? 0.0 : w.inv_m[i]; }
 }  // namespace
 
+double damp_contact_forces(const World& w, const std::vector<Push>& pushes, double c, std::vector<double>& out) {
+  double largest = 0.0;
+  for (std::size_t i = 0; i < pushes.size(); ++i) {
+    const Push& p = pushes[i];
+    if (p.count == 0 || !(out[i] > 0.0)) continue;
+    Vec3 dv = velocity(w, p.guest);
+    for (int k = 0; k < p.count; ++k) dv -= p.weight[k] * velocity(w, p.hosts[k]);
+    const double f = out[i] - c * dv.dot(p.n);
+    out[i] = std::isfinite(f) ? std::max(0.0, f) : out[i];
+    largest = std::max(largest, out[i]);
+  }
+  return largest;
+}
+
 double auto_contact_forces(const World& w, const std::vector<Push>& pushes, double h,
                            double separation_speed, std::vector<double>& out, std::vector<int>& share) {
   out.assign(pushes.size(), 0.0);

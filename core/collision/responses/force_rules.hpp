@@ -16,6 +16,13 @@ namespace harness {
 // (resized; reuse it). Returns the largest force (0 without contacts).
 double penalty_contact_forces(std::vector<Push>& pushes, double k, std::vector<double>& out);
 
+// The contact damping variant (ContactSpec::damping, not the paper's method): where out[i] > 0,
+// out[i] = max(0, out[i] - c v_n), v_n = (v_g - sum_k w_k v_k) . n_i the guest node's speed away
+// from its hosts along the push (a kinematic node's velocity is its driver's). It only takes
+// energy out: the force falls where the pair separates and rises where it approaches, never
+// turning into a pull. Returns the largest magnitude after it (0 without contacts).
+double damp_contact_forces(const World& w, const std::vector<Push>& pushes, double c, std::vector<double>& out);
+
 // Adds magnitude[i] * pushes[i] into f (one entry per world node): the guest node gets
 // magnitude n, each host node minus its weight times that.
 void scatter_pushes(Points& f, const std::vector<Push>& pushes, const std::vector<double>& magnitude);

@@ -10,7 +10,7 @@ ORDER (where its section goes in claims.md); its macros follow the others in cla
 import importlib
 
 # The order of the sections of claims.md.
-ORDER = ["a_plane", "b_episodes", "c_restrictions", "d_voxel_speed", "e_region", "swap", "realtime", "completed"]
+ORDER = ["a_plane", "b_episodes", "c_restrictions", "d_voxel_speed", "e_region", "swap", "regime", "realtime", "completed"]
 
 
 def module(name):

@@ -1,7 +1,8 @@
 """Which body carries the grid (left open by the paper), on results/swap.csv (scripts/study.py swap):
 a finding, judged by the rule of claim (a) (a position error smaller beyond the noise between two
 runs that are evidence) with one addition (rules.decide_stable_wins): where one placement's run is
-evidence (stable, helps, tunnels nothing) and the other's is not stable, the evidence wins. Per
+evidence (stable, helps, tunnels nothing) and the other's is not (not stable, tunnels, or no better
+than no force), the evidence wins. Per
 setting, the grid as the scene has it against swapped.
 """
 
@@ -44,8 +45,8 @@ def judge(ctx):
           "swapped, against the reference over the final window (scripts/study.py swap, results/tables/swap.md); "
           "judged by the rule of claim (a): a position error smaller beyond the noise between two runs that are "
           "evidence (stable, helps, tunnels nothing); and where one placement's run is evidence and the other's is "
-          "not stable, the evidence wins (the unstable placement loses); other pairs with a run that is not evidence "
-          "are not judged.", "",
+          "not (not stable, tunnels, or no better than no force), the evidence wins; pairs in which neither run is "
+          "evidence are not judged.", "",
           "| scenario | elim. | force | voxel (mm) | grid as the scene (mm) | grid swapped (mm) | better |",
           "|---|---|---|---:|---:|---:|---|"]
     settings = {}

@@ -16,11 +16,11 @@ from . import common
 
 # The order of `study.py all`.
 ORDER = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime", "swap", "region", "orient",
-         "bullet", "detection"]
+         "bullet", "detection", "restriction", "regime"]
 # The studies that run on a user's scene (--scene FILE|NAME --out DIR): the same code as the
 # bundled ones, the scene's own eliminator, footing voxels from its host's node spacing, its
 # reference (--reference DIR, or made into DIR/references/<name>).
-USER_STUDIES = ["accuracy", "ablation", "convergence", "refinement", "realtime", "swap", "detection"]
+USER_STUDIES = ["accuracy", "ablation", "convergence", "refinement", "realtime", "swap", "detection", "restriction", "regime"]
 
 
 def module(name):

@@ -457,3 +457,31 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
   CHECK(st.contacts == 0);
   CHECK(st.force == 0.0);
 }
+
+TEST_CASE("contact damping takes energy out of a contact and never pulls", "[collision][eliminator][damping]") {
+  // One guest node inside the host's voxel, pushed by the paper's constant 1 N along the line from
+  // the nearest host node (at rest); with damping c the force is max(0, 1 - c v_n), v_n its speed
+  // away from the host along the push: its power on the pair's relative motion falls by c v_n^2.
+  const double dt = 1e-4, c = 2.0;
+  auto run = [&](double damping, double vn) {
+    World w;
+    add_body(w, "host", cloud({Vec3(0, 0, 0), Vec3(1, 1, 1)}));
+    add_body(w, "guest", cloud({Vec3(0.1, 0.1, 0.1), Vec3(9, 9, 9)}));
+    ContactSpec s = pair_spec(EliminatorKind::line, 0.5);
+    s.damping = damping;
+    const Vec3 n = Vec3(1, 1, 1).normalized();
+    w.v[2] = vn * n;
+    for (Vec3& f : w.f) f.setZero();
+    Collision col(w, s);
+    const PairStep st = col.step(w, dt);
+    REQUIRE(st.contacts == 1);
+    CHECK((w.f[2] - st.force * n).norm() < 1e-12);
+    CHECK((w.f[0] + w.f[2]).norm() < 1e-12);  // the host node takes the reaction
+    return st.force;
+  };
+  CHECK(run(0.0, -0.3) == Approx(1.0));        // no damping: the paper's force
+  CHECK(run(c, 0.0) == Approx(1.0));           // at rest: unchanged
+  CHECK(run(c, -0.3) == Approx(1.0 + c * 0.3));  // approaching: more
+  CHECK(run(c, 0.2) == Approx(1.0 - c * 0.2));   // separating: less
+  CHECK(run(c, 2.0) == 0.0);                   // separating faster than F / c: none, never a pull
+}

@@ -47,6 +47,7 @@ void check_contact_defaults(const ContactSpec& s) {
   CHECK(s.two_sided == def("contact", "two_sided").get<bool>());
   CHECK(s.invert_push == def("contact", "invert_push").get<bool>());
   CHECK(s.separation_time == def("contact", "separation_time").get<double>());
+  CHECK(s.damping == def("contact", "damping").get<double>());
   REQUIRE(def("contact", "force") == "auto");
   CHECK(s.force_rule == ForceRule::automatic);
 }
