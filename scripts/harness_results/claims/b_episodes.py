@@ -29,6 +29,20 @@ P90_MAX_STEPS = 100
 OPEN_MAX_FRACTION = 0.05
 
 
+def failing_criteria(peak_frac, p90, failed_frac, p90_max=P90_MAX_STEPS, failed_max=OPEN_MAX_FRACTION,
+                     peak_max=SEPARATE_MAX_FRACTION, unit="steps"):
+    """The criteria a body's episodes fail, in words ([] when all three hold): the peak share of its
+    nodes, the 90th percentile length (in `unit`; none or NaN: not judged), the failed share."""
+    reasons = []
+    if peak_frac is not None and peak_frac == peak_frac and peak_frac > peak_max:
+        reasons.append("peak %.1f %% of its nodes > %g %%" % (100 * peak_frac, 100 * peak_max))
+    if p90 is not None and p90 == p90 and p90 > p90_max:
+        reasons.append("p90 %s %s > %d" % ("%d" % p90 if isinstance(p90, int) else "%g" % p90, unit, p90_max))
+    if failed_frac > failed_max:
+        reasons.append("%.1f %% failed (open or through) > %g %%" % (100 * failed_frac, 100 * failed_max))
+    return reasons
+
+
 def episode_stats(episodes, body, nodes, peak):
     """The episodes of one body in one run against the three criteria."""
     lengths = sorted(int(r["steps"]) for r in episodes if r["body"] == body)
@@ -41,13 +55,7 @@ def episode_stats(episodes, body, nodes, peak):
           "open_frac": (failed / n) if n else 0.0, "through_frac": (nthrough / n) if n else 0.0,
           "passages": any(r.get("passages") for r in episodes),
           "peak": peak, "peak_frac": (peak / nodes) if nodes else None}
-    reasons = []
-    if st["peak_frac"] is not None and st["peak_frac"] > SEPARATE_MAX_FRACTION:
-        reasons.append("peak %.1f %% of its nodes > %g %%" % (100 * st["peak_frac"], 100 * SEPARATE_MAX_FRACTION))
-    if st["p90"] is not None and st["p90"] > P90_MAX_STEPS:
-        reasons.append("p90 %d steps > %d" % (st["p90"], P90_MAX_STEPS))
-    if st["open_frac"] > OPEN_MAX_FRACTION:
-        reasons.append("%.1f %% failed (open or through) > %g %%" % (100 * st["open_frac"], 100 * OPEN_MAX_FRACTION))
+    reasons = failing_criteria(st["peak_frac"], st["p90"], st["open_frac"])
     st["holds"] = not reasons
     st["why"] = "; ".join(reasons) if reasons else "all three met"
     return st

@@ -103,16 +103,6 @@ def outcome(rest, pen, floor, factor=MUCH, stat="median", bound=0.0, basis="time
     return rules.WITHIN_NOISE, "%.3gx the time, within the repeats' spread of %gx" % (ratio, factor)
 
 
-def with_bound(r):
-    """The restriction's row with the bound's cost added to its contact time (and its range)."""
-    b = reader.num(r.get("t_bound_us"))
-    out = dict(r)
-    if reader.present(b):
-        for k in ["t_contact_us", "t_contact_min_us", "t_contact_max_us"]:
-            out[k] = reader.num(r.get(k)) + b
-    return out
-
-
 def ratio_text(r, pen, stat, bound=0.0):
     """Its time over the penalty's, marked where the run failed (its times are over the steps it ran,
     not the same work)."""
@@ -271,15 +261,15 @@ def judge_exact_accuracy(ctx):
                 q = next((r for r in pen if r["config"] == p["config"]), None)
                 if q is None:
                     continue
-                o, why = outcome(p, q, floor, MUCH, "median", reader.num(p.get("t_bound_us")))
-                outcomes.append(o)
                 b = reader.num(p.get("t_bound_us"))
-                wb = with_bound(p)
+                o, why = outcome(p, q, floor, MUCH, "median", b)
+                outcomes.append(o)
+                with_b = timed(p, "median", b)["t_us"]
                 if reader.present(b) and q["t_contact_us"] > 0 and o in ("a", "b"):  # the judged pairs'
-                    bound_ratios.append(wb["t_contact_us"] / q["t_contact_us"])
+                    bound_ratios.append(with_b / q["t_contact_us"])
                 md.append("| %s | %s | %.3g | %.3g | %s | %s | %.3g | %.3g | %s |" % (
                     scene_cell(ctx, scene), p["config"], q["t_contact_us"], p["t_contact_us"], "%.3g" % b if reader.present(b) else "-",
-                    "%.3g" % (wb["t_contact_us"] / q["t_contact_us"]) if q["t_contact_us"] > 0 else "-",
+                    "%.3g" % (with_b / q["t_contact_us"]) if q["t_contact_us"] > 0 else "-",
                     q["pos_err_max_mm"], p["pos_err_max_mm"],
                     {"a": "for (%s)" % why, "b": "against (%s)" % why,
                      rules.WITHIN_NOISE: "within the noise (%s)" % why}.get(o, "not judged (penalty: %s)" % o)))

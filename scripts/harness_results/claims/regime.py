@@ -14,6 +14,7 @@ comparisons come from.
 """
 
 from .. import reader, rules
+from . import b_episodes
 from .common import Verdict, figure, floor_mm, tally_macros, verdict_line
 
 NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "voxel_mm",
@@ -44,10 +45,9 @@ def b_outcome(r, p90_max=100, failed_max=0.05, peak_max=0.05):
         return gap
     if not reader.present(r.get("ep_episodes")):
         return rules.MISSING
-    p90 = reader.num(r.get("ep_p90"))
-    ok = ((not reader.present(p90) or p90 <= p90_max) and reader.num(r.get("ep_failed_frac"), 0.0) <= failed_max
-          and reader.num(r.get("ep_peak_frac"), 0.0) <= peak_max)
-    return "a" if ok else "b"
+    fails = b_episodes.failing_criteria(reader.num(r.get("ep_peak_frac"), 0.0), reader.num(r.get("ep_p90")),
+                                        reader.num(r.get("ep_failed_frac"), 0.0), p90_max, failed_max, peak_max)
+    return "b" if fails else "a"
 
 
 FAMILIES = ["paper", "damped"]

@@ -164,7 +164,17 @@ def pooled(timed):
             "t_step_p99_us": rules.median([x["step_p99_us"] for x in d]),
             "t_contact_mean_us": sum(x["contact_mean_us"] for x in d) / len(d) if d else nan,
             "t_contact_p99_us": rules.median([x["contact_p99_us"] for x in d]),
+            # the unit's response part alone (a response that uses no detected contact: the volume restriction)
+            "t_eliminate_mean_us": sum(x["eliminate_mean_us"] for x in d) / len(d) if d else nan,
+            "t_eliminate_p99_us": rules.median([x["eliminate_p99_us"] for x in d]),
+            "t_eliminate_median_us": rules.median([x["eliminate_median_us"] for x in d]),
             "machine": d[0]["machine"] if d else ""}
+
+
+def timing_runs(summaries):
+    """The timing repeats of runner.repeated's runs that ran (a repeat not run, study.py --cached-only,
+    or refused has no time); the error run where there are none."""
+    return [s for s in summaries[1:] if reader.status(s) not in ("not run", "refused")] or summaries[:1]
 
 
 def combine(summaries):
@@ -174,8 +184,7 @@ def combine(summaries):
     repeats' medians and their range (min, max), the pooled mean and the median of the repeats'
     99th percentiles, and the machine as the runs recorded it."""
     f = figures(summaries[0])
-    # A repeat not run (study.py --cached-only) has no time: the others' median and range.
-    timed = [s for s in summaries[1:] if reader.status(s) not in ("not run", "refused")] or summaries[:1]
+    timed = timing_runs(summaries)
     tc = sorted(figures(s)["t_contact_us"] for s in timed)
     ts = sorted(figures(s)["t_step_us"] for s in timed)
     f["t_contact_us"] = rules.median(tc)

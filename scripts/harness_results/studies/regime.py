@@ -75,13 +75,7 @@ def episodes(path, divide=1):
         return {}
     nan = float("nan")
     p90 = g["p90"] / divide if g["p90"] is not None else nan
-    reasons = []
-    if g["peak_frac"] is not None and g["peak_frac"] > b_episodes.SEPARATE_MAX_FRACTION:
-        reasons.append("peak %.1f %% of its nodes > %g %%" % (100 * g["peak_frac"], 100 * b_episodes.SEPARATE_MAX_FRACTION))
-    if p90 > b_episodes.P90_MAX_STEPS:
-        reasons.append("p90 %g scene steps > %d" % (p90, b_episodes.P90_MAX_STEPS))
-    if g["open_frac"] > b_episodes.OPEN_MAX_FRACTION:
-        reasons.append("%.1f %% failed (open or through) > %g %%" % (100 * g["open_frac"], 100 * b_episodes.OPEN_MAX_FRACTION))
+    reasons = b_episodes.failing_criteria(g["peak_frac"], float(p90), g["open_frac"], unit="scene steps")
     return {"ep_episodes": g["episodes"], "ep_median": g["median"] / divide if g["median"] is not None else nan,
             "ep_p90": p90, "ep_failed_frac": g["open_frac"], "ep_through_frac": g["through_frac"],
             "ep_peak_frac": nan if g["peak_frac"] is None else g["peak_frac"], "ep_passages": "yes" if g["passages"] else "no",

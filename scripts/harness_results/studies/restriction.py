@@ -16,7 +16,7 @@ import os
 
 from .. import reader, rules, runner, writers
 from .accuracy import BOUND, FOOTING_VOXELS, NO_FORCE, bound_time_us
-from .common import (PENALTY, STUDY_EVERY, combine, config_sets, folder_name, footing_voxels, force_label, read_rows,
+from .common import (PENALTY, STUDY_EVERY, combine, config_sets, timing_runs, folder_name, footing_voxels, force_label, read_rows,
                      scenes, table_path)
 
 # The responses compared, (eliminator, force, extra sets): the force rule is not used by projection
@@ -48,8 +48,7 @@ def response_name(elim, extra):
 
 def spread(summaries, key):
     """(min, max) over the timing repeats of a per-run statistic (reader.step_distribution's key)."""
-    timed = [s for s in summaries[1:] if reader.status(s) not in ("not run", "refused")] or summaries[:1]
-    v = sorted(reader.step_distribution(s)[key] for s in timed)
+    v = sorted(reader.step_distribution(s)[key] for s in timing_runs(summaries))
     return v[0], v[-1]
 
 
@@ -76,10 +75,6 @@ def run(a):
                                          [bound_time_us(jobs[i][1])]) if BOUND in extra else float("nan"))
         for key in ("contact_mean", "contact_p99", "eliminate_mean", "eliminate_p99", "eliminate_median"):
             r["t_%s_min_us" % key], r["t_%s_max_us" % key] = spread(s, key + "_us")
-        timed = [reader.step_distribution(x) for x in s[1:]] or [reader.step_distribution(s[0])]
-        r["t_eliminate_mean_us"] = sum(d["eliminate_mean_us"] for d in timed) / len(timed)
-        r["t_eliminate_p99_us"] = rules.median([d["eliminate_p99_us"] for d in timed])
-        r["t_eliminate_median_us"] = rules.median([d["eliminate_median_us"] for d in timed])
         r["status"] = reader.status(s[0])
         rows.append(r)
     write(a, rows)
