@@ -11,7 +11,7 @@
 namespace harness {
 
 Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : scene_(scene) {
-  world_ = build_world(scene_);
+  world_ = build_world(scene_, options.layout);
   kinematics_ = resolve_kinematics(scene_, world_);
   build_pairs();
   build_effects(options);

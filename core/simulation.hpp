@@ -37,6 +37,9 @@ struct SimulationOptions {
   // never. Only the time depends on it, never the bits (tests run it always).
   enum class Overlap { automatic, always, never };
   Overlap overlap = Overlap::automatic;
+  // The node order of the world (node_order.hpp, world_build.hpp): a layout only; outputs keep the
+  // scene's numbering.
+  WorldBuild layout;
 };
 
 // Wall time of the last step, microseconds (steady_clock). physics: everything but the contact

@@ -39,8 +39,16 @@ struct Body {
   Vec3 rest_min = Vec3::Zero(), rest_max = Vec3::Zero();  // rest bounding box
   double volume = 0.0;                                    // rest enclosed volume, m^3
 
+  // The node order (node_order.hpp): scene_node[i] is the scene's body-local index of the node at
+  // body-local index i, node_of_scene its inverse; both empty when the order is the scene's own.
+  // Outputs that name or list nodes use the scene's numbering.
+  std::vector<int> scene_node, node_of_scene;
+
   int size() const { return end - begin; }
   int surface_node(int s) const { return begin + s; }  // global index of surface vertex s
+  // The scene's body-local index of body-local node i, and the body-local node of scene index s.
+  int scene_index(int i) const { return scene_node.empty() ? i : scene_node[static_cast<std::size_t>(i)]; }
+  int local_of_scene(int s) const { return node_of_scene.empty() ? s : node_of_scene[static_cast<std::size_t>(s)]; }
 };
 
 // The law all springs of a body follow; each spring has its own stiffness (Springs::k).
@@ -62,6 +70,15 @@ struct Springs {
 // prescribed velocity kin_v (driven, effect "drivers").
 enum class Kinematic : std::uint8_t { free, pinned, driven };
 
+// How a world's nodes are laid out in its arrays (node_order.hpp): the scene's own numbering, or
+// an order by locality.
+enum class NodeOrder {
+  scene,   // as generated or read (the shape's own numbering)
+  morton,  // by the Morton (Z-order) code of the rest position over the body's box
+  rcm,     // reverse Cuthill-McKee over the springs (breadth-first from a peripheral node)
+};
+const char* node_order_name(NodeOrder o);
+
 struct World {
   Points x;   // positions, m
   Points x0;  // rest positions, m (as generated; selections and displacements refer to them)
@@ -75,6 +92,7 @@ struct World {
   std::vector<Body> bodies;
   std::vector<BodyLaw> body_law;  // per body
   Springs springs;
+  NodeOrder node_order = NodeOrder::scene;  // the layout it was built in (Body::scene_node per body)
 
   int num_nodes() const { return static_cast<int>(x.size()); }
   bool is_free(int i) const { return kinematic[i] == Kinematic::free; }

@@ -1,9 +1,13 @@
 #include "core/world_build.hpp"
 
 #include "core/mesh.hpp"
+#include "core/node_order.hpp"
 #include "core/shapes/shapes.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <random>
 #include <stdexcept>
 
 namespace harness {
@@ -48,8 +52,34 @@ double spring_stiffness(const Material& m, const ShapeModel& model, std::size_t 
 }
 
 // Appends a generated body to the world's arrays (nodes, springs, masses) and its topology.
-void append_body(World& w, const BodySpec& bs, ShapeModel&& model) {
+void append_body(World& w, const BodySpec& bs, ShapeModel&& model, const WorldBuild& build) {
+  const NodeOrder order = build.order;
   Body b;
+  // The layout's permutation, perm[new] = the scene's index: an arbitrary numbering first when
+  // asked for (benches, tests: each body's surface and interior shuffled apart), then the order.
+  std::vector<int> perm(model.nodes.size());
+  std::iota(perm.begin(), perm.end(), 0);
+  if (build.shuffle_seed != 0) {
+    std::mt19937_64 g(build.shuffle_seed);
+    const auto ns = static_cast<std::ptrdiff_t>(std::clamp(model.n_surface, 0, static_cast<int>(perm.size())));
+    std::shuffle(perm.begin(), perm.begin() + ns, g);
+    std::shuffle(perm.begin() + ns, perm.end(), g);
+    apply_node_permutation(model, perm);
+  }
+  if (order != NodeOrder::scene) {
+    const std::vector<int> p = node_permutation(model, order);
+    apply_node_permutation(model, p);
+    std::vector<int> total(p.size());
+    for (std::size_t k = 0; k < p.size(); ++k) total[k] = perm[static_cast<std::size_t>(p[k])];
+    perm = std::move(total);
+  }
+  bool identity = true;
+  for (std::size_t k = 0; k < perm.size(); ++k) identity = identity && perm[k] == static_cast<int>(k);
+  if (!identity) {
+    b.node_of_scene.assign(perm.size(), 0);
+    for (std::size_t k = 0; k < perm.size(); ++k) b.node_of_scene[static_cast<std::size_t>(perm[k])] = static_cast<int>(k);
+    b.scene_node = std::move(perm);
+  }
   b.name = bs.name;
   b.begin = w.num_nodes();
   b.end = b.begin + static_cast<int>(model.nodes.size());
@@ -112,9 +142,10 @@ std::vector<int> select_nodes(const World& w, int body, const Selection& sel) {
   return out;
 }
 
-World build_world(const Scene& scene) {
+World build_world(const Scene& scene, const WorldBuild& build) {
   World w;
-  for (const BodySpec& bs : scene.bodies) append_body(w, bs, generate(scene, bs));
+  w.node_order = build.order;
+  for (const BodySpec& bs : scene.bodies) append_body(w, bs, generate(scene, bs), build);
   const int n = w.num_nodes();
   for (int i = 0; i < n; ++i) {
     if (!(w.m[i] > 0.0) || !std::isfinite(w.m[i]))

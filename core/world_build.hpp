@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/effects/effects.hpp"
+#include "core/node_order.hpp"
 #include "core/scene/scene.hpp"
 #include "core/world.hpp"
 
@@ -14,9 +15,17 @@
 
 namespace harness {
 
+// How the nodes are laid out (node_order.hpp): the order by locality, and for benches and tests an
+// arbitrary numbering to start from (shuffle_seed != 0: each body's surface and interior nodes
+// shuffled, as an arbitrary mesh file may number them, before the order is applied).
+struct WorldBuild {
+  NodeOrder order = kDefaultNodeOrder;
+  unsigned long long shuffle_seed = 0;
+};
+
 // The world of a scene at rest. Throws InputError (file and key path) for what only shows when
 // the bodies are built: a mesh file, a shape the generators refuse, a node without mass.
-World build_world(const Scene& scene);
+World build_world(const Scene& scene, const WorldBuild& build = {});
 
 // Global node indices of a body that a selection picks (on the rest positions).
 std::vector<int> select_nodes(const World& w, int body, const Selection& sel);

@@ -267,7 +267,10 @@ const std::vector<std::string>& bench_methods() {
   static const std::vector<std::string> names = {"voxel_detect", "voxel_detect_eliminate", "voxel_exact_detect",
                                                  "voxel_exact_detect_eliminate", "hash_detect",
                                                  "hash_detect_cell_x0.5", "hash_detect_cell_x2", "hash_detect_cell_x4",
-                                                 "stream_positions", "step", "step_audited", "stream_step", "arith_floor", "pass_floor", "fcl", "cgal",
+                                                 "stream_positions", "step", "step_audited", "stream_step", "arith_floor", "pass_floor",
+                                                 "step_order_scene", "step_order_rcm", "step_order_morton",
+                                                 "step_shuffled_order_scene", "step_shuffled_order_rcm",
+                                                 "step_shuffled_order_morton", "fcl", "cgal",
                                                  "bullet_collide"};
   return names;
 }
@@ -331,17 +334,6 @@ class BenchSize {
       Simulation audited(sim_->scene(), so);
       audited.energy_read_every(kEnergyEvery);  // as a run's recorder tells it
       static_assert(kEnergyEvery % StabilityGuard::kEvery == 0 || StabilityGuard::kEvery % kEnergyEvery == 0);
-      auto starter = [](Simulation& sim) {
-        World& sw = sim.world();
-        auto x0 = std::make_shared<Points>(sw.x), v0 = std::make_shared<Points>(sw.v);
-        return [&sim, x0, v0] {
-          for (int pass = 0; pass < 2; ++pass) {
-            std::copy(x0->begin(), x0->end(), sim.world().x.begin());
-            std::copy(v0->begin(), v0->end(), sim.world().v.begin());
-            if (pass == 0) sim.step();
-          }
-        };
-      };
       const std::string reps = "; repetitions of " + std::to_string(StabilityGuard::kEvery) +
                                " steps (one stability check) after an untimed step on their thread count";
       Method plain{"step", [&] {
@@ -359,6 +351,48 @@ class BenchSize {
       measure_together(plain, with_audit, T, 0, StabilityGuard::kEvery);
       std::copy(x0.begin(), x0.end(), w.x.begin());
       std::copy(v0.begin(), v0.end(), w.v.begin());
+    }
+  }
+
+  // The node order (node_order.hpp) against the step row's (kDefaultNodeOrder): the same scene laid
+  // out in another order, and with its nodes first shuffled (each body's surface and interior apart:
+  // a mesh file's arbitrary numbering) then laid out in each order. Each variant is timed side by
+  // side with the default layout's step (their repetitions taking turns, one thread), and its row's
+  // note gives their ratio: a slow phase of the machine does not decide it. One variant's world at a
+  // time (at 10^6 nodes per body a world and its force pass take gigabytes).
+  void order_rows() {
+    struct Variant {
+      NodeOrder order;
+      unsigned long long seed;
+    };
+    std::vector<Variant> variants;
+    for (NodeOrder o : {NodeOrder::scene, NodeOrder::rcm, NodeOrder::morton})
+      if (o != kDefaultNodeOrder) variants.push_back({o, 0});
+    for (NodeOrder o : {NodeOrder::scene, NodeOrder::rcm, NodeOrder::morton}) variants.push_back({o, 20261127});
+    const std::string reps = "; repetitions of " + std::to_string(StabilityGuard::kEvery) +
+                             " steps after an untimed step on one thread taking turns with the step row's layout (" +
+                             node_order_name(kDefaultNodeOrder) + ")";
+    for (const Variant& v : variants) {
+      const std::string name = std::string(v.seed ? "step_shuffled_order_" : "step_order_") + node_order_name(v.order);
+      if (!wanted(name)) continue;
+      SimulationOptions so;
+      so.audit = false;
+      so.layout.order = v.order;
+      so.layout.shuffle_seed = v.seed;
+      Simulation other(sim_->scene(), so);
+      const Points x0 = sim_->world().x, v0 = sim_->world().v;
+      std::vector<Timed> t = {{[&] { for (int k = 0; k < StabilityGuard::kEvery; ++k) sim_->step(); }, 1, starter(*sim_)},
+                              {[&] { for (int k = 0; k < StabilityGuard::kEvery; ++k) other.step(); }, 1, starter(other)}};
+      std::vector<int> nrep;
+      const std::vector<double> us = time_steps(t, opt_, 1e30, nrep);
+      std::copy(x0.begin(), x0.end(), sim_->world().x.begin());
+      std::copy(v0.begin(), v0.end(), sim_->world().v.begin());
+      char ratio[160];
+      std::snprintf(ratio, sizeof ratio, "; %.3f x the step row's layout side by side (%.1f against %.1f us)",
+                    us[1] / us[0], us[1] / StabilityGuard::kEvery, us[0] / StabilityGuard::kEvery);
+      emit_row(name, 1, us[1] / StabilityGuard::kEvery, nrep[1], 0,
+               std::string("per step from the initial state; nodes ") + (v.seed ? "shuffled then " : "") + "laid out in " +
+                   node_order_name(v.order) + " order" + reps + ratio);
     }
   }
 
@@ -444,6 +478,19 @@ class BenchSize {
   }
 
  private:
+  // An untimed reset before each repetition: the initial state, one step on the repetition's
+  // thread count (its data then sits in that count's caches), the initial state again.
+  static std::function<void()> starter(Simulation& sim) {
+    World& sw = sim.world();
+    auto x0 = std::make_shared<Points>(sw.x), v0 = std::make_shared<Points>(sw.v);
+    return [&sim, x0, v0] {
+      for (int pass = 0; pass < 2; ++pass) {
+        std::copy(x0->begin(), x0->end(), sim.world().x.begin());
+        std::copy(v0->begin(), v0->end(), sim.world().v.begin());
+        if (pass == 0) sim.step();
+      }
+    };
+  }
   bool wanted(const std::string& m) const {
     return opt_.methods.empty() || std::find(opt_.methods.begin(), opt_.methods.end(), m) != opt_.methods.end();
   }
@@ -545,6 +592,7 @@ int run_bench(const BenchOptions& opt) {
   for (long long n : sizes) {
     BenchSize b(n, opt, out);
     b.core_rows();
+    b.order_rows();
     b.voxel_exact_rows();
     set_threads(1);
     if (opt.references) b.reference_rows();

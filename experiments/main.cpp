@@ -115,6 +115,7 @@ struct RunCommand {
   BulletOptions bullet;
   std::string device;
   bool check_cpu = false;
+  std::string node_order = node_order_name(kDefaultNodeOrder);
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
@@ -144,11 +145,17 @@ struct RunCommand {
                                         "thread); writes summary.json and state.csv (docs/architecture.md)");
     cmd->add_flag("--check-cpu", check_cpu, "with --device: also step the CPU's simulation and record the largest "
                                             "node distance between the two states");
+    cmd->add_option("--node-order", node_order, "the nodes' layout in memory: scene (the shape's own numbering), rcm "
+                                                "(reverse Cuthill-McKee) or morton; outputs keep the scene's numbering")
+        ->capture_default_str();
   }
   int exec() {
+    NodeOrder order = kDefaultNodeOrder;
+    if (!parse_node_order(node_order, order)) throw InputError("--node-order " + node_order, "expected scene, rcm or morton");
     if (!device.empty()) {
       if (engine != "harness" || !compare.empty())
         throw InputError("--device", "not with --engine or --compare");
+      if (order != kDefaultNodeOrder) throw InputError("--node-order", "not with --device");
       if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
       const Scene sc = edited_scene(scene, sets, cmd->count("--steps") > 0, steps, dt_divide, cmd->count("--dt") > 0, dt);
       DeviceRunOptions d;
@@ -174,6 +181,7 @@ struct RunCommand {
     opt.progress = !quiet;
     opt.compare_dir = compare;
     opt.strict = strict;
+    opt.node_order = order;
     if (engine == "bullet") {
 #ifdef HARNESS_HAVE_BULLET
       opt.engine = make_bullet_engine(bullet);

@@ -6,6 +6,7 @@
 #include "core/clock.hpp"
 #include "core/parallel.hpp"
 #include "core/run/run_scene.hpp"
+#include "core/node_order.hpp"
 #include "core/simulation.hpp"
 
 #ifdef HARNESS_HAVE_REFERENCE
@@ -50,10 +51,12 @@ bool as_index(const pyb::handle& o, long long& out) {
 
 class PySim {
  public:
-  PySim(const pyb::object& scene, int threads) : threads_(threads) {
+  PySim(const pyb::object& scene, int threads, const std::string& node_order) : threads_(threads) {
     if (threads < 1) throw pyb::value_error("threads: must be >= 1");
-    const PyScene s = as_scene(scene);
     SimulationOptions so;
+    if (!parse_node_order(node_order, so.layout.order))
+      throw pyb::value_error("node_order: expected scene, rcm or morton, not '" + node_order + "'");
+    const PyScene s = as_scene(scene);
     so.exact_detectors = exact_detector_maker();
     sim_ = std::make_unique<Simulation>(s.scene, so);
     good_x_.resize(sim_->world().num_nodes());
@@ -135,6 +138,14 @@ class PySim {
     const Busy busy(s);
     const Body& b = s.body(which);
     Points& p = velocities ? s.sim_->world().v : s.sim_->world().x;
+    if (!b.scene_node.empty()) {  // a world laid out in another order (node_order.hpp): a copy, rows in the scene's numbering
+      pyb::array_t<double> c({static_cast<pyb::ssize_t>(b.size()), pyb::ssize_t{3}});
+      auto m = c.mutable_unchecked<2>();
+      for (int q = 0; q < b.size(); ++q)
+        for (int k = 0; k < 3; ++k) m(q, k) = p[b.begin + b.local_of_scene(q)][k];
+      pyb::detail::array_proxy(c.ptr())->flags &= ~pyb::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+      return std::move(c);
+    }
     pyb::array a(pyb::dtype::of<double>(), {static_cast<pyb::ssize_t>(b.size()), pyb::ssize_t{3}},
                  {static_cast<pyb::ssize_t>(sizeof(Vec3)), static_cast<pyb::ssize_t>(sizeof(double))},
                  p[b.begin].data(), self);
@@ -171,7 +182,7 @@ class PySim {
       if (!std::isfinite(r(k, 0)) || !std::isfinite(r(k, 1)) || !std::isfinite(r(k, 2)))
         throw pyb::value_error("row " + std::to_string(k) + " is not finite");
     Points& p = velocities ? sim_->world().v : sim_->world().x;
-    for (std::size_t k = 0; k < idx.size(); ++k) p[b.begin + idx[k]] = Vec3(r(k, 0), r(k, 1), r(k, 2));
+    for (std::size_t k = 0; k < idx.size(); ++k) p[b.begin + b.local_of_scene(idx[k])] = Vec3(r(k, 0), r(k, 1), r(k, 2));
     sim_->reset_energy();
   }
 
@@ -214,7 +225,7 @@ pyb::dict PySim::contacts(const pyb::object& which) const {
     for (int side = 0; side < 2; ++side) {
       const Body& nb = w.bodies[side == 0 ? pr.spec.guest : pr.spec.host];
       for (const Contact& ct : side == 0 ? c.contacts() : c.reverse_contacts()) {
-        node.push_back(ct.guest - nb.begin), key.push_back(ct.key), way.push_back(side);
+        node.push_back(nb.scene_index(ct.guest - nb.begin)), key.push_back(ct.key), way.push_back(side);
         const bool has = k < pushes.size();
         for (int d = 0; d < 3; ++d) dir.push_back(has ? pushes[k].n[d] : 0.0);
         depth.push_back(has ? pushes[k].depth : 0.0);
@@ -300,8 +311,10 @@ pyb::object PySim::measure(const pyb::object& which) {
 void bind_simulation(pyb::module_& m) {
   simulation_error() = pyb::exception<std::runtime_error>(m, "SimulationError", PyExc_RuntimeError);
   pyb::class_<PySim>(m, "Simulation", "A scene built and stepped from Python (docs/python.md).")
-      .def(pyb::init<const pyb::object&, int>(), pyb::arg("scene"), pyb::arg("threads") = 1,
-           "A simulation of a Scene (or a dict, a scene file, a bundled name), built now (SceneError for bad input).")
+      .def(pyb::init<const pyb::object&, int, const std::string&>(), pyb::arg("scene"), pyb::arg("threads") = 1,
+           pyb::arg("node_order") = std::string(node_order_name(kDefaultNodeOrder)),
+           "A simulation of a Scene (or a dict, a scene file, a bundled name), built now (SceneError for bad input); "
+           "node_order: the nodes' layout (scene, rcm, morton; arrays keep the scene's numbering).")
       .def("step", &PySim::step, pyb::arg("n") = 1,
            "n steps of scene.dt (the GIL released; Ctrl-C stops between steps with KeyboardInterrupt).")
       .def_property_readonly("time", [](const PySim& s) { return s.sim().time(); })

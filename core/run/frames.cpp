@@ -68,15 +68,17 @@ void write_vtk(const std::string& path, const World& w, int body, const std::str
   std::FILE* f = out.f;
   std::fprintf(f, "# vtk DataFile Version 3.0\n%s\nASCII\nDATASET POLYDATA\nPOINTS %d double\n",
                title.c_str(), b.n_surface);
-  for (int s = 0; s < b.n_surface; ++s) {
-    const Vec3& p = w.x[b.begin + s];
+  // The scene's numbering (world.hpp: Body::scene_node): point q is the node the scene numbers q.
+  for (int q = 0; q < b.n_surface; ++q) {
+    const Vec3& p = w.x[b.begin + b.local_of_scene(q)];
     std::fprintf(f, "%.9g %.9g %.9g\n", p.x(), p.y(), p.z());
   }
   std::fprintf(f, "POLYGONS %zu %zu\n", b.faces.size(), 4 * b.faces.size());
-  for (const Tri& t : b.faces) std::fprintf(f, "3 %d %d %d\n", t[0], t[1], t[2]);
+  for (const Tri& t : b.faces)
+    std::fprintf(f, "3 %d %d %d\n", b.scene_index(t[0]), b.scene_index(t[1]), b.scene_index(t[2]));
   if (penetrating) {
     std::fprintf(f, "POINT_DATA %d\nSCALARS penetrating int 1\nLOOKUP_TABLE default\n", b.n_surface);
-    for (int v = 0; v < b.n_surface; ++v) std::fprintf(f, "%d\n", (*penetrating)[v] ? 1 : 0);
+    for (int q = 0; q < b.n_surface; ++q) std::fprintf(f, "%d\n", (*penetrating)[b.local_of_scene(q)] ? 1 : 0);
   }
   out.close();
 }
@@ -86,21 +88,21 @@ void write_vtk_xml(const std::string& path, const World& w, int body, const Fram
   const int n = b.n_surface;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> pts(3 * n), disp(3 * n), vel(3 * n), force(3 * n, nan), sd(n, nan), pen(n, nan);
-  for (int s = 0; s < n; ++s) {
-    const int i = b.begin + s;
+  for (int q = 0; q < n; ++q) {  // point q: the node the scene numbers q (Body::scene_node)
+    const int s = b.local_of_scene(q), i = b.begin + s;
     for (int k = 0; k < 3; ++k) {
-      pts[3 * s + k] = w.x[i][k];
-      disp[3 * s + k] = w.x0.empty() ? nan : w.x[i][k] - w.x0[i][k];
-      vel[3 * s + k] = w.v[i][k];
-      if (!data.contact_force.empty()) force[3 * s + k] = data.contact_force[s][k];
+      pts[3 * q + k] = w.x[i][k];
+      disp[3 * q + k] = w.x0.empty() ? nan : w.x[i][k] - w.x0[i][k];
+      vel[3 * q + k] = w.v[i][k];
+      if (!data.contact_force.empty()) force[3 * q + k] = data.contact_force[s][k];
     }
-    if (data.signed_distance && static_cast<int>(data.signed_distance->size()) == n) sd[s] = (*data.signed_distance)[s];
-    if (data.penetrating) pen[s] = (*data.penetrating)[s] ? 1.0 : 0.0;
+    if (data.signed_distance && static_cast<int>(data.signed_distance->size()) == n) sd[q] = (*data.signed_distance)[s];
+    if (data.penetrating) pen[q] = (*data.penetrating)[s] ? 1.0 : 0.0;
   }
   const std::size_t m = b.faces.size();
   std::vector<std::int64_t> conn(3 * m), offsets(m);
   for (std::size_t t = 0; t < m; ++t) {
-    for (int k = 0; k < 3; ++k) conn[3 * t + k] = b.faces[t][k];
+    for (int k = 0; k < 3; ++k) conn[3 * t + k] = b.scene_index(b.faces[t][k]);
     offsets[t] = static_cast<std::int64_t>(3 * (t + 1));
   }
   const char* kind = unstructured ? "UnstructuredGrid" : "PolyData";

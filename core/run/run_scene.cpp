@@ -206,6 +206,7 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
   SimulationOptions so;
   so.exact_detectors = opt.exact_detectors;
   so.engine = opt.engine;
+  so.layout.order = opt.node_order;
   Simulation sim(scene, so);  // may throw InputError: nothing written yet
   std::unique_ptr<Comparison> compare = open_comparison(opt, sim);
   std::vector<std::string> warnings = take_start_warnings(scene, sim, opt.strict);

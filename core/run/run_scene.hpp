@@ -5,6 +5,8 @@
 // (run/signals.hpp), the outcome, the warnings and the end line (run/report.hpp).
 #pragma once
 
+#include "core/node_order.hpp"
+
 #include "core/measure.hpp"
 #include "core/run/report.hpp"
 #include "core/scene/scene.hpp"
@@ -25,6 +27,7 @@ struct RunOptions {
   std::map<std::string, std::string> versions;  // extra library versions (FCL, CGAL)
   std::string compare_dir;                      // --compare: a reference or a finished run
   bool strict = false;                          // --strict: a warning is an error (exit 2)
+  NodeOrder node_order = kDefaultNodeOrder;     // --node-order: the world's layout (node_order.hpp)
 };
 
 // Exit status: 0 done, 3 the state became non-finite (last good state and summary written),

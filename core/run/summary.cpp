@@ -234,6 +234,7 @@ json summary_json(const Simulation& sim, const Recorder& rec, const RunOutcome& 
   at(sum, key::kWindow) = window_json(outcome.judged);
   at(sum, key::kStabilityVerdict) = outcome.verdict;
   sum["nodes"] = w.num_nodes();
+  sum["node_order"] = node_order_name(w.node_order);  // the layout (outputs keep the scene's numbering)
   sum["springs"] = w.springs.size();
   sum["bodies"] = json::array();
   for (const Body& b : w.bodies)
@@ -330,7 +331,8 @@ void write_episodes(const std::string& dir, const Simulation& sim, const Recorde
   std::ofstream ep(fs::path(dir) / "penetration_episodes.csv");
   ep << "pair,body,node,first_step,last_step,steps,open,tunnelled\n";
   for (const Episode& e : rec.episodes())
-    ep << sim.pairs()[e.pair].label << "," << sim.world().bodies[e.body].name << "," << e.node << "," << e.first
+    ep << sim.pairs()[e.pair].label << "," << sim.world().bodies[e.body].name << ","
+       << sim.world().bodies[e.body].scene_index(e.node) << "," << e.first
        << "," << e.last << "," << (e.last - e.first + every) << "," << (e.open ? 1 : 0) << ","
        << (e.tunnelled ? 1 : 0) << "\n";
   if (!ep) throw std::runtime_error("cannot write penetration_episodes.csv");

@@ -27,12 +27,17 @@ SurfaceState surface_state(const World& w, int step, double time, const std::vec
   for (std::size_t b = 0; b < w.bodies.size(); ++b) {
     const Body& body = w.bodies[b];
     s.bodies.push_back(body.name);
-    s.x.emplace_back(w.x.begin() + body.begin, w.x.begin() + body.begin + body.n_surface);
+    // In the scene's numbering (Body::scene_node): row q is the node the scene numbers q.
     // Worlds built without rest positions (tests, hand-made states) record x as x0.
     const auto& rest = w.x0.size() == w.x.size() ? w.x0 : w.x;
-    s.x0.emplace_back(rest.begin() + body.begin, rest.begin() + body.begin + body.n_surface);
-    if (b < sd.size() && static_cast<int>(sd[b].size()) == body.n_surface) s.sd.push_back(sd[b]);
-    else s.sd.emplace_back(static_cast<std::size_t>(body.n_surface), kNaN);
+    const bool has_sd = b < sd.size() && static_cast<int>(sd[b].size()) == body.n_surface;
+    s.x.emplace_back(), s.x0.emplace_back(), s.sd.emplace_back();
+    for (int q = 0; q < body.n_surface; ++q) {
+      const int i = body.local_of_scene(q);
+      s.x.back().push_back(w.x[body.begin + i]);
+      s.x0.back().push_back(rest[body.begin + i]);
+      s.sd.back().push_back(has_sd ? sd[b][static_cast<std::size_t>(i)] : kNaN);
+    }
   }
   return s;
 }

@@ -234,6 +234,34 @@ def cell_sweep_lines(rows, sizes):
     return lines
 
 
+# The node order rows (harness bench: core/node_order.hpp), each timed side by side with the step
+# row's layout; their ratio to it is in the note.
+ORDER_ROWS = [("step_order_rcm", "rcm"), ("step_order_morton", "morton"), ("step_order_scene", "scene"),
+              ("step_shuffled_order_scene", "shuffled, kept as it is"), ("step_shuffled_order_rcm", "shuffled, then rcm"),
+              ("step_shuffled_order_morton", "shuffled, then morton")]
+ORDER_RATIO = re.compile(r"([0-9.]+) x the step row's layout side by side")
+
+
+def order_lines(rows, sizes):
+    """bench.md's node order: each layout's step against the step row's, measured side by side
+    (one thread; [] when the bench made no such row)."""
+    found = [(m, label) for m, label in ORDER_ROWS if any(r["method"] == m for r in rows)]
+    if not found:
+        return []
+    lines = ["", "Node order (`--node-order`, one thread): the step in another layout over the step row's, the two "
+             "timed side by side (their repetitions taking turns), by nodes per body. \"shuffled\": each body's "
+             "surface and interior nodes first put in a random order, as a mesh file may number them:", "",
+             "| layout | " + " | ".join("%d" % n for n in sizes) + " |", "|---|" + "---|" * len(sizes)]
+    for m, label in found:
+        vals = []
+        for n in sizes:
+            r = get(rows, m, n, 1)
+            hit = ORDER_RATIO.search(r.get("note", "")) if r else None
+            vals.append(float(hit.group(1)) if hit else None)
+        lines.append("| %s | %s |" % (label, " | ".join(fmt(v, 2) for v in vals)))
+    return lines
+
+
 def table(rows, out_dir, csv_path):
     """tables/bench.md (the ratios, the grid's memory, every time, the cell sweep) and
     tables/bench_ratios.tex (the ratios)."""
@@ -253,7 +281,8 @@ def table(rows, out_dir, csv_path):
     detection_ratios(rows, row)
     step_ratios(rows, sizes, row)
     scaling_ratios(rows, row)
-    lines += memory_lines(rows, sizes) + time_lines(rows, sizes) + cell_sweep_lines(rows, sizes)
+    lines += (memory_lines(rows, sizes) + time_lines(rows, sizes) + order_lines(rows, sizes) +
+              cell_sweep_lines(rows, sizes))
     os.makedirs(os.path.join(out_dir, "tables"), exist_ok=True)
     path = os.path.join(out_dir, "tables", "bench.md")
     with open(path, "w") as f:

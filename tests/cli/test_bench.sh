@@ -23,6 +23,10 @@ done
 if "$H" --help 2>/dev/null | grep -q bench && grep -q "^fcl,1000,1," "$T/bench.csv"; then
   grep -q "^cgal,1000,1," "$T/bench.csv" && ok || bad "cgal row"
 fi
+# the node order rows (one thread): timed side by side with the step row's layout, the ratio in the note
+for m in step_order_rcm step_order_morton step_shuffled_order_scene step_shuffled_order_rcm step_shuffled_order_morton; do
+  grep -q "^$m,1000,1,[0-9.]*,[0-9]*,.*x the step row's layout side by side" "$T/bench.csv" && ok || bad "row $m"
+done
 # step rows carry their ns per spring and their ratio to stream_step of the same run
 head -1 "$T/bench.csv" | grep -q ',ns_per_spring,step_over_stream,device,machine$' && ok \
   || bad "bench ns_per_spring, step_over_stream, device, machine columns"
