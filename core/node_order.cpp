@@ -58,7 +58,8 @@ void morton_group(const ShapeModel& m, int lo, int hi, int* out) {
   for (std::size_t k = 0; k < key.size(); ++k) out[k] = key[k].second;
 }
 
-// The nodes [lo, hi) in reverse Cuthill-McKee order over the springs between them: each connected
+// The nodes [lo, hi) in reverse Cuthill-McKee order over the springs between them (every neighbour
+// in the adjacency must lie in [lo, hi): the caller passes the whole body): each connected
 // part breadth-first from a peripheral node (the George-Liu search: the last node reached from
 // the part's lowest-degree node, repeated while the depth grows), neighbours taken by increasing
 // degree, then the whole order reversed.
@@ -160,7 +161,13 @@ void apply_node_permutation(ShapeModel& m, const std::vector<int>& perm) {
   const std::size_t n = m.nodes.size();
   if (perm.size() != n) throw std::invalid_argument("node permutation: wrong size");
   std::vector<int> inv(n, -1);
-  for (std::size_t k = 0; k < n; ++k) inv[static_cast<std::size_t>(perm[k])] = static_cast<int>(k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const int p = perm[k];
+    if (p < 0 || static_cast<std::size_t>(p) >= n || inv[static_cast<std::size_t>(p)] >= 0)
+      throw std::invalid_argument("node permutation: not a permutation of the nodes");
+    inv[static_cast<std::size_t>(p)] = static_cast<int>(k);
+  }
+  if (!m.node_volume.empty() && m.node_volume.size() != n) throw std::invalid_argument("node permutation: node volumes");
   Points nodes(n);
   std::vector<double> vol(m.node_volume.size());
   for (std::size_t k = 0; k < n; ++k) {

@@ -84,6 +84,7 @@ int run_on_device(const Scene& scene, const DeviceRunOptions& o) {
   SimulationOptions so;
   so.exact_detectors = o.exact_detectors;
   so.audit = false;
+  so.layout.order = NodeOrder::scene;  // state.csv lists the world's nodes: the scene's numbering
   Simulation sim(scene, so);
   std::unique_ptr<DeviceStep> dev = make_device_step(sim, o.device);  // InputError: exit 2, nothing written
   std::filesystem::create_directories(o.out_dir);

@@ -155,7 +155,7 @@ struct RunCommand {
     if (!device.empty()) {
       if (engine != "harness" || !compare.empty())
         throw InputError("--device", "not with --engine or --compare");
-      if (order != kDefaultNodeOrder) throw InputError("--node-order", "not with --device");
+      if (order != NodeOrder::scene) throw InputError("--node-order", "not with --device (state.csv is in the scene's order)");
       if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
       const Scene sc = edited_scene(scene, sets, cmd->count("--steps") > 0, steps, dt_divide, cmd->count("--dt") > 0, dt);
       DeviceRunOptions d;
@@ -168,6 +168,8 @@ struct RunCommand {
     }
     if (check_cpu) throw InputError("--check-cpu", "only with --device");
     if (engine != "harness" && engine != "bullet") throw InputError("--engine " + engine, "expected harness or bullet");
+    // Bullet's solver visits the springs one after another: another layout is another solver order.
+    if (engine == "bullet" && order != NodeOrder::scene) throw InputError("--node-order", "not with --engine bullet");
     if (engine != "bullet" && (cmd->count("--bullet-margin") || cmd->count("--bullet-iterations")))
       throw InputError("--bullet-margin/--bullet-iterations", "only with --engine bullet");
     if (cmd->count("--threads")) {

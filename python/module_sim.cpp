@@ -330,7 +330,8 @@ void bind_simulation(pyb::module_& m) {
         return n;
       })
       .def("positions", [](const pyb::object& self, const pyb::object& body) { return PySim::view(self, body, false); },
-           pyb::arg("body"), "A read-only (n, 3) view of the body's positions, m (no copy: it follows the steps).")
+           pyb::arg("body"), "A read-only (n, 3) view of the body's positions, m (no copy: it follows the steps; with a node_order other "
+           "than the scene's, a read-only copy of them now, in the scene's numbering).")
       .def("velocities", [](const pyb::object& self, const pyb::object& body) { return PySim::view(self, body, true); },
            pyb::arg("body"), "A read-only (n, 3) view of the body's velocities, m/s.")
       .def("set_positions", [](PySim& s, const pyb::object& body, const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& a,

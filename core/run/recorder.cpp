@@ -112,8 +112,17 @@ void Recorder::record(const Simulation& sim, bool last) {
     needs.touch = kTouchTolerance;
     if (opt_.compare && !needs.all) {
       const SurfaceState& ref = opt_.compare->target(s);
-      const auto body_sd = [&ref](int b) {
-        return static_cast<std::size_t>(b) < ref.sd.size() && !ref.sd[b].empty() ? &ref.sd[b] : nullptr;
+      const World& w = sim.world();
+      ref_sd_world_.resize(w.bodies.size());
+      const auto body_sd = [&](int b) -> const std::vector<double>* {
+        if (static_cast<std::size_t>(b) >= ref.sd.size() || ref.sd[b].empty()) return nullptr;
+        const Body& body = w.bodies[static_cast<std::size_t>(b)];
+        if (body.scene_node.empty()) return &ref.sd[b];
+        std::vector<double>& out = ref_sd_world_[static_cast<std::size_t>(b)];  // the world's order
+        out.assign(ref.sd[b].size(), 0.0);
+        for (int i = 0; i < body.n_surface && static_cast<std::size_t>(i) < out.size(); ++i)
+          out[static_cast<std::size_t>(i)] = ref.sd[b][static_cast<std::size_t>(body.scene_index(i))];
+        return &out;
       };
       needs.ref_guest = body_sd(pair.spec.guest);
       needs.ref_host = body_sd(pair.spec.host);

@@ -152,6 +152,9 @@ class Recorder {
   std::vector<Measurement> meas_;
   std::vector<PairStepFigures> figures_;
   std::vector<std::vector<double>> sd_;
+  // The reference's signed distances of a body laid out in another order (Body::scene_node), put
+  // in the world's order for the measurer (the reference lists them in the scene's numbering).
+  std::vector<std::vector<double>> ref_sd_world_;
   int sd_step_ = -1;
   bool measured_now_ = false;
   std::vector<PairTotals> totals_;

@@ -48,9 +48,10 @@ std::string checked_step(Simulation& sim, Points& good_x, Points& good_v) {
   int bad = 0;
   if (failure.empty() && !finite_state(w, bad)) {
     std::string body;
+    int node = bad;  // the body-local node in the scene's numbering (Body::scene_node)
     for (const Body& b : w.bodies)
-      if (bad >= b.begin && bad < b.end) body = b.name;
-    failure = "state not finite (body " + body + ", node " + std::to_string(bad) + ")";
+      if (bad >= b.begin && bad < b.end) body = b.name, node = b.scene_index(bad - b.begin);
+    failure = "state not finite (body " + body + ", node " + std::to_string(node) + ")";
   }
   if (!failure.empty()) sim.restore(good_x, good_v, before);
   return failure;

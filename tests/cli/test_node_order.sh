@@ -56,5 +56,12 @@ PYEOF
 "$H" run sphere_collision --steps 1 --node-order hilbert --out "$T/bad" --quiet 2>"$T/err"; rc=$?
 [[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && grep -q -- "--node-order" "$T/err" || fail "bad --node-order: exit $rc: $(cat "$T/err")"
 [[ ! -e "$T/bad/summary.json" ]] || fail "bad --node-order left a summary"
+# The layouts the device and Bullet paths do not take: refused before anything is written.
+for extra in "--device cpu" "--engine bullet"; do
+  "$H" run sphere_collision --steps 1 --node-order rcm $extra --out "$T/no" --quiet 2>"$T/err"; rc=$?
+  [[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && grep -q -- "--node-order" "$T/err" \
+    || fail "--node-order rcm $extra: exit $rc: $(cat "$T/err")"
+done
+[[ ! -e "$T/no/summary.json" ]] || fail "a refused --node-order left a summary"
 [[ $fails -eq 0 ]] && echo "node order: all checks passed"
 [[ $fails -eq 0 ]]
