@@ -446,5 +446,14 @@ def test_node_order_keeps_the_scene_numbering(small):
         a2.step(200), b2.step(200)
         for body in a.bodies:
             assert np.abs(b2.positions(body) - a2.positions(body)).max() < 1e-12
+    # Contacts at step 2100 (the spheres touch from about 1900): the same nodes, named in the
+    # scene's numbering, at the same depths (rows may come in another order).
+    a, b = harness.Simulation(small), harness.Simulation(small, node_order="rcm")
+    a.step(2100), b.step(2100)
+    ca, cb = a.contacts(0), b.contacts(0)
+    rows = lambda c: sorted(zip(c["way"].tolist(), c["node"].tolist(), c["depth"].tolist()))
+    ra, rb = rows(ca), rows(cb)
+    assert len(ra) > 0 and [r[:2] for r in ra] == [r[:2] for r in rb]
+    assert max(abs(p[2] - q[2]) for p, q in zip(ra, rb)) < 1e-12
     with pytest.raises(ValueError, match="node_order"):
         harness.Simulation(small, node_order="hilbert")
