@@ -38,33 +38,32 @@ std::uint64_t spread3(std::uint64_t v) {
   return v;
 }
 
-// The nodes [lo, hi) in Morton order of their positions over the group's own box.
-void morton_group(const ShapeModel& m, int lo, int hi, int* out) {
-  if (hi <= lo) return;
-  Vec3 a = m.nodes[lo], b = m.nodes[lo];
-  for (int i = lo; i < hi; ++i) a = a.cwiseMin(m.nodes[i]), b = b.cwiseMax(m.nodes[i]);
+// The model's nodes in Morton order of their positions over the body's box.
+void morton_order(const ShapeModel& m, int* out) {
+  const int n = static_cast<int>(m.nodes.size());
+  if (n == 0) return;
+  Vec3 a = m.nodes[0], b = m.nodes[0];
+  for (int i = 0; i < n; ++i) a = a.cwiseMin(m.nodes[i]), b = b.cwiseMax(m.nodes[i]);
   const double extent = std::max((b - a).maxCoeff(), 1e-300);
   const double scale = static_cast<double>((1 << 21) - 1) / extent;  // one scale: cubes stay cubes
-  std::vector<std::pair<std::uint64_t, int>> key(static_cast<std::size_t>(hi - lo));
-  for (int i = lo; i < hi; ++i) {
+  std::vector<std::pair<std::uint64_t, int>> key(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
     std::uint64_t code = 0;
     for (int c = 0; c < 3; ++c) {
       const double q = std::clamp((m.nodes[i][c] - a[c]) * scale, 0.0, static_cast<double>((1 << 21) - 1));
       code |= spread3(static_cast<std::uint64_t>(q)) << c;
     }
-    key[static_cast<std::size_t>(i - lo)] = {code, i};
+    key[static_cast<std::size_t>(i)] = {code, i};
   }
   std::sort(key.begin(), key.end());
   for (std::size_t k = 0; k < key.size(); ++k) out[k] = key[k].second;
 }
 
-// The nodes [lo, hi) in reverse Cuthill-McKee order over the springs between them (every neighbour
-// in the adjacency must lie in [lo, hi): the caller passes the whole body): each connected
+// The n nodes of the adjacency (CSR: start, adj) in reverse Cuthill-McKee order: each connected
 // part breadth-first from a peripheral node (the George-Liu search: the last node reached from
 // the part's lowest-degree node, repeated while the depth grows), neighbours taken by increasing
 // degree, then the whole order reversed.
-void rcm_group(const std::vector<int>& start, const std::vector<int>& adj, int lo, int hi, int* out) {
-  const int n = hi - lo;
+void rcm_order(const std::vector<int>& start, const std::vector<int>& adj, int n, int* out) {
   if (n <= 0) return;
   auto degree = [&](int i) { return start[i + 1] - start[i]; };
   std::vector<int> level(static_cast<std::size_t>(n), -1);
@@ -77,29 +76,29 @@ void rcm_group(const std::vector<int>& start, const std::vector<int>& adj, int l
   auto bfs = [&](int s) {
     ++stamp;
     queue.assign(1, s);
-    mark[s - lo] = stamp;
-    level[s - lo] = 0;
+    mark[s] = stamp;
+    level[s] = 0;
     int depth = 0;
     for (std::size_t q = 0; q < queue.size(); ++q) {
       const int u = queue[q];
       nb.clear();
       for (int k = start[u]; k < start[u + 1]; ++k) {
         const int v = adj[k];
-        if (mark[v - lo] == stamp || level[v - lo] == -2) continue;  // -2: placed in an earlier part
-        mark[v - lo] = stamp;
+        if (mark[v] == stamp || level[v] == -2) continue;  // -2: placed in an earlier part
+        mark[v] = stamp;
         nb.push_back(v);
       }
       std::sort(nb.begin(), nb.end(), [&](int p, int r) { return degree(p) != degree(r) ? degree(p) < degree(r) : p < r; });
       for (int v : nb) {
-        level[v - lo] = level[u - lo] + 1;
-        depth = std::max(depth, level[v - lo]);
+        level[v] = level[u] + 1;
+        depth = std::max(depth, level[v]);
         queue.push_back(v);
       }
     }
     return depth;
   };
-  for (int seed = lo; seed < hi; ++seed) {
-    if (level[seed - lo] == -2) continue;
+  for (int seed = 0; seed < n; ++seed) {
+    if (level[seed] == -2) continue;
     // The part's lowest-degree node (lowest index among equals), found by one search from the seed.
     bfs(seed);
     int s = seed;
@@ -109,7 +108,7 @@ void rcm_group(const std::vector<int>& start, const std::vector<int>& adj, int l
     for (int iter = 0; iter < 8; ++iter) {  // George-Liu: move to the farthest level while it deepens
       int t = queue.back();
       for (int u : queue)
-        if (level[u - lo] == depth && (degree(u) < degree(t) || (degree(u) == degree(t) && u < t))) t = u;
+        if (level[u] == depth && (degree(u) < degree(t) || (degree(u) == degree(t) && u < t))) t = u;
       const int d = bfs(t);
       if (d <= depth) {
         bfs(s);
@@ -118,7 +117,7 @@ void rcm_group(const std::vector<int>& start, const std::vector<int>& adj, int l
       s = t, depth = d;
     }
     for (int u : queue) {
-      level[u - lo] = -2;
+      level[u] = -2;
       order.push_back(u);
     }
   }
@@ -140,7 +139,7 @@ std::vector<int> node_permutation(const ShapeModel& m, NodeOrder order) {
   // the body on different paths, and such springs would reach across it).
   std::vector<int> all(static_cast<std::size_t>(n));
   if (order == NodeOrder::morton) {
-    morton_group(m, 0, n, all.data());
+    morton_order(m, all.data());
   } else {
     std::vector<int> start(static_cast<std::size_t>(n) + 1, 0), adj;
     for (const Edge& e : m.springs)
@@ -151,7 +150,7 @@ std::vector<int> node_permutation(const ShapeModel& m, NodeOrder order) {
     for (const Edge& e : m.springs)
       if (e[0] != e[1]) adj[fill[e[0]]++] = e[1], adj[fill[e[1]]++] = e[0];
     for (int i = 0; i < n; ++i) std::sort(adj.begin() + start[i], adj.begin() + start[i + 1]);
-    rcm_group(start, adj, 0, n, all.data());
+    rcm_order(start, adj, n, all.data());
   }
   std::stable_partition(all.begin(), all.end(), [&](int i) { return i < ns; });
   return all;
