@@ -108,7 +108,7 @@ struct RunCommand {
   std::vector<std::string> sets;
   int steps = -1, threads = 0;
   bool quiet = false, strict = false;
-  std::string compare;
+  std::string compare, compare_also;
   int dt_divide = 1;
   double dt = 0.0;
   std::string engine = "harness";
@@ -135,6 +135,9 @@ struct RunCommand {
         ->excludes(divide);
     cmd->add_option("--compare", compare, "a reference (harness reference) or finished run of the same scene: "
                                           "error_vs_reference in summary.json, pos_err/gap columns");
+    cmd->add_option("--compare-also", compare_also, "with --compare: a second reference measured on the same steps "
+                                                    "(the other kind: one way against both ways): "
+                                                    "error_vs_reference_also in summary.json");
     cmd->add_option("--engine", engine, "harness (its own effects and integrator) or bullet (Bullet's soft bodies, "
                                         "docs/architecture.md)")->capture_default_str();
     cmd->add_option("--bullet-margin", bullet.margin, "with --engine bullet: collision margin of every body, m "
@@ -153,7 +156,7 @@ struct RunCommand {
     NodeOrder order = kDefaultNodeOrder;
     if (!parse_node_order(node_order, order)) throw InputError("--node-order " + node_order, "expected scene, rcm or morton");
     if (!device.empty()) {
-      if (engine != "harness" || !compare.empty())
+      if (engine != "harness" || !compare.empty() || !compare_also.empty())
         throw InputError("--device", "not with --engine or --compare");
       if (order != NodeOrder::scene) throw InputError("--node-order", "not with --device (state.csv is in the scene's order)");
       if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
@@ -182,6 +185,7 @@ struct RunCommand {
     opt.out_dir = out;
     opt.progress = !quiet;
     opt.compare_dir = compare;
+    opt.compare_also_dir = compare_also;
     opt.strict = strict;
     opt.node_order = order;
     if (engine == "bullet") {

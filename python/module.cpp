@@ -30,7 +30,8 @@ namespace {
 
 // `harness run` on a scene into out_dir: the same options as the command line's, no progress
 // line. Returns its exit status (0 done, 3 non-finite, 130/143 interrupted: harness.run raises).
-int run_scene_into(const PyScene& s, const std::string& out_dir, int threads, const std::string& compare) {
+int run_scene_into(const PyScene& s, const std::string& out_dir, int threads, const std::string& compare,
+                   const std::string& compare_also) {
   if (threads < 1) throw pyb::value_error("threads: must be >= 1");
 #ifdef HARNESS_HAVE_REFERENCE
   RunOptions opt = with_references();
@@ -40,6 +41,7 @@ int run_scene_into(const PyScene& s, const std::string& out_dir, int threads, co
   opt.out_dir = out_dir;
   opt.progress = false;
   opt.compare_dir = compare;
+  opt.compare_also_dir = compare_also;
   const int before = harness::threads();
   set_threads(threads);
   int rc = 0;
@@ -78,6 +80,6 @@ PYBIND11_MODULE(_harness, m) {
   bind_scene(m);
   bind_simulation(m);
   m.def("_run_scene", &run_scene_into, pybind11::arg("scene"), pybind11::arg("out_dir"), pybind11::arg("threads") = 1,
-        pybind11::arg("compare") = "");
+        pybind11::arg("compare") = "", pybind11::arg("compare_also") = "");
   m.def("have_reference", &have_reference, "Whether this build links FCL and CGAL (references, measure()).");
 }

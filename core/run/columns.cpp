@@ -90,6 +90,11 @@ const std::vector<Column>& steps_columns() {
       // Guest nodes found inside beyond the detector's guaranteed band (voxel_exact), both ways;
       // empty for detectors without a band.
       {"beyond_band", [](O o, R r) { if (contact(r) && r.pair->last.beyond_band >= 0) o.integer(r.pair->last.beyond_band); }},
+      // The error against the second reference (--compare-also), m; empty without one.
+      {"also_gap_max", [](O o, R r) { if (r.fig && r.fig->vs_also && r.fig->also_errors.distances) o.g9(r.fig->also_errors.gap_max); }},
+      {"also_gap_mean", [](O o, R r) { if (r.fig && r.fig->vs_also && r.fig->also_errors.distances) o.g9(r.fig->also_errors.gap_mean); }},
+      {"also_pos_err_max", [](O o, R r) { if (r.fig && r.fig->vs_also) o.g9(r.fig->also_errors.pos_err_max); }},
+      {"also_pos_err_rms", [](O o, R r) { if (r.fig && r.fig->vs_also) o.g9(r.fig->also_errors.pos_err_rms); }},
   };
   return columns;
 }

@@ -55,8 +55,8 @@ SurfaceState in_world_order(const SurfaceState& s, const World& w) {
 
 }  // namespace
 
-Comparison::Comparison(const std::string& dir, const Simulation& sim) : dir_(dir) {
-  const std::string where = "--compare " + dir;
+Comparison::Comparison(const std::string& dir, const Simulation& sim, const std::string& option) : dir_(dir) {
+  const std::string where = option + " " + dir;
   const fs::path d(dir);
   std::ifstream in(d / "summary.json");
   if (!in) throw InputError(where, "no summary.json (not a finished run or reference)");

@@ -53,7 +53,8 @@ class Comparison {
   // checks that they describe the simulation's bodies: InputError ("--compare DIR: ...") naming
   // the first difference (a body missing or renamed, another surface vertex count, a non-finite
   // position or signed distance of a node).
-  Comparison(const std::string& dir, const Simulation& sim);
+  // `option`: how the errors name it (--compare, --compare-also).
+  Comparison(const std::string& dir, const Simulation& sim, const std::string& option = "--compare");
 
   const std::string& dir() const { return dir_; }
   bool is_reference() const { return is_reference_; }

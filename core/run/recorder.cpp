@@ -112,17 +112,30 @@ void Recorder::record(const Simulation& sim, bool last) {
     needs.touch = kTouchTolerance;
     if (opt_.compare && !needs.all) {
       const SurfaceState& ref = opt_.compare->target(s);
+      const SurfaceState* also = opt_.compare_also ? &opt_.compare_also->target(s) : nullptr;
       const World& w = sim.world();
       ref_sd_world_.resize(w.bodies.size());
-      const auto body_sd = [&](int b) -> const std::vector<double>* {
-        if (static_cast<std::size_t>(b) >= ref.sd.size() || ref.sd[b].empty()) return nullptr;
+      ref_sd_both_.resize(w.bodies.size());
+      const auto world_order = [&](const SurfaceState& r, int b, std::vector<double>& out) -> const std::vector<double>* {
+        if (static_cast<std::size_t>(b) >= r.sd.size() || r.sd[b].empty()) return nullptr;
         const Body& body = w.bodies[static_cast<std::size_t>(b)];
-        if (body.scene_node.empty()) return &ref.sd[b];
-        std::vector<double>& out = ref_sd_world_[static_cast<std::size_t>(b)];  // the world's order
-        out.assign(ref.sd[b].size(), 0.0);
+        if (body.scene_node.empty()) return &r.sd[b];
+        out.assign(r.sd[b].size(), 0.0);  // the world's order
         for (int i = 0; i < body.n_surface && static_cast<std::size_t>(i) < out.size(); ++i)
-          out[static_cast<std::size_t>(i)] = ref.sd[b][static_cast<std::size_t>(body.scene_index(i))];
+          out[static_cast<std::size_t>(i)] = r.sd[b][static_cast<std::size_t>(body.scene_index(i))];
         return &out;
+      };
+      const auto body_sd = [&](int b) -> const std::vector<double>* {
+        const std::vector<double>* first = world_order(ref, b, ref_sd_world_[static_cast<std::size_t>(b)]);
+        if (!also || !first) return first;
+        std::vector<double> tmp;
+        const std::vector<double>* second = world_order(*also, b, tmp);
+        if (!second) return first;
+        std::vector<double>& both = ref_sd_both_[static_cast<std::size_t>(b)];
+        both = *first;
+        for (std::size_t i = 0; i < both.size() && i < second->size(); ++i)
+          if (std::abs((*second)[i]) < std::abs(both[i])) both[i] = (*second)[i];
+        return &both;
       };
       needs.ref_guest = body_sd(pair.spec.guest);
       needs.ref_host = body_sd(pair.spec.host);
@@ -285,18 +298,38 @@ void Recorder::pair_figures(const Simulation& sim) {
         ser.gap_max.add(step, f.errors.gap_max);
         ser.gap_mean.add(step, f.errors.gap_mean);
       }
+      if (opt_.compare_also) {
+        f.vs_also = true;
+        const ReferenceErrors& e = f.also_errors =
+            Comparison::errors(now, opt_.compare_also->target(step), pairs[p].spec.host, pairs[p].spec.guest);
+        ser.also_pos_err_max.add(step, e.pos_err_max);
+        ser.also_pos_err_rms.add(step, e.pos_err_rms);
+        if (e.distances) {
+          ser.also_gap_max.add(step, e.gap_max);
+          ser.also_gap_mean.add(step, e.gap_mean);
+        }
+      }
     }
   }
 }
 
 std::vector<ReferenceErrors> Recorder::final_errors(const Simulation& sim) const {
+  if (!opt_.compare) return {};
+  return final_errors_vs(sim, *opt_.compare);
+}
+
+std::vector<ReferenceErrors> Recorder::final_errors_also(const Simulation& sim) const {
+  if (!opt_.compare || !opt_.compare_also) return {};
+  return final_errors_vs(sim, *opt_.compare_also);
+}
+
+std::vector<ReferenceErrors> Recorder::final_errors_vs(const Simulation& sim, const Comparison& cmp) const {
   std::vector<ReferenceErrors> out;
-  if (!opt_.compare) return out;
   const bool measured = sd_step_ == sim.step_index();
   const SurfaceState now = surface_state(sim.world(), sim.step_index(), sim.time(), measured ? sd_ : std::vector<std::vector<double>>{});
   for (std::size_t p = 0; p < sim.pairs().size(); ++p) {
     const Pair& pair = sim.pairs()[p];
-    ReferenceErrors e = Comparison::errors(now, opt_.compare->final_state(), pair.spec.host, pair.spec.guest);
+    ReferenceErrors e = Comparison::errors(now, cmp.final_state(), pair.spec.host, pair.spec.guest);
     if (measured && meas_[p].has_cgal) e.depth_max = std::max(e.depth_max, meas_[p].max_depth);
     out.push_back(e);
   }

@@ -59,6 +59,8 @@ struct PairSeries {
   Series tunnelled;                                     // guest + host
   Series true_pen_guest;                                // truly penetrating guest nodes
   Series outside_region;  // truly penetrating guest nodes outside the detector's grid region
+  // Against the second reference (--compare-also), m: the same figures as the first's.
+  Series also_pos_err_max, also_pos_err_rms, also_gap_max, also_gap_mean;
 };
 
 // One episode of true penetration: a node found penetrating on consecutive measured steps.
@@ -83,6 +85,9 @@ struct RunTimings {
 struct RecorderOptions {
   MeasurerFactory measurer;  // empty: no references in this program
   const Comparison* compare = nullptr;  // the reference solution to measure the error against
+  // A second reference measured beside it on the same steps (--compare-also: the reference of the
+  // other kind, one way against both ways); its figures go to PairSeries::also_*.
+  const Comparison* compare_also = nullptr;
 };
 
 // A pair's figures of one measured step beyond the references' own (CGAL signed distances).
@@ -91,6 +96,8 @@ struct PairStepFigures {
   double force_dist_max = 0.0, force_dist_mean = 0.0;  // signed distance of those nodes, m
   bool vs_reference = false;  // compared with the reference (its state at this step, or its final one)
   ReferenceErrors errors;     // depth_max: the deepest node of either body (CGAL), all nodes
+  bool vs_also = false;       // compared with the second reference too (--compare-also)
+  ReferenceErrors also_errors;  // against it (depth_max not set: it does not depend on the reference)
   TunnelCount tunnelled;
 };
 
@@ -124,6 +131,8 @@ class Recorder {
   // The final state against the compared reference, per pair (after the last step); depth_max
   // the deepest node of either body at the last measured step when it is the last step.
   std::vector<ReferenceErrors> final_errors(const Simulation& sim) const;
+  // The same against the second reference (--compare-also); empty without one.
+  std::vector<ReferenceErrors> final_errors_also(const Simulation& sim) const;
   // Per pair, its figures at every measured step (window statistics, peaks).
   const std::vector<PairSeries>& series() const { return series_; }
   // The run's stability verdict over its final window (run/window.hpp).
@@ -155,6 +164,10 @@ class Recorder {
   // The reference's signed distances of a body laid out in another order (Body::scene_node), put
   // in the world's order for the measurer (the reference lists them in the scene's numbering).
   std::vector<std::vector<double>> ref_sd_world_;
+  // With a second reference: per body, the signed distance of the two references nearer to
+  // contact (smaller magnitude), so that the vertices either one has touching are measured exactly.
+  std::vector<std::vector<double>> ref_sd_both_;
+  std::vector<ReferenceErrors> final_errors_vs(const Simulation& sim, const Comparison& cmp) const;
   int sd_step_ = -1;
   bool measured_now_ = false;
   std::vector<PairTotals> totals_;

@@ -86,13 +86,13 @@ namespace {
 
 // --compare DIR: the reference to measure against (null without one), with a warning when that
 // reference did not converge.
-std::unique_ptr<Comparison> open_comparison(const RunOptions& opt, const Simulation& sim) {
-  if (opt.compare_dir.empty()) return nullptr;
-  auto compare = std::make_unique<Comparison>(opt.compare_dir, sim);
+std::unique_ptr<Comparison> open_comparison(const std::string& dir, const char* option, const Simulation& sim) {
+  if (dir.empty()) return nullptr;
+  auto compare = std::make_unique<Comparison>(dir, sim, option);
   if (compare->converged() == std::optional<bool>(false))
-    std::fprintf(stderr, "harness: warning: --compare %s: that reference did not converge (its summary.json, "
+    std::fprintf(stderr, "harness: warning: %s %s: that reference did not converge (its summary.json, "
                          "reference.levels); the errors are against an unconverged state\n",
-                 opt.compare_dir.c_str());
+                 option, dir.c_str());
   return compare;
 }
 
@@ -174,14 +174,19 @@ struct RunWriters {
 // summary.json and the run's outcome: the comparison with --compare, the end warnings (--strict
 // makes the first one an error), written into `dir`.
 RunOutcome write_run_summary(const Simulation& sim, const Recorder& rec, const RunOptions& opt, Comparison* compare,
-                             std::vector<std::string> warnings, RunEnd& end, const fs::path& dir) {
+                             Comparison* compare_also, std::vector<std::string> warnings, RunEnd& end,
+                             const fs::path& dir) {
   RunOutcome out = run_outcome(sim, rec, end.status);
   nlohmann::json sum = summary_json(sim, rec, out, opt.versions);
   if (compare) {
+    const std::string* which = &opt.compare_dir;
     try {
       add_comparison(sum, sim, rec, *compare, out);
+      which = &opt.compare_also_dir;
+      if (compare_also) add_comparison_also(sum, sim, rec, *compare_also, out.judged.span);
     } catch (const ComparisonError& e) {
-      if (end.exit_code == 0) end.fail("--compare " + opt.compare_dir + ": " + e.what());
+      if (end.exit_code == 0)
+        end.fail((which == &opt.compare_dir ? "--compare " : "--compare-also ") + *which + ": " + e.what());
       out.status = end.status;
       sum[nlohmann::json::json_pointer(summary_key::kStatus)] = end.status.status, sum["error"] = end.status.error;
     }
@@ -209,11 +214,15 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
   so.engine = opt.engine;
   so.layout.order = opt.node_order;
   Simulation sim(scene, so);  // may throw InputError: nothing written yet
-  std::unique_ptr<Comparison> compare = open_comparison(opt, sim);
+  if (!opt.compare_also_dir.empty() && opt.compare_dir.empty())
+    throw InputError("--compare-also " + opt.compare_also_dir, "needs --compare");
+  std::unique_ptr<Comparison> compare = open_comparison(opt.compare_dir, "--compare", sim);
+  std::unique_ptr<Comparison> compare_also = open_comparison(opt.compare_also_dir, "--compare-also", sim);
   std::vector<std::string> warnings = take_start_warnings(scene, sim, opt.strict);
   RecorderOptions ro;
   ro.measurer = opt.measurer;
   ro.compare = compare.get();
+  ro.compare_also = compare_also.get();
   Recorder rec(sim, ro);
   sim.energy_read_every(rec.energy_every());
 
@@ -231,11 +240,12 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
       rec.note_outside_us(us_since(t_record));
     }), sim);
   } catch (const ComparisonError& e) {  // a non-finite distance: never a dropped value
-    end.fail("step " + std::to_string(sim.step_index()) + ": --compare " + opt.compare_dir + ": " + e.what());
+    end.fail("step " + std::to_string(sim.step_index()) + ": --compare " + opt.compare_dir +
+             (opt.compare_also_dir.empty() ? "" : " / --compare-also " + opt.compare_also_dir) + ": " + e.what());
   }
   progress.finish();
   writers.close(dir, sim, rec);
-  RunOutcome out = write_run_summary(sim, rec, opt, compare.get(), std::move(warnings), end, dir);
+  RunOutcome out = write_run_summary(sim, rec, opt, compare.get(), compare_also.get(), std::move(warnings), end, dir);
   if (opt.progress) print_end_line(sim, out, dir.string(), progress.elapsed());
   if (outcome) *outcome = std::move(out);
   return end.exit_code;

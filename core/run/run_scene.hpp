@@ -26,6 +26,7 @@ struct RunOptions {
   EngineMaker engine = nullptr;                  // --engine: a peer engine (engine.hpp); empty: the harness's own
   std::map<std::string, std::string> versions;  // extra library versions (FCL, CGAL)
   std::string compare_dir;                      // --compare: a reference or a finished run
+  std::string compare_also_dir;                 // --compare-also: a second one (needs compare_dir)
   bool strict = false;                          // --strict: a warning is an error (exit 2)
   NodeOrder node_order = kDefaultNodeOrder;     // --node-order: the world's layout (node_order.hpp)
 };

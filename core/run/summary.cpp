@@ -310,6 +310,30 @@ void add_comparison(json& sum, const Simulation& sim, const Recorder& rec, const
   }
 }
 
+void add_comparison_also(json& sum, const Simulation& sim, const Recorder& rec, const Comparison& cmp,
+                         const WindowSpan& span) {
+  const std::vector<ReferenceErrors> errs = rec.final_errors_also(sim);
+  const auto conv = cmp.converged();
+  for (std::size_t p = 0; p < errs.size(); ++p) {
+    const ReferenceErrors& e = errs[p];
+    const bool sd = rec.sd_step() == sim.step_index() && e.distances;
+    const PairSeries& ser = rec.series()[p];
+    const char* const* fig = key::kErrorFigures;  // pos_err_max, pos_err_rms, gap_max, gap_mean
+    at(sum, key::pair_key(static_cast<int>(p), key::kErrorVsReferenceAlso)) = {
+        {"dir", cmp.dir()},
+        {"converged", conv ? json(*conv) : json(nullptr)},
+        {fig[0], e.pos_err_max},
+        {fig[1], e.pos_err_rms},
+        {fig[2], sd ? json(e.gap_max) : json(nullptr)},
+        {fig[3], sd ? json(e.gap_mean) : json(nullptr)},
+        {"touching_nodes", e.touching},
+        {"window", {{"pos_err_max", stat_json(ser.also_pos_err_max.over(span))},
+                    {"pos_err_rms", stat_json(ser.also_pos_err_rms.over(span))},
+                    {"gap_max", stat_json(ser.also_gap_max.over(span))},
+                    {"gap_mean", stat_json(ser.also_gap_mean.over(span))}}}};
+  }
+}
+
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 void write_summary(const std::string& dir, const json& summary) {

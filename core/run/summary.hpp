@@ -22,6 +22,10 @@ nlohmann::json summary_json(const Simulation& sim, const Recorder& rec, const Ru
 // ComparisonError (after writing "compare") when an error cannot be computed.
 void add_comparison(nlohmann::json& summary, const Simulation& sim, const Recorder& rec, const Comparison& cmp,
                     RunOutcome& outcome);
+// With --compare-also: per pair "error_vs_reference_also" (summary_keys.hpp), the figures against
+// the second reference on the same steps as the first's. Throws ComparisonError as add_comparison.
+void add_comparison_also(nlohmann::json& summary, const Simulation& sim, const Recorder& rec, const Comparison& cmp,
+                         const WindowSpan& span);
 // A figure as summary.json writes it: the number, or null when it is not finite.
 nlohmann::json number_or_null(double v);
 // Writes DIR/summary.json through a temporary file and a rename.

@@ -57,6 +57,9 @@ inline constexpr const char* kPrecision = "/precision";
 inline constexpr const char* kTunnelled = "/tunnelled";  // guest nodes
 inline constexpr const char* kTunnelledHost = "/tunnelled_host";
 inline constexpr const char* kErrorVsReference = "/error_vs_reference";
+// The same figures against the second reference (--compare-also): its dir and convergence, the
+// final figures (kErrorFigures but depth_max) and their window statistics (/window/...).
+inline constexpr const char* kErrorVsReferenceAlso = "/error_vs_reference_also";
 // Under kErrorVsReference.
 inline constexpr const char* kErrorFigures[] = {"pos_err_max", "pos_err_rms", "gap_max", "gap_mean", "depth_max"};
 // Under kErrorVsReference: the largest position error over the final window (stat_json: mean,

@@ -82,12 +82,14 @@ def _as_scene(scene):
     raise TypeError(f"expected a harness.Scene, a dict or a scene file/name, got {type(scene).__name__}")
 
 
-def run(scene, steps=None, threads=1, compare=None, out=None):
+def run(scene, steps=None, threads=1, compare=None, out=None, compare_also=None):
     """Runs a scene as `harness run` does (the same code, the same files) and returns a Result.
 
     steps: exactly that many steps (time.settle off), as --steps; None: the scene's own.
     threads: threads of the parallel kernels (results do not depend on it).
     compare: a reference folder (harness reference) or a finished run of the same scene.
+    compare_also: with compare, a second reference measured on the same steps (--compare-also: the
+    other kind, one way against both ways): summary error_vs_reference_also, steps also_* columns.
     out: the output folder (as --out); None: a temporary folder, removed after reading it back.
     Raises SceneError for bad input (nothing written), KeyboardInterrupt when interrupted (the
     outputs in `out` hold the state after the last whole step, summary status "interrupted"; with
@@ -103,7 +105,8 @@ def run(scene, steps=None, threads=1, compare=None, out=None):
     folder = os.fspath(out) if out is not None else tempfile.mkdtemp(prefix="harness-run-")
     keep = out is not None
     try:
-        rc = _run_scene(scene, folder, threads, os.fspath(compare) if compare is not None else "")
+        rc = _run_scene(scene, folder, threads, os.fspath(compare) if compare is not None else "",
+                        os.fspath(compare_also) if compare_also is not None else "")
         if rc in (130, 143):
             keep = True
             if rc == 143:

@@ -22,7 +22,8 @@ NAN = float("nan")
 STUDY_TEXT = frozenset([
     "scene", "deformation", "config", "rho_norm", "regime", "response", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "t_contact_range",
     "front", "helps", "useless", "stability", "verdict", "status", "host", "guest", "swapped", "region", "orient", "engine",
-    "reference_converged", "resolution", "body", "steps_per_s_range", "reference", "comparison", "converged"])
+    "reference_converged", "resolution", "body", "steps_per_s_range", "reference", "comparison", "converged",
+    "reference_rule"])
 
 
 # ---------------------------------------------------------------------------------------------

@@ -5,7 +5,13 @@ Definitions:
   window        the final time.window steps of a run (default 1000), after every driver, load and
                 pressure ramp has finished (core/run/window.hpp); every run is measured by CGAL every
                 STUDY_EVERY = 10 steps (one sampling rule for runs, sweeps and studies).
-  error         against the scene's reference (core/run/compare.hpp), over the window: pos_err_max (largest
+  error         against the scene's reference of the method's kind (core/run/compare.hpp; OF_ITS_KIND): a
+                one-sided method (the guest's nodes pushed out of the host only, as the paper's model)
+                against the one-sided reference (harness reference --one-sided: the limit it converges
+                to), a method both ways against the two-sided one; the error against the other kind is
+                measured beside it (--compare-also) and shown, with the two references' distance (what
+                one-sidedness alone costs); the studies run before accuracy_time.csv's rerun (orient,
+                swap, regime, restriction, region) are against the two-sided reference. Over the window: pos_err_max (largest
                 distance of a surface vertex from where the reference has it) as its window mean, with
                 its window maximum and chatter amplitude (max - min); gap_max (largest gap where the
                 reference has contact) window mean; depth_max (deepest node inside the other body)
@@ -70,7 +76,10 @@ Definitions:
                 the marginal band counted stable, the relative tie 0 or 5 % instead of 10 %, the
                 reference's floor or its Richardson estimate or twice the floor, up to 10 nodes
                 tunnelled over the window instead of none, two decisive comparisons sufficing instead
-                of three, a run helping at 80 % of the no-force run's figures instead of 90 %); a
+                of three, a run helping at 80 % of the no-force run's figures instead of 90 %, rho over
+                the loading period for the runs that recorded it otherwise, the final window halved and
+                doubled, every method against the two-sided reference instead of the reference of its
+                kind: the last two from accuracy_time.csv's runs judged again, accuracy_variants.csv); a
                 verdict is stated
                 as it is only when every variant agrees, else "fragile (...)": the variants under
                 which it flips are named (results/robustness.csv).
@@ -103,6 +112,12 @@ MIN_DECISIVE = 3
 MIXED_SHARE = 0.2
 
 
+# The reference a method is judged against (Variant.reference): its own kind, one-sided methods
+# against the one-sided reference (the limit a one-sided method converges to) and two-sided ones
+# against the two-sided; the other choice judges every method against the two-sided reference.
+OF_ITS_KIND = "of its kind"
+
+
 class Variant:
     """One choice of the rule's free parameters (robustness above): rho_scale multiplies the
     stability limits (INJECTION_LIMIT with its MARGIN band), marginal says whether the marginal band
@@ -111,7 +126,7 @@ class Variant:
     "double": twice the floor)."""
 
     def __init__(self, rho_scale=1.0, marginal="unstable", tie=TIE, floor="floor", tunnel_limit=0,
-                 min_decisive=MIN_DECISIVE, helps=USEFUL, rho_norm="recorded"):
+                 min_decisive=MIN_DECISIVE, helps=USEFUL, rho_norm="recorded", window=1.0, reference=OF_ITS_KIND):
         self.rho_scale, self.marginal, self.tie, self.floor = rho_scale, marginal, tie, floor
         self.tunnel_limit = tunnel_limit  # nodes a run may tunnel over the window and still be evidence
         self.min_decisive = min_decisive  # decisive comparisons a verdict needs (MIN_DECISIVE)
@@ -120,6 +135,11 @@ class Variant:
         # the window, runs since over the loading period) or over the loading period for all that
         # allow it ("loading": reader.rho_over, loading_rho)
         self.rho_norm = rho_norm
+        # the final window's length over the scene's time.window (accuracy_variants.csv: the runs judged
+        # again over half and twice it) and the reference each method is judged against: OF_ITS_KIND
+        # (one-sided methods against the one-sided reference, both ways against the two-sided) or
+        # "both ways" (every method against the two-sided reference)
+        self.window, self.reference = window, reference
 
     def name(self):
         """"rho x0.5, marginal stable, tie 5 %, floor richardson": the choices that differ from the default."""
@@ -140,6 +160,10 @@ class Variant:
             parts.append("helps at %g %% of no force" % (100 * self.helps))
         if self.rho_norm == "loading":
             parts.append("rho over the loading period")
+        if self.window != 1.0:
+            parts.append("window x%g" % self.window)
+        if self.reference != OF_ITS_KIND:
+            parts.append("every method against the %s reference" % self.reference)
         return ", ".join(parts) or "the rule as written"
 
 
@@ -334,6 +358,7 @@ def useful(r, base, share=None):
     setting that removes penetration by holding the bodies apart, farther from where the reference
     has them than doing nothing, is not useful: depth alone would reward that wrong answer)."""
     u = CURRENT.helps if share is None else share
+    base = same_kind_base(r, base)  # the no-force run against the same kind of reference as r
     return (r["pos_err_max_mm"] <= u * base["pos_err_max_mm"]
             or (r["depth_max_mm"] <= u * base["depth_max_mm"]
                 and r["pos_err_max_mm"] <= base["pos_err_max_mm"]))
@@ -358,9 +383,66 @@ def choose(rows, baseline=None):
 
 def no_force_bases(root):
     """{scene: its run without contact force}: the NO_FORCE rows of accuracy_time.csv in the results
-    folder `root`, what "helps" is judged against ({} without the file)."""
+    folder `root` (under the current window and reference choices: variant_rows), what "helps" is
+    judged against ({} without the file)."""
     rows = reader.read_csv(os.path.join(root, "accuracy_time.csv"), text=reader.STUDY_TEXT, missing=[])
-    return {r["scene"]: r for r in rows if r.get("config") == NO_FORCE}
+    rows = variant_rows(root, rows)
+    return {r["scene"]: as_two_sided(r) for r in rows if r.get("config") == NO_FORCE}
+
+
+def as_two_sided(base):
+    """The run without contact force as the studies other than accuracy_time.csv measure it: against
+    the two-sided reference (its pos_err_max_both_ways_mm where it records it; same_kind_base maps it
+    back for a row of another kind)."""
+    v = base.get("pos_err_max_both_ways_mm")
+    if base.get("reference") in (None, "", "both ways") or not reader.present(v):
+        return base
+    return dict(base, pos_err_max_mm=v, reference="both ways")
+
+
+_VARIANT_CACHE = {}
+
+
+def variant_rows(root, rows):
+    """accuracy_time.csv's rows under the current choice of window and reference (CURRENT.window,
+    CURRENT.reference): their window figures, stability and reference kind replaced by those of the
+    same configuration in accuracy_variants.csv (the study's runs judged again: rewindow.py); the rows
+    as they are under the rule as written, or where the file lacks the configuration or the choice
+    (robustness.NOT_VARIED says so)."""
+    if CURRENT.window == 1.0 and CURRENT.reference == OF_ITS_KIND:
+        return rows
+    path = os.path.join(root, "accuracy_variants.csv")
+    if path not in _VARIANT_CACHE:
+        vs = reader.read_csv(path, text=reader.STUDY_TEXT, missing=[])
+        _VARIANT_CACHE[path] = {(v["scene"], v["config"], v["eliminator"], v["force"], float(v["window_factor"]),
+                                 v["reference_rule"]): v for v in vs}
+    table = _VARIANT_CACHE[path]
+    out = []
+    for r in rows:
+        v = table.get((r.get("scene"), r.get("config"), r.get("eliminator"), r.get("force"), float(CURRENT.window),
+                       CURRENT.reference))
+        if v is None:
+            out.append(r)
+            continue
+        r = dict(r)
+        for k, x in v.items():
+            if k not in ("scene", "config", "detector", "eliminator", "force", "two_sided", "window_factor",
+                         "reference_rule", "helps", "useless"):
+                r[k] = x
+        out.append(r)
+    return out
+
+
+def same_kind_base(row, base):
+    """The run without contact force's figures against the reference of `row`'s kind (accuracy_time.csv
+    records both: pos_err_max_one_sided_mm, pos_err_max_both_ways_mm); a row that does not say its
+    kind is against the two-sided reference (the studies other than accuracy_time.csv measure
+    against it); `base` as it is when it records one kind only."""
+    kind = row.get("reference") or "both ways"
+    if base is None or kind not in ("one-sided", "both ways") or (base.get("reference") or "both ways") == kind:
+        return base
+    v = base.get("pos_err_max_%s_mm" % kind.replace("-", "_").replace(" ", "_"))
+    return dict(base, pos_err_max_mm=v) if reader.present(v) else base
 
 
 def helps_word(row, base):
@@ -371,7 +453,9 @@ def helps_word(row, base):
         return ""
     if row.get("config") == NO_FORCE:
         return "no"
+    base = same_kind_base(row, base)  # (useful maps it too; the depth route below reads it)
     fig = {k: reader.num(row.get(k), math.nan) for k in ("pos_err_max_mm", "depth_max_mm")}
+    fig["reference"] = row.get("reference")
     if useful(fig, base):
         return "yes"
     if math.isnan(fig["depth_max_mm"]) and fig["pos_err_max_mm"] <= reader.num(base.get("pos_err_max_mm"), math.nan):
@@ -449,11 +533,34 @@ SUPPORTED, NOT_SUPPORTED, NOT_TESTED, MIXED = "supported", "not supported", "not
 VERDICTS = (SUPPORTED, NOT_SUPPORTED, MIXED, INCONCLUSIVE, NOT_TESTED)
 
 
+class KindFloor(float):
+    """The floors of the two kinds of reference (rows measured each against the reference of its
+    kind: OF_ITS_KIND): as a number the larger (what a table prints); noise() takes the larger of the
+    two rows' own references' floors, so two one-sided rows are judged by the one-sided reference's
+    floor alone. `by`: {"one-sided": mm, "both ways": mm}."""
+
+    def __new__(cls, by):
+        vals = [v for v in by.values() if v == v]
+        obj = super().__new__(cls, max(vals) if vals else float("nan"))
+        obj.by = dict(by)
+        return obj
+
+    def of(self, *rows):
+        """The floor of a comparison between `rows`: the largest of their references' floors (a row
+        that does not say its kind is against the two-sided reference)."""
+        vals = [self.by.get(r.get("reference") or "both ways", float(self)) for r in rows]
+        vals = [v for v in vals if v == v]
+        return max(vals) if vals else float(self)
+
+
 def noise(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
     """How far apart two rows' figures `key` must be to differ (noise above): the largest of `tie`
     times the larger figure, the two rows' chatter amplitudes summed (pos_err_amp_mm; position
-    error only) and the reference's floor (same unit as the figure)."""
+    error only) and the floor of the reference they are measured against (same unit as the figure;
+    a KindFloor: the larger of the two rows' references' floors)."""
     tie = CURRENT.tie if tie is None else tie
+    if isinstance(floor, KindFloor):
+        floor = floor.of(a, b)
     amp = 0.0
     if key == "pos_err_max_mm":
         amp = reader.num(a.get("pos_err_amp_mm"), 0.0) + reader.num(b.get("pos_err_amp_mm"), 0.0)

@@ -40,15 +40,19 @@ def harness(a, args, out, check=False, show_stderr=False, cached=True, threads="
 
 def run(a, scene, out, sets, compare=True):
     """One `harness run` of `scene` into `out` without frames, with the --set overrides `sets` (and
-    --quick's), compared with results/references/<scene> when that reference exists; its summary."""
+    --quick's), compared with results/references/<scene> when that reference exists (`compare` True),
+    or with the references `compare` names: (first, second), the second measured beside it
+    (--compare-also) where it exists; its summary."""
     from .studies import common  # the user's scene (study.py --scene), if any
     args = ["run", common.scene_arg(a, scene), "--out", out, "--quiet", "--set", "output.frames_every=0"]
     if a.quick:
         args += ["--set", "time.settle.max_steps=400"]
     args += sets_args(list(sets) + a.extra_sets)
-    ref = common.reference_dir(a, scene)
+    ref, also = (compare[0], compare[1]) if isinstance(compare, (tuple, list)) else (common.reference_dir(a, scene), None)
     if compare and os.path.exists(os.path.join(ref, "surfaces.csv")):
         args += ["--compare", ref]
+        if also and os.path.exists(os.path.join(also, "surfaces.csv")):
+            args += ["--compare-also", also]
     return harness(a, args, out)
 
 
@@ -80,15 +84,16 @@ def run_configs(a, configs):
     return [(c[0], s) for c, s in zip(configs, sums)]
 
 
-def repeated(a, scene, folder, sets, repeats=None):
+def repeated(a, scene, folder, sets, repeats=None, compare=True):
     """The jobs of a configuration: one error run (folder under --results/sweeps: in full, settled,
     its errors over the window against the reference; not timed) and `repeats` (default --repeats)
     timing runs, folder_t1, folder_t2, ..., every one the same work (the scene's time.steps, no
     references, no settling: a step's time includes no measurement), which run_all executes one at
-    a time. The job tuples: (scene, out, sets, compare, timing round or 0)."""
+    a time. The job tuples: (scene, out, sets, compare, timing round or 0); `compare`: the error
+    run's references (run)."""
     n = a.repeats if repeats is None else repeats
     timing = [x for x in sets if not x.startswith("references.")] + ["references.solvers=[]", "time.settle=null"]
-    return [(scene, os.path.join(a.results, "sweeps", folder), sets, True, 0)] + [
+    return [(scene, os.path.join(a.results, "sweeps", folder), sets, compare, 0)] + [
         (scene, os.path.join(a.results, "sweeps", folder + "_t%d" % r), timing, False, r) for r in range(1, n + 1)]
 
 

@@ -386,8 +386,18 @@ def test_compare_with_a_finished_run(small, tmp_path):
     again = harness.run(small, steps=2300, compare=tmp_path / "first")
     e = again.summary["pairs"][0]["error_vs_reference"]
     assert e["pos_err_max"] == 0.0  # the same run: no distance at all
-    other = harness.run(small.with_(**{"contacts.0.force": {"stiffness": 50}}), steps=2300, compare=first.out)
+    other = harness.run(small.with_(**{"contacts.0.force": {"stiffness": 50}}), steps=2300, compare=first.out,
+                        out=tmp_path / "other")
     assert other.summary["pairs"][0]["error_vs_reference"]["pos_err_max"] > 0.0
+    # a second reference on the same steps: the figures a run compared with it alone gets
+    both = harness.run(small.with_(**{"contacts.0.force": {"stiffness": 50}}), steps=2300, compare=first.out,
+                       compare_also=other.out)
+    assert both.summary["pairs"][0]["error_vs_reference"] == other.summary["pairs"][0]["error_vs_reference"]
+    assert both.summary["pairs"][0]["error_vs_reference_also"]["pos_err_max"] == 0.0  # itself
+    assert both.summary["pairs"][0]["error_vs_reference_also"]["dir"] == str(other.out)
+    with pytest.raises(harness.SceneError, match="--compare-also"):
+        harness.run(small, steps=5, compare_also=first.out, out=tmp_path / "e")
+    assert not (tmp_path / "e").exists()
 
 
 def test_views_survive_their_simulation(small):

@@ -252,7 +252,7 @@ def judge_exact_accuracy(ctx):
           "| projection err. (mm) | outcome |", "|---|---|---:|---:|---:|---:|---:|---:|---|"]
     outcomes, bound_ratios = [], []
     for scene in SCENE_ORDER:
-        floor = floor_mm(ctx, scene)
+        floor = floor_mm(ctx, scene, of_kind=True)
         for det, label in [("voxel", None), ("hash", "hash"), ("cgal", "cgal"), ("fcl", "fcl")]:
             g = [r for r in rows if r["scene"] == scene and r["detector"] == det and r.get("two_sided") != "yes"]
             proj = [r for r in g if r["eliminator"] == "projection"]
@@ -268,7 +268,7 @@ def judge_exact_accuracy(ctx):
                 if reader.present(b) and q["t_contact_us"] > 0 and o in ("a", "b"):  # the judged pairs'
                     bound_ratios.append(with_b / q["t_contact_us"])
                 md.append("| %s | %s | %.3g | %.3g | %s | %s | %.3g | %.3g | %s |" % (
-                    scene_cell(ctx, scene), p["config"], q["t_contact_us"], p["t_contact_us"], "%.3g" % b if reader.present(b) else "-",
+                    scene_cell(ctx, scene, of_kind=True), p["config"], q["t_contact_us"], p["t_contact_us"], "%.3g" % b if reader.present(b) else "-",
                     "%.3g" % (with_b / q["t_contact_us"]) if q["t_contact_us"] > 0 else "-",
                     q["pos_err_max_mm"], p["pos_err_max_mm"],
                     {"a": "for (%s)" % why, "b": "against (%s)" % why,

@@ -37,6 +37,22 @@ class Verdict:
         return "Verdict(%r, %r)" % (self.key, self.verdict)
 
 
+_RAW = {}
+
+
+def read_cached(path, numbers):
+    """reader.read_csv(path) once per file version (its path, size and time) for all the Contexts of
+    the robustness variants; the rows are shared: copy one before changing it."""
+    try:
+        st = os.stat(path)
+        key = (path, numbers, st.st_size, st.st_mtime_ns)
+    except OSError:
+        return []
+    if key not in _RAW:
+        _RAW[key] = reader.read_csv(path, numbers=numbers, text=reader.STUDY_TEXT, missing=[])
+    return _RAW[key]
+
+
 class Context:
     """The results the claims are judged on: root (the results folder), runs (runs.existing_runs),
     by ({scene key: {"title", "force", "scene", eliminator: path}}), steps_run ({(key, elim): steps})."""
@@ -59,7 +75,9 @@ class Context:
         `helps` (yes/no: rules.useful against no_force(scene)) where its scene has a baseline."""
         k = (name, tuple(numbers), id(rules.CURRENT))
         if k not in self._csv:
-            rows = reader.read_csv(os.path.join(self.root, name), numbers=numbers, text=reader.STUDY_TEXT, missing=[])
+            rows = [dict(r) for r in read_cached(os.path.join(self.root, name), tuple(numbers))]
+            if name == "accuracy_time.csv":  # the window's length and the reference's kind (rules.variant_rows)
+                rows = rules.variant_rows(self.root, rows)
             out = []
             for r in rows:
                 r = rules.reclassify_row(r)
@@ -75,7 +93,10 @@ class Context:
         NO_FORCE row), None without one."""
         if self._base is None:
             self._base = {scene: {"pos_err_max_mm": reader.num(r.get("pos_err_max_mm"), math.nan),
-                                  "depth_max_mm": reader.num(r.get("depth_max_mm"), math.nan)}
+                                  "depth_max_mm": reader.num(r.get("depth_max_mm"), math.nan),
+                                  "reference": r.get("reference"),
+                                  "pos_err_max_one_sided_mm": reader.num(r.get("pos_err_max_one_sided_mm"), math.nan),
+                                  "pos_err_max_both_ways_mm": reader.num(r.get("pos_err_max_both_ways_mm"), math.nan)}
                           for scene, r in rules.no_force_bases(self.root).items()}
         return self._base.get(scene)
 
@@ -127,10 +148,28 @@ def pen_series(path):
     }
 
 
-def floor_mm(ctx, name):
+def floor_mm(ctx, name, of_kind=False):
     """The floor (mm) of results/references/<name> that the noise takes under the current rule
     (rules.Variant.floor): reader.reference_floor, twice it, or the last level's Richardson estimate
-    (results/references.csv error_estimate_mm; the floor where there is none). NaN when missing."""
+    (results/references.csv error_estimate_mm; the floor where there is none). NaN when missing.
+    `of_kind`: the rows compared are accuracy_time.csv's, each against the reference of its kind
+    (rules.OF_ITS_KIND): with a one-sided reference <name>_one_sided beside it, both floors
+    (rules.KindFloor: a comparison takes the larger of its two rows' references' floors; as a number,
+    the larger of the two).
+    The other studies measure against the two-sided reference only: its floor."""
+    one = _kind_floor_mm(ctx, name)
+    if of_kind and rules.CURRENT.reference == rules.OF_ITS_KIND and name + "_one_sided" in _references(ctx):
+        other = _kind_floor_mm(ctx, name + "_one_sided")
+        return rules.KindFloor({"both ways": one, "one-sided": other}) if not math.isnan(other) else one
+    return one
+
+
+def _references(ctx):
+    d = os.path.join(ctx.root, "references")
+    return set(os.listdir(d)) if os.path.isdir(d) else set()
+
+
+def _kind_floor_mm(ctx, name):
     floor = reader.reference_floor_mm(ctx.root, name)
     how = rules.CURRENT.floor
     if how == "double":
@@ -151,12 +190,33 @@ def reference_converged(ctx, name):
     return str(rows[-1]["converged"]) in ("True", "true", "yes", "1", "1.0")
 
 
-def scene_cell(ctx, scene):
-    """A scenario's name in a claim's table, marked where the reference its errors are measured
-    against did not converge (the errors below its floor are not resolved)."""
-    if reference_converged(ctx, scene) is False:
-        return "%s (reference not converged: floor %.3g mm)" % (scene, reader.reference_floor_mm(ctx.root, scene))
-    return scene
+def scene_cell(ctx, scene, of_kind=False):
+    """A scenario's name in a claim's table, marked where a reference its errors are measured
+    against did not converge (the errors below its floor are not resolved). `of_kind`: the table's
+    rows are accuracy_time.csv's, each method against the reference of its kind: the cost of
+    one-sidedness, the kind that did not converge and which methods use it."""
+    marks = []
+    kinds = [(scene, "")]
+    of_kind = of_kind and rules.CURRENT.reference == rules.OF_ITS_KIND
+    if of_kind and scene + "_one_sided" in _references(ctx):
+        kinds = [(scene, "two-sided ", "the methods both ways"), (scene + "_one_sided", "one-sided ", "the one-sided methods")]
+    for k in kinds:
+        if reference_converged(ctx, k[0]) is False:
+            marks.append("%sreference not converged: floor %.3g mm%s" % (
+                k[1], reader.reference_floor_mm(ctx.root, k[0]), (", used by " + k[2]) if len(k) > 2 else ""))
+    cost = one_sided_cost_mm(ctx, scene)
+    if of_kind and not math.isnan(cost):
+        marks.insert(0, "one-sidedness alone %.3g mm" % cost)
+    return "%s (%s)" % (scene, "; ".join(marks)) if marks else scene
+
+
+def one_sided_cost_mm(ctx, scene):
+    """The scene's one-sided and two-sided references apart (mm, references_differences.csv): what
+    one-sidedness alone costs a one-sided method judged against the two-sided limit; NaN without it."""
+    for r in ctx.csv("references_differences.csv"):
+        if str(r.get("comparison", "")).startswith(scene + ": one way against both ways"):
+            return reader.num(r.get("difference_mm"))
+    return math.nan
 
 
 def word(outcome, a_name, b_name):
@@ -172,14 +232,19 @@ def word(outcome, a_name, b_name):
 
 def figure(r, key="pos_err_max_mm", fmt="%.3g"):
     """A row's figure with why it is not evidence (rules.evidence_gap): "1.23", "1.23 (unstable)",
-    "1.23 (tunnels)", "1.23 (no better than no force)"."""
+    "1.23 (tunnels)", "1.23 (no better than no force)"; a position error against the one-sided
+    reference (a one-sided method judged against the reference of its kind) with the two-sided
+    figure beside it: "1.23 one-sided, 4.56 both ways"."""
     v = r.get(key)
     if not reader.present(v):
         return "-"
     gap = rules.evidence_gap(r)
     if gap == rules.NOT_STABLE:
         gap = r.get("stability") or gap
-    return (fmt % v) + ("" if gap is None else " (%s)" % gap)
+    kind = ""
+    if key == "pos_err_max_mm" and r.get("reference") == "one-sided" and reader.present(r.get("pos_err_max_both_ways_mm")):
+        kind = " one-sided, %s both ways" % (fmt % r["pos_err_max_both_ways_mm"])
+    return (fmt % v) + kind + ("" if gap is None else " (%s)" % gap)
 
 
 def verdict_line(label, verdict, outcomes, expected="a", rule=""):

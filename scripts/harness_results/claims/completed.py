@@ -30,7 +30,7 @@ def judge(ctx):
                  "speed-up | outcome |", "|---|---|---:|---:|---|---:|---|---:|---:|---|"]
     outcomes, speedups = [], []
     for scene in SCENE_ORDER:
-        floor = floor_mm(ctx, scene)
+        floor = floor_mm(ctx, scene, of_kind=True)
         sr = [r for r in rows if r["scene"] == scene and rules.is_evidence(r) and not math.isnan(r["pos_err_max_mm"])]
         ve = [r for r in sr if r["detector"] == "voxel_exact"]
         ex = [r for r in sr if r["detector"] in EXACT]
@@ -51,7 +51,7 @@ def judge(ctx):
         if f is not None and v["t_contact_us"] > 0:
             speedups.append(f["t_contact_us"] / v["t_contact_us"])
         md.append("| %s | %s | %s | %.3g | %s | %s | %s | %s | %s | %s |" % (
-            scene_cell(ctx, scene), "%s, %s" % (v["config"], v["force"]), figure(v), v["t_contact_us"], "%s, %s" % (e["config"], e["force"]),
+            scene_cell(ctx, scene, of_kind=True), "%s, %s" % (v["config"], v["force"]), figure(v), v["t_contact_us"], "%s, %s" % (e["config"], e["force"]),
             figure(e), "%s, %s" % (f["config"], f["force"]) if f else "none", "%.3g" % f["t_contact_us"] if f else "-",
             "%.3g" % (f["t_contact_us"] / v["t_contact_us"]) if f and v["t_contact_us"] > 0 else "-",
             "for" if o == "a" else "within the noise (as accurate; the times' ranges overlap)" if o == rules.WITHIN_NOISE

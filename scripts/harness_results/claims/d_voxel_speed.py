@@ -210,12 +210,12 @@ def judge_unit(ctx):
           "family (detection + elimination, median of the repeats, beyond their spread)." % FASTEST, ""]
     outcomes = []
     for scene in SCENE_ORDER:
-        floor = floor_mm(ctx, scene)
+        floor = floor_mm(ctx, scene, of_kind=True)
         sr = [r for r in rows if r["scene"] == scene]
         base = next((r for r in sr if r["config"] == NO_FORCE), None)
         # evidence: stable, tunnels nothing, and helps (marked against `base` by the context)
         vox = [r for r in paper_rows(rows, scene) if rules.is_evidence(r) and not math.isnan(r["pos_err_max_mm"])]
-        md.append("#### %s" % scene_cell(ctx, scene))
+        md.append("#### %s" % scene_cell(ctx, scene, of_kind=True))
         md.append("")
         if not vox:
             outcomes.append(rules.NOT_STABLE)

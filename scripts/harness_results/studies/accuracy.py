@@ -11,11 +11,13 @@ tables/accuracy_time_front.tex; the Pareto front (rules.pareto) of the evidence.
 import math
 import os
 
-from .. import reader, rules, runner, style, writers
+from .. import reader, rewindow, rules, runner, style, writers
 from ..rules import INJECTION_LIMIT, MARGIN
 from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
-from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, combine, config_sets, figure_path, folder_name,
-                     footing_voxels, force_label, read_rows, reference_floor_mm, scenes, table_path)
+from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, combine, config_sets, figure_path, figures, folder_name,
+                     footing_voxels, force_label, kind_floor_mm, read_rows, reference_of_kind,
+                     scenes,
+                     table_path)
 
 # The equal-footing comparison: the paper's voxel model with voxels at or above the host's node
 # spacing (host mean surface edge: sphere 3.0 mm, layer 5.7 mm, implant 6.1 mm; the smallest power
@@ -80,19 +82,88 @@ def run(a):
     rows, jobs, index = [], [], []
     for scene in scenes(a):
         for label, det, voxel, elim, force, extra in method_configs(a, scene):
+            kind, ref, other = reference_of_kind(a, scene, BOTH_WAYS[0] in extra)
             js = runner.repeated(a, scene, "accuracy/" + folder_name(scene, label, elim, force),
-                                 config_sets(det, voxel, elim, force, extra))
-            index.append((scene, label, det, voxel, elim, force, len(jobs), len(js)))
+                                 config_sets(det, voxel, elim, force, extra), compare=(ref, other))
+            index.append((scene, label, det, voxel, elim, force, kind, len(jobs), len(js)))
             jobs += js
     sums = runner.run_all(a, jobs)
-    for scene, label, det, voxel, elim, force, i, n in index:
+    variants = []
+    for scene, label, det, voxel, elim, force, kind, i, n in index:
         extra = method_extra(a, scene, label, det, voxel, elim, force)
-        rows.append(dict(combine(sums[i:i + n]), scene=scene, config=label, detector=det, eliminator=elim,
-                         force=force_label(force) if elim != "projection" else "positions",
-                         voxel_mm=1e3 * voxel if voxel else float("nan"),
-                         two_sided="yes" if BOTH_WAYS[0] in extra else "no",
-                         t_bound_us=bound_time_us(jobs[i][1]) if BOUND in extra else float("nan")))
+        row = dict(combine(sums[i:i + n]), scene=scene, config=label, detector=det, eliminator=elim,
+                   force=force_label(force) if elim != "projection" else "positions",
+                   voxel_mm=1e3 * voxel if voxel else float("nan"),
+                   two_sided="yes" if BOTH_WAYS[0] in extra else "no", reference=kind,
+                   t_bound_us=bound_time_us(jobs[i][1]) if BOUND in extra else float("nan"))
+        vs = rule_variants(jobs[i][1], sums[i], row)
+        other = next((v for v in vs if v["window_factor"] == 1 and v["reference_rule"] == "both ways"), None)
+        row["pos_err_max_%s_mm" % KIND_KEY[kind]] = row["pos_err_max_mm"]
+        if kind != "both ways":
+            row["pos_err_max_both_ways_mm"] = other["pos_err_max_mm"] if other else float("nan")
+        row["one_sided_cost_mm"] = one_sided_cost_mm(a, scene)
+        rows.append(row)
+        variants += vs
     write(a, rows)
+    write_variants(a, rows, variants)
+
+
+KIND_KEY = {"one-sided": "one_sided", "both ways": "both_ways"}
+WINDOW_FACTORS = (1.0, 0.5, 2.0)
+REFERENCE_RULES = ("of its kind", "both ways")
+VARIANT_FIGURES = ["stable", "stability", "verdict", "why_unstable", "settled", "steps", "window_from", "rho_norm",
+                   "contact_power_ratio", "pos_err_max_mm", "pos_err_max_max_mm", "pos_err_amp_mm", "pos_err_rms_mm",
+                   "gap_max_mm", "gap_mean_mm", "depth_max_mm", "tunnelled"]
+VARIANT_COLUMNS = (["scene", "config", "detector", "eliminator", "force", "two_sided", "window_factor",
+                    "reference_rule", "reference"] + VARIANT_FIGURES + ["helps", "useless"])
+
+
+def rule_variants(folder, s, row):
+    """The error run's figures (common.figures) under the rule's choices that need the run itself:
+    the final window WINDOW_FACTORS times the scene's (rewindow.rewindow, from its steps.csv) and the
+    reference of its kind or the two-sided one for every method (rewindow.also_reference: the
+    second reference the run measured); one dict per (window_factor, reference_rule)."""
+    out = []
+    cols = None
+    for rule in REFERENCE_RULES:
+        base, kind = s, row["reference"]
+        if rule == "both ways" and kind != "both ways":
+            base = rewindow.also_reference(s)
+            if base is None:
+                continue  # no two-sided reference was measured beside it
+            kind = "both ways"
+        for f in WINDOW_FACTORS:
+            if f != 1 and cols is None:
+                try:
+                    cols = reader.load_steps(folder)
+                except OSError:
+                    break
+            view = rewindow.rewindow(folder, base, f, cols=cols)
+            fig = figures(view)
+            out.append(dict({k: fig.get(k) for k in VARIANT_FIGURES}, scene=row["scene"], config=row["config"],
+                            detector=row["detector"], eliminator=row["eliminator"], force=row["force"],
+                            two_sided=row["two_sided"], window_factor=f, reference_rule=rule, reference=kind))
+    return out
+
+
+def one_sided_cost_mm(a, scene):
+    """The largest distance between the scene's one-sided and two-sided references (mm; what
+    one-sidedness alone costs a one-sided method), from references_differences.csv; NaN without it."""
+    for r in reader.read_csv(os.path.join(a.results, "references_differences.csv"), missing=[]):
+        if str(r.get("comparison", "")).startswith(scene + ": one way against both ways"):
+            return reader.num(r.get("difference_mm"))
+    return float("nan")
+
+
+def write_variants(a, rows, variants):
+    """accuracy_variants.csv: every configuration under every window and reference rule, marked
+    helps / useless against the scene's run without contact force under the same choices."""
+    for f in WINDOW_FACTORS:
+        for rule in REFERENCE_RULES:
+            vs = [v for v in variants if v["window_factor"] == f and v["reference_rule"] == rule]
+            bases = {v["scene"]: v for v in vs if v["config"] == NO_FORCE}
+            rules.mark_useless(vs, bases)
+    writers.write_csv(os.path.join(a.results, "accuracy_variants.csv"), variants, VARIANT_COLUMNS)
 
 
 COLUMNS = ["scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "steps",
@@ -101,7 +172,8 @@ COLUMNS = ["scene", "config", "detector", "eliminator", "force", "stable", "why_
            "contact_power_ratio", "recall", "precision", "recall_host", "precision_host", "beyond_band_total",
            "t_contact_us", "t_contact_range", "t_contact_min_us", "t_contact_max_us", "t_step_us", "t_step_min_us",
            "t_step_max_us", "t_bound_us", "voxel_mm", "two_sided", "repeats", "helps", "useless", "front",
-           "t_step_mean_us", "t_step_p99_us", "t_contact_mean_us", "t_contact_p99_us", "machine"]
+           "t_step_mean_us", "t_step_p99_us", "t_contact_mean_us", "t_contact_p99_us", "machine", "reference",
+           "pos_err_max_one_sided_mm", "pos_err_max_both_ways_mm", "one_sided_cost_mm", "rho_norm"]
 
 
 def write(a, rows):
@@ -116,8 +188,10 @@ def write(a, rows):
     repeats = int(max(reader.num(r.get("repeats"), a.repeats) for r in rows)) if rows else a.repeats
     protocol = any(reader.present(r.get("t_step_mean_us")) for r in rows)
     md = ["# What accuracy costs in time\n\n",
-          "Every method on every scenario, judged by its error against the scenario's reference solution "
-          "(`references/`) over the run's final window (`time.window` steps after every driver and "
+          "Every method on every scenario, judged by its error against the scenario's reference solution of "
+          "the method's kind (`reference`: a one-sided method against `references/<scene>_one_sided`, the limit it "
+          "converges to; a method both ways against `references/<scene>`; the position error against both beside "
+          "it, and one_sided_cost, the two references apart: what one-sidedness alone costs) over the run's final window (`time.window` steps after every driver and "
           "load has finished; CGAL every %d steps): pos_err_max: largest distance of a surface vertex from "
           "the reference, window mean (max and chatter amplitude beside it); gap_max: largest gap where the "
           "reference has contact, window mean; depth_max: deepest node inside the other body, window maximum; "
@@ -130,7 +204,8 @@ def write(a, rows):
           "not at least %g %% below the run without contact force's, nor depth %g %% below it at no larger "
           "error). The Pareto front (error against time) is drawn from the evidence only: stable and not "
           "useless. A row is off it when another is no worse on both and better beyond the noise on one "
-          "(error: the larger of %g %% of it, the two chatters summed and the reference's floor; time: the "
+          "(error: the larger of %g %% of it, the two chatters summed and the floor of the references the two rows "
+          "are measured against; time: the "
           "medians apart and the ranges over the runs disjoint); rows within the noise of each other on both "
           "stay on it together. Every row is listed with its rho and reason. Made by "
           "`scripts/study.py accuracy`.\n"
@@ -143,16 +218,17 @@ def write(a, rows):
              100 * rules.CURRENT.tie)]
     for scene in scenes(a):
         sr = [r for r in rows if r["scene"] == scene]
-        front = rules.pareto([r for r in sr if r["config"] != NO_FORCE], floor=reference_floor_mm(a, scene))
+        front = rules.pareto([r for r in sr if r["config"] != NO_FORCE], floor=kind_floor_mm(a, scene))
         for r in front:
             r["front"] = "yes"
-        md.append("\n## %s\n\n%s\n\n" % (scene, front_text(sr, front, reference_floor_mm(a, scene))))
+        md.append("\n## %s\n\n%s\n\n" % (scene, front_text(sr, front, kind_floor_mm(a, scene))))
         md.append(writers.md_table(sorted(sr, key=lambda r: (r["stable"] != "yes", bool(r["useless"]),
                                                             r["pos_err_max_mm"])),
-                                   ["config", "eliminator", "force", "stability", "useless", "pos_err_max_mm",
-                                    "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "t_contact_us",
-                                    "t_contact_range", "front", "why_unstable"],
-                                   ["method", "elim.", "force", "stability", "useless", "pos. error max (mm)",
+                                   ["config", "eliminator", "force", "stability", "useless", "reference", "pos_err_max_mm",
+                                    "pos_err_max_both_ways_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm",
+                                    "tunnelled", "t_contact_us", "t_contact_range", "front", "why_unstable"],
+                                   ["method", "elim.", "force", "stability", "useless", "reference",
+                                    "pos. error max (mm)", "against both ways (mm)",
                                     "chatter (mm)", "gap max (mm)", "depth max (mm)", "tunnelled",
                                     "detect+elim (µs/step)", "range", "front", "why unstable"]))
         plot_pareto(a, scene, sr, front)
@@ -186,10 +262,12 @@ def front_text(rows, front, floor):
     strict = [r for r in ok if not any(
         o is not r and o["pos_err_max_mm"] <= r["pos_err_max_mm"] and o["t_contact_us"] <= r["t_contact_us"]
         and (o["pos_err_max_mm"] < r["pos_err_max_mm"] or o["t_contact_us"] < r["t_contact_us"]) for o in ok)]
-    return ("Front: %d points, from %d stable runs of %d less the %d useless ones (reference floor %.3g mm). "
+    floors = ("reference floors %.3g mm one-sided, %.3g mm both ways" % (floor.by["one-sided"], floor.by["both ways"])
+              if isinstance(floor, rules.KindFloor) else "reference floor %.3g mm" % floor)
+    return ("Front: %d points, from %d stable runs of %d less the %d useless ones (%s). "
             "Allowing up to 10 tunnelled nodes it would have %d points; with no relative tie and no floor "
             "(the chatters and the times' ranges still counted) %d; under strict dominance on the figures "
-            "as written %d." % (len(front), len(stable), len(runs), len(useless), floor, len(loose), len(no_tie),
+            "as written %d." % (len(front), len(stable), len(runs), len(useless), floors, len(loose), len(no_tie),
                                 len(strict)))
 
 

@@ -97,12 +97,42 @@ def reference_dir(a, scene):
     return user["reference"] if user and scene == user["name"] else os.path.join(a.results, "references", scene)
 
 
+def one_sided_reference_dir(a, scene):
+    """The folder of a scene's one-sided reference (`harness reference --one-sided`: the references
+    study's <scene>_one_sided beside reference_dir); it may not exist."""
+    return reference_dir(a, scene).rstrip("/") + "_one_sided"
+
+
+def reference_of_kind(a, scene, two_sided):
+    """(kind, its folder, the other kind's folder or None) of the reference a method is judged
+    against: the one-sided reference for a one-sided method where it exists, the two-sided one
+    otherwise (and for a method both ways); kind "one-sided" or "both ways"."""
+    both, one = reference_dir(a, scene), one_sided_reference_dir(a, scene)
+    has_one = os.path.exists(os.path.join(one, "surfaces.csv"))
+    if two_sided or not has_one:
+        return "both ways", both, one if has_one else None
+    return "one-sided", one, both
+
+
 def reference_floor_mm(a, scene):
     """The floor (mm) of the scene's reference (reader.reference_floor; reference_dir); 0 without one."""
     path = reference_dir(a, scene)
     if not reader.has_summary(path):
         return 0.0
     return 1e3 * reader.reference_floor(reader.load_summary(path))[0]
+
+
+def kind_floor_mm(a, scene):
+    """The floors (mm) of the two kinds of reference (reference_of_kind) as a rules.KindFloor (a
+    comparison takes the larger of its two rows' references' floors); the two-sided reference's
+    alone where there is no one-sided one."""
+    both = reference_floor_mm(a, scene)
+    one = one_sided_reference_dir(a, scene)
+    if reader.has_summary(one):
+        f = 1e3 * reader.reference_floor(reader.load_summary(one))[0]
+        if not math.isnan(f):
+            return rules.KindFloor({"both ways": both, "one-sided": f})
+    return both
 
 
 def no_force_bases(a):
