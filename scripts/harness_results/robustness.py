@@ -121,7 +121,10 @@ def robustness_text(s):
     parts = []
     for verdict, fl in sorted(by.items()):
         behind = _choices_behind(fl)
-        parts.append("to %s in %d (%s)" % (verdict, len(fl), behind or "e.g. " + fl[0][0].name()))
+        # the variants that change one choice alone and flip it (said unless that choice is `behind`)
+        alone = sorted({v.name() for v, _ in fl if v.name().count(",") == 0} - {behind})
+        parts.append("to %s in %d (%s%s)" % (verdict, len(fl), behind or "e.g. " + fl[0][0].name(),
+                                             "; alone: " + ", ".join(alone) if alone else ""))
     return "fragile: %d of %d variants agree (%s); flips %s" % (s["agree"], s["total"], moved, ", ".join(parts))
 
 

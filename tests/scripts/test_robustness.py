@@ -62,6 +62,11 @@ def test_fragile_names_the_choices_that_flip_it():
     assert robustness.robustness_text(s["ClaimX"]) == (
         "fragile: %d of %d variants agree (2 different counts over the variants); flips to inconclusive in %d "
         "(rho limits x0.5)" % (n - n // 3, n, n // 3))
+    # flipped by either of two choices: no choice shared, so each that flips it alone is named
+    z = [(v, {"ClaimZ": ("inconclusive", flat) if (v.rho_scale == 0.5 or v.window == 0.5) else ("supported", t)})
+         for v in robustness.VARIANTS]
+    text = robustness.robustness_text(robustness.summary(z)["ClaimZ"])
+    assert text.endswith("; alone: rho limits x0.5, window x0.5)"), text
 
 
 def test_the_committed_table_is_what_the_claims_give():

@@ -201,13 +201,26 @@ def scene_cell(ctx, scene, of_kind=False):
     if of_kind and scene + "_one_sided" in _references(ctx):
         kinds = [(scene, "two-sided ", "the methods both ways"), (scene + "_one_sided", "one-sided ", "the one-sided methods")]
     for k in kinds:
+        used = (", used by " + k[2]) if len(k) > 2 else ""
         if reference_converged(ctx, k[0]) is False:
             marks.append("%sreference not converged: floor %.3g mm%s" % (
-                k[1], reader.reference_floor_mm(ctx.root, k[0]), (", used by " + k[2]) if len(k) > 2 else ""))
+                k[1], reader.reference_floor_mm(ctx.root, k[0]), used))
+        elif "not asymptotic" in _floor_rule(ctx, k[0]):
+            # converged by its tolerance, but its changes do not shrink as halving predicts: a jump
+            # between levels stays possible (its floor is the larger of its last two changes)
+            marks.append("%sreference not in its asymptotic range (%s): floor %.3g mm%s" % (
+                k[1], _floor_rule(ctx, k[0]).split("(")[-1].split(":")[0], reader.reference_floor_mm(ctx.root, k[0]),
+                used))
     cost = one_sided_cost_mm(ctx, scene)
     if of_kind and not math.isnan(cost):
         marks.insert(0, "one-sidedness alone %.3g mm" % cost)
     return "%s (%s)" % (scene, "; ".join(marks)) if marks else scene
+
+
+def _floor_rule(ctx, name):
+    """Why the floor of results/references/<name> is what it is (reader.reference_floor); ""."""
+    path = os.path.join(ctx.root, "references", name)
+    return reader.reference_floor(reader.load_summary(path))[1] if reader.has_summary(path) else ""
 
 
 def one_sided_cost_mm(ctx, scene):
@@ -232,9 +245,9 @@ def word(outcome, a_name, b_name):
 
 def figure(r, key="pos_err_max_mm", fmt="%.3g"):
     """A row's figure with why it is not evidence (rules.evidence_gap): "1.23", "1.23 (unstable)",
-    "1.23 (tunnels)", "1.23 (no better than no force)"; a position error against the one-sided
-    reference (a one-sided method judged against the reference of its kind) with the two-sided
-    figure beside it: "1.23 one-sided, 4.56 both ways"."""
+    "1.23 (tunnels)", "1.23 (no better than no force)"; a position error with its reference's kind
+    and the other kind's figure beside it (accuracy_time.csv: each method judged against the
+    reference of its kind): "1.23 one-sided, 4.56 both ways", "0.5 both ways, 0.9 one-sided"."""
     v = r.get(key)
     if not reader.present(v):
         return "-"
@@ -244,6 +257,8 @@ def figure(r, key="pos_err_max_mm", fmt="%.3g"):
     kind = ""
     if key == "pos_err_max_mm" and r.get("reference") == "one-sided" and reader.present(r.get("pos_err_max_both_ways_mm")):
         kind = " one-sided, %s both ways" % (fmt % r["pos_err_max_both_ways_mm"])
+    elif key == "pos_err_max_mm" and r.get("reference") == "both ways" and reader.present(r.get("pos_err_max_one_sided_mm")):
+        kind = " both ways, %s one-sided" % (fmt % r["pos_err_max_one_sided_mm"])
     return (fmt % v) + kind + ("" if gap is None else " (%s)" % gap)
 
 
