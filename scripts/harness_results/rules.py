@@ -90,6 +90,8 @@ import os
 import re
 
 from . import reader
+from . import reference_kind
+from .reference_kind import OF_ITS_KIND, KindFloor, as_two_sided, same_kind_base  # noqa: F401 (re-exported)
 
 # Stability by the contact's power over the window against the power put in (core/run/window.hpp,
 # whose own limit is INJECTION_LIMIT), with a margin of a factor MARGIN either way.
@@ -110,12 +112,6 @@ NO_FORCE = "no contact force"
 TIE = 0.10
 MIN_DECISIVE = 3
 MIXED_SHARE = 0.2
-
-
-# The reference a method is judged against (Variant.reference): its own kind, one-sided methods
-# against the one-sided reference (the limit a one-sided method converges to) and two-sided ones
-# against the two-sided; the other choice judges every method against the two-sided reference.
-OF_ITS_KIND = "of its kind"
 
 
 class Variant:
@@ -390,59 +386,10 @@ def no_force_bases(root):
     return {r["scene"]: as_two_sided(r) for r in rows if r.get("config") == NO_FORCE}
 
 
-def as_two_sided(base):
-    """The run without contact force as the studies other than accuracy_time.csv measure it: against
-    the two-sided reference (its pos_err_max_both_ways_mm where it records it; same_kind_base maps it
-    back for a row of another kind)."""
-    v = base.get("pos_err_max_both_ways_mm")
-    if base.get("reference") in (None, "", "both ways") or not reader.present(v):
-        return base
-    return dict(base, pos_err_max_mm=v, reference="both ways")
-
-
-_VARIANT_CACHE = {}
-
-
 def variant_rows(root, rows):
     """accuracy_time.csv's rows under the current choice of window and reference (CURRENT.window,
-    CURRENT.reference): their window figures, stability and reference kind replaced by those of the
-    same configuration in accuracy_variants.csv (the study's runs judged again: rewindow.py); the rows
-    as they are under the rule as written, or where the file lacks the configuration or the choice
-    (robustness.NOT_VARIED says so)."""
-    if CURRENT.window == 1.0 and CURRENT.reference == OF_ITS_KIND:
-        return rows
-    path = os.path.join(root, "accuracy_variants.csv")
-    if path not in _VARIANT_CACHE:
-        vs = reader.read_csv(path, text=reader.STUDY_TEXT, missing=[])
-        _VARIANT_CACHE[path] = {(v["scene"], v["config"], v["eliminator"], v["force"], float(v["window_factor"]),
-                                 v["reference_rule"]): v for v in vs}
-    table = _VARIANT_CACHE[path]
-    out = []
-    for r in rows:
-        v = table.get((r.get("scene"), r.get("config"), r.get("eliminator"), r.get("force"), float(CURRENT.window),
-                       CURRENT.reference))
-        if v is None:
-            out.append(r)
-            continue
-        r = dict(r)
-        for k, x in v.items():
-            if k not in ("scene", "config", "detector", "eliminator", "force", "two_sided", "window_factor",
-                         "reference_rule", "helps", "useless"):
-                r[k] = x
-        out.append(r)
-    return out
-
-
-def same_kind_base(row, base):
-    """The run without contact force's figures against the reference of `row`'s kind (accuracy_time.csv
-    records both: pos_err_max_one_sided_mm, pos_err_max_both_ways_mm); a row that does not say its
-    kind is against the two-sided reference (the studies other than accuracy_time.csv measure
-    against it); `base` as it is when it records one kind only."""
-    kind = row.get("reference") or "both ways"
-    if base is None or kind not in ("one-sided", "both ways") or (base.get("reference") or "both ways") == kind:
-        return base
-    v = base.get("pos_err_max_%s_mm" % kind.replace("-", "_").replace(" ", "_"))
-    return dict(base, pos_err_max_mm=v) if reader.present(v) else base
+    CURRENT.reference): reference_kind.variant_rows."""
+    return reference_kind.variant_rows(root, rows, CURRENT.window, CURRENT.reference)
 
 
 def helps_word(row, base):
@@ -531,26 +478,6 @@ TUNNELS, NO_HELP = "tunnels", "no better than no force"
 NOT_JUDGED = (NOT_STABLE, MISSING, TUNNELS, NO_HELP)
 SUPPORTED, NOT_SUPPORTED, NOT_TESTED, MIXED = "supported", "not supported", "not tested", "mixed"
 VERDICTS = (SUPPORTED, NOT_SUPPORTED, MIXED, INCONCLUSIVE, NOT_TESTED)
-
-
-class KindFloor(float):
-    """The floors of the two kinds of reference (rows measured each against the reference of its
-    kind: OF_ITS_KIND): as a number the larger (what a table prints); noise() takes the larger of the
-    two rows' own references' floors, so two one-sided rows are judged by the one-sided reference's
-    floor alone. `by`: {"one-sided": mm, "both ways": mm}."""
-
-    def __new__(cls, by):
-        vals = [v for v in by.values() if v == v]
-        obj = super().__new__(cls, max(vals) if vals else float("nan"))
-        obj.by = dict(by)
-        return obj
-
-    def of(self, *rows):
-        """The floor of a comparison between `rows`: the largest of their references' floors (a row
-        that does not say its kind is against the two-sided reference)."""
-        vals = [self.by.get(r.get("reference") or "both ways", float(self)) for r in rows]
-        vals = [v for v in vals if v == v]
-        return max(vals) if vals else float(self)
 
 
 def noise(a, b, key="pos_err_max_mm", floor=0.0, tie=None):

@@ -1,0 +1,89 @@
+"""The two kinds of reference a method can be judged against (rules.py, "error"): a one-sided
+method (only the guest's nodes pushed out of the host) against the one-sided reference, the limit
+it converges to, a method both ways against the two-sided one (OF_ITS_KIND, the rule as written);
+the run without contact force's figures on the kind of the row it is compared with; the floors of
+the two references in the noise. rules.py re-exports these names."""
+
+import os
+
+from . import reader
+
+# The reference a method is judged against (Variant.reference): its own kind, one-sided methods
+# against the one-sided reference (the limit a one-sided method converges to) and two-sided ones
+# against the two-sided; the other choice judges every method against the two-sided reference.
+OF_ITS_KIND = "of its kind"
+
+
+def same_kind_base(row, base):
+    """The run without contact force's figures against the reference of `row`'s kind (accuracy_time.csv
+    records both: pos_err_max_one_sided_mm, pos_err_max_both_ways_mm); a row that does not say its
+    kind is against the two-sided reference (the studies other than accuracy_time.csv measure
+    against it); `base` as it is when it records one kind only."""
+    kind = row.get("reference") or "both ways"
+    if base is None or kind not in ("one-sided", "both ways") or (base.get("reference") or "both ways") == kind:
+        return base
+    v = base.get("pos_err_max_%s_mm" % kind.replace("-", "_").replace(" ", "_"))
+    return dict(base, pos_err_max_mm=v) if reader.present(v) else base
+
+
+def as_two_sided(base):
+    """The run without contact force as the studies other than accuracy_time.csv measure it: against
+    the two-sided reference (its pos_err_max_both_ways_mm where it records it; same_kind_base maps it
+    back for a row of another kind)."""
+    v = base.get("pos_err_max_both_ways_mm")
+    if base.get("reference") in (None, "", "both ways") or not reader.present(v):
+        return base
+    return dict(base, pos_err_max_mm=v, reference="both ways")
+
+
+class KindFloor(float):
+    """The floors of the two kinds of reference (rows measured each against the reference of its
+    kind: OF_ITS_KIND): as a number the larger (what a table prints); noise() takes the larger of the
+    two rows' own references' floors, so two one-sided rows are judged by the one-sided reference's
+    floor alone. `by`: {"one-sided": mm, "both ways": mm}."""
+
+    def __new__(cls, by):
+        vals = [v for v in by.values() if v == v]
+        obj = super().__new__(cls, max(vals) if vals else float("nan"))
+        obj.by = dict(by)
+        return obj
+
+    def of(self, *rows):
+        """The floor of a comparison between `rows`: the largest of their references' floors (a row
+        that does not say its kind is against the two-sided reference)."""
+        vals = [self.by.get(r.get("reference") or "both ways", float(self)) for r in rows]
+        vals = [v for v in vals if v == v]
+        return max(vals) if vals else float(self)
+
+
+_VARIANT_CACHE = {}
+
+
+def variant_rows(root, rows, window, reference):
+    """accuracy_time.csv's rows under a choice of `window` (the final window's length over the
+    scene's) and `reference` (OF_ITS_KIND or "both ways"): their window figures, stability and reference kind replaced by those of the
+    same configuration in accuracy_variants.csv (the study's runs judged again: rewindow.py); the rows
+    as they are under the rule as written, or where the file lacks the configuration or the choice
+    (robustness.NOT_VARIED says so)."""
+    if window == 1.0 and reference == OF_ITS_KIND:
+        return rows
+    path = os.path.join(root, "accuracy_variants.csv")
+    if path not in _VARIANT_CACHE:
+        vs = reader.read_csv(path, text=reader.STUDY_TEXT, missing=[])
+        _VARIANT_CACHE[path] = {(v["scene"], v["config"], v["eliminator"], v["force"], float(v["window_factor"]),
+                                 v["reference_rule"]): v for v in vs}
+    table = _VARIANT_CACHE[path]
+    out = []
+    for r in rows:
+        v = table.get((r.get("scene"), r.get("config"), r.get("eliminator"), r.get("force"), float(window),
+                       reference))
+        if v is None:
+            out.append(r)
+            continue
+        r = dict(r)
+        for k, x in v.items():
+            if k not in ("scene", "config", "detector", "eliminator", "force", "two_sided", "window_factor",
+                         "reference_rule", "helps", "useless"):
+                r[k] = x
+        out.append(r)
+    return out
