@@ -8,7 +8,7 @@ import pytest
 
 from harness_results import reader, rules
 from harness_results.claims import a_plane, c_restrictions, completed, d_voxel_speed, e_region, realtime, swap
-from harness_results.claims.common import Context, Verdict
+from harness_results.claims.common import Context
 
 TABLE = """scene,config,eliminator,stable,stability,pos_err_max_mm,t_contact_us
 implant_expansion,voxel 8 mm,line,yes,stable,2.0,10

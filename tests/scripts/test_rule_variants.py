@@ -79,3 +79,25 @@ def test_helps_is_judged_against_the_same_kind_of_reference():
     plain = {"pos_err_max_mm": 10.0, "depth_max_mm": 5.0}
     assert rules.helps_word(two, plain) == "yes"
     assert math.isclose(rules.same_kind_base(two, base)["pos_err_max_mm"], 4.0)
+
+
+def test_other_studies_rows_take_the_two_sided_error_under_both_ways(tmp_path):
+    # a study file whose rows name their reference and record the two-sided error beside it (ablation.csv; here
+    # under another name: the rule is the same for any file but accuracy_time.csv):
+    # under "every method against the two-sided reference" they are judged on that figure, helps too
+    base = row(rules.NO_FORCE, 10.0, 12.0, depth=5.0)
+    write(tmp_path / "accuracy_time.csv", ACC, [base])
+    cols = ["scene", "eliminator", "orient", "stable", "stability", "why_unstable", "pos_err_max_mm", "depth_max_mm",
+            "contact_power_ratio", "rho_norm", "reference", "pos_err_max_one_sided_mm", "pos_err_max_both_ways_mm"]
+    o = dict(row("x", 8.5, 11.5, depth=5.0), orient="guest")  # helps one-sided (8.5 <= 9), not both ways (11.5 > 10.8)
+    old = dict(row("y", 8.5, ""), orient="outward", reference="")  # an older file: no kind, no second figure
+    write(tmp_path / "orient.csv", cols, [o, old])
+    root = str(tmp_path)
+    get = lambda ctx: {r["orient"]: r for r in ctx.csv("orient.csv")}
+    written = get(Context(root))
+    assert written["guest"]["pos_err_max_mm"] == 8.5 and written["guest"]["helps"] == "yes"
+    with rules.using(rules.Variant(reference="both ways")):
+        both = get(Context(root))
+    assert both["guest"]["pos_err_max_mm"] == 11.5 and both["guest"]["reference"] == "both ways"
+    assert both["guest"]["helps"] == "no"
+    assert both["outward"]["pos_err_max_mm"] == 8.5  # nothing to swap in: as it is

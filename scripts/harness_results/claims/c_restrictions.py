@@ -23,8 +23,6 @@ apart: t_bound_us), the slowest bound there is. It makes a second, named finding
 the same rule; without restriction.csv it is judged on accuracy_time.csv as the study before it did.
 """
 
-import math
-
 from .. import reader, rules
 from .common import SCENE_ORDER, Verdict, figure, floor_mm, scene_cell, tally_macros, verdict_line
 

@@ -78,6 +78,11 @@ class Context:
             rows = [dict(r) for r in read_cached(os.path.join(self.root, name), tuple(numbers))]
             if name == "accuracy_time.csv":  # the window's length and the reference's kind (rules.variant_rows)
                 rows = rules.variant_rows(self.root, rows)
+            elif rules.CURRENT.reference != rules.OF_ITS_KIND:
+                # another study's rows that name their reference and record the two-sided error beside it
+                # (ablation.csv): every method against the two-sided reference (its largest
+                # position error; the window's other figures stay those against the reference of its kind)
+                rows = [rules.as_two_sided(r) for r in rows]
             out = []
             for r in rows:
                 r = rules.reclassify_row(r)

@@ -60,12 +60,12 @@ def verdict_table(records):
         md.append("| %s | %s | %s | %s | %s |" % (title, verdict, " | ".join(counts), robust, loading))
     return md + ["", "The rules: scripts/harness_results/rules.py (evidence, noise, comparison, verdict); each section "
                  "below states its test and gives its numbers. The counts are the rule's as written, each run judged by the rho it recorded (over the loading period: accuracy_time.csv, "
-                 "restriction.csv, regime.csv; over the whole time before the window: the other studies, run "
-                 "before it); the last column gives the verdict and its counts (for-against-noise-not judged) with "
+                 "ablation.csv, swap.csv, restriction.csv, regime.csv; over the whole time before the window: the "
+                 "other studies, run before it); the last column gives the verdict and its counts (for-against-noise-not judged) with "
                  "rho over the loading period, the harness's rule since, all else as written. The errors of "
                  "accuracy_time.csv are against the reference of each method's kind (one-sided methods against the "
-                 "one-sided reference, methods both ways against the two-sided one; the other studies' against the "
-                 "two-sided reference). Robustness: the "
+                 "one-sided reference, methods both ways against the two-sided one; so are ablation.csv's, the paper's model "
+                 "against the one-sided reference; the other studies' against the two-sided reference). Robustness: the "
                  "verdict judged again under %d variants of the rule's free choices (results/robustness.csv, "
                  "harness_results/robustness.py); a verdict that any variant changes is stated fragile. Not varied: "
                  "%s." % (len(robustness.VARIANTS), robustness.NOT_VARIED), ""]

@@ -13,7 +13,7 @@ NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "ma
            "true_pen_final", "t_contact_us", "voxel_mm", "margin"]
 
 
-def robustness_line(judged):
+def robustness_line(judged, rows=()):
     """The finding's counts under every variant of the rule's choices (robustness.VARIANTS): how many
     distinct counts, and the variants that move them."""
     from .. import robustness
@@ -24,14 +24,19 @@ def robustness_line(judged):
         counts.setdefault((t["for"], t["against"], t["noise"], t["not judged"]), []).append(v)
     default = max(counts, key=lambda k: any(v.name() == "the rule as written" for v in counts[k]))
     moved = {k: vs for k, vs in counts.items() if k != default}
+    rows = list(rows)  # swap.csv as the claim read it
+    if rows and all(r.get("rho_norm") == "loading" for r in rows):
+        norm = "swap.csv's runs recorded rho over the loading period already"
+    else:
+        norm = ("swap.csv records no run lengths, so rho over the loading period cannot be applied to it; under that "
+                "normalisation a run unstable by a small margin here could read marginal")
     if not moved:
-        return ("**Robustness:** the same counts under all %d variants of the rule's choices (rho over the loading "
-                "period not applicable: swap.csv records no run lengths)." % len(robustness.VARIANTS))
-    return ("**Robustness:** %d different counts over the %d variants of the rule's choices: %s. swap.csv records no "
-            "run lengths, so rho over the loading period cannot be applied to it; under that normalisation a run "
-            "unstable by a small margin here could read marginal." % (
+        return ("**Robustness:** the same counts under all %d variants of the rule's choices (%s)." % (
+            len(robustness.VARIANTS), norm))
+    return ("**Robustness:** %d different counts over the %d variants of the rule's choices: %s. %s." % (
                 len(counts), len(robustness.VARIANTS), "; ".join(
-                    "%d-%d-%d-%d in %d (e.g. %s)" % (k + (len(vs), vs[0].name())) for k, vs in sorted(moved.items()))))
+                    "%d-%d-%d-%d in %d (e.g. %s)" % (k + (len(vs), vs[0].name())) for k, vs in sorted(moved.items())),
+                norm))
 
 
 def judge(ctx):
@@ -76,7 +81,7 @@ def judge(ctx):
            % (t["for"], len(outcomes), t["against"], t["noise"], t["not judged"]), "",
            # claims.md shows the rule as written's text; under the other variants (robustness.judge_variants
            # reads their macros only) the line is not made: it loops over every variant itself
-           robustness_line(judged) if rules.CURRENT is rules.DEFAULT else "", ""]
+           robustness_line(judged, sw) if rules.CURRENT is rules.DEFAULT else "", ""]
     macros = [("SwapSceneWins", str(t["for"])), ("SwapSwappedWins", str(t["against"])),
               ("SwapNoise", str(t["noise"])), ("SwapNotJudged", str(t["not judged"])), ("SwapSettings", str(len(outcomes)))]
     return Verdict("swap", None, md, macros, data=outcomes)

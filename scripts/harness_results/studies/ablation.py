@@ -13,7 +13,8 @@ from .. import reader, rules, runner, style, writers
 from ..rules import USEFUL
 from .accuracy import FOOTING_VOXELS
 from .common import (PARETO_CAP_MM, PENALTY, combine, config_sets, figure_path, figures, footing_voxels, force_label,
-                     mark_useless, no_force_bases, paper_eliminator, read_rows, scenes, table_path)
+                     mark_useless, no_force_bases, paper_eliminator, read_rows, reference_of_kind, scenes, table_path,
+                     with_both_kinds)
 
 ABLATION_VOXELS = [0.004, 0.008, 0.016, 0.032]
 CONSTANT_FORCES = ["0.0005", "0.001", "0.003", "0.01", "0.03", "0.1"]
@@ -28,31 +29,42 @@ def ablation_voxels(a, scene):
 
 
 def run(a):
+    """Every setting of every scene: one error run against the reference of its kind (the paper's
+    model is one-sided: the one-sided reference where the scene has one), the two-sided reference
+    measured beside it, and --repeats timing runs of the same work, one at a time (runner.repeated:
+    the accuracy study's protocol)."""
     rows, jobs, index = [], [], []
     for scene in scenes(a):
         elim = paper_eliminator(a, scene)
+        kind, ref, other = reference_of_kind(a, scene, False)
         for v in ablation_voxels(a, scene):
             for f in ABLATION_FORCES:
                 js = runner.repeated(a, scene, "ablation/%s/v%g_%s" % (scene, 1e3 * v, force_label(f)),
-                                     config_sets("voxel", v, elim, f, []), repeats=1)
-                index.append((scene, v, f, len(jobs), len(js)))
+                                     config_sets("voxel", v, elim, f, []), compare=(ref, other))
+                index.append((scene, v, f, kind, len(jobs), len(js)))
                 jobs += js
     base_at = len(jobs)
-    for scene in scenes(a):  # the baseline: contact measured, never pushed (force 0)
-        jobs += runner.repeated(a, scene, "ablation/%s/no_force" % scene,
-                                config_sets("voxel", ablation_voxels(a, scene)[0], paper_eliminator(a, scene), "0", []),
-                                repeats=1)
+    kinds = {}
+    for scene in scenes(a):  # the baseline: contact measured, never pushed (force 0); untimed
+        kinds[scene] = kind, ref, other = reference_of_kind(a, scene, False)
+        jobs.append((scene, os.path.join(a.results, "sweeps", "ablation/%s/no_force" % scene),
+                     config_sets("voxel", ablation_voxels(a, scene)[0], paper_eliminator(a, scene), "0", []),
+                     (ref, other), 0))
     sums = runner.run_all(a, jobs)
-    baseline = {scene: figures(sums[base_at + k]) for k, scene in enumerate(scenes(a))}
-    for scene, v, f, i, n in index:
-        rows.append(dict(combine(sums[i:i + n]), scene=scene, voxel_mm=1e3 * v, force=force_label(f),
-                         eliminator=paper_eliminator(a, scene)))
+    baseline = {scene: with_both_kinds(figures(sums[base_at + k]), sums[base_at + k], kinds[scene][0])
+                for k, scene in enumerate(scenes(a))}
+    for scene, v, f, kind, i, n in index:
+        row = dict(combine(sums[i:i + n]), scene=scene, voxel_mm=1e3 * v, force=force_label(f),
+                   eliminator=paper_eliminator(a, scene))
+        rows.append(with_both_kinds(row, sums[i], kind))
     write(a, rows, baseline)
 
 
 COLUMNS = ["scene", "eliminator", "voxel_mm", "force", "stable", "why_unstable", "settled", "pos_err_max_mm",
            "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "contact_power_ratio", "stability",
-           "t_contact_us", "t_contact_range", "recall", "precision", "helps", "useless"]
+           "t_contact_us", "t_contact_range", "recall", "precision", "helps", "useless", "reference",
+           "pos_err_max_one_sided_mm", "pos_err_max_both_ways_mm", "rho_norm", "t_contact_mean_us",
+           "t_contact_p99_us", "t_step_us", "t_step_mean_us", "t_step_p99_us", "repeats", "machine"]
 
 
 def write(a, rows, baseline):
@@ -63,9 +75,13 @@ def write(a, rows, baseline):
     md = ["# Ablation: force rule and magnitude by voxel size (the voxel model)\n\n",
           "The paper's voxel model with its eliminator for the scenario; constant force F (N per contact), "
           "`auto`, and the depth penalty k (N/m), by voxel size. Errors against the reference (mm) and "
-          "stability as in `accuracy_time.md`; useless (whatever the stability): tunnels, or no better than "
-          "no force; time: the median step of one run (the accuracy study has the "
-          "medians of several). Made by `scripts/study.py ablation`.\n"]
+          "stability as in `accuracy_time.md` (ρ over the loading period); the paper's model is one-sided, so "
+          "its errors are against the one-sided reference where the scene has one (column `reference`; the "
+          "error against the two-sided reference beside it in ablation.csv); useless (whatever the stability): "
+          "tunnels, or no better than no force against the same kind of reference; time: detection and "
+          "elimination per step, the median over the timing runs' medians (each the same work, run one at "
+          "a time, as in the accuracy study; mean and 99th percentile in ablation.csv). Made by "
+          "`scripts/study.py ablation`.\n"]
     reasons = ["% The voxel model's defaults chosen by the rule (made by scripts/study.py)\n"]
     chosen = {}
     for scene in scenes(a):
@@ -79,7 +95,8 @@ def write(a, rows, baseline):
                                    ["voxel (mm)", "force", "stable", "useless", "pos. error max (mm)", "gap max (mm)",
                                     "depth max (mm)", "tunnelled", "contact work / energy in", "detect+elim (µs)",
                                     "why unstable"]))
-        text = default_text(scene, sr, best, baseline.get(scene))
+        text = default_text(scene, sr, best, baseline.get(scene), footing) + fragility(sr, best, baseline.get(scene),
+                                                                                  footing)
         md.append("\n" + text + "\n")
         reasons.append("\\paragraph{Default of \\code{%s}.} %s\n" % (writers.tex_escape(scene),
                                                                       writers.tex_escape(text)))
@@ -96,19 +113,25 @@ def write(a, rows, baseline):
         f.write("\n")
 
 
-def default_text(scene, rows, best, base):
+def default_text(scene, rows, best, base, footing=0.0):
+    """The rule and the default of one scene in words; `base`: the run without contact force (its
+    figures against the same kind of reference as the rows: rules.same_kind_base), `footing`: the
+    smallest voxel (mm) a default may have."""
     if base is None:
         return ("No run without contact force for this scenario (the accuracy study's): the default is not "
                 "judged against doing nothing.")
+    base = rules.same_kind_base(rows[0] if rows else {}, base)  # run() and plots() alike: the rows' kind
     stable = [r for r in rows if r["stable"] == "yes"]
     good = [r for r in stable if rules.useful(r, base)]
     out = ("Rule: among the stable settings with voxels at or above the host's node spacing that help (a position "
            "error at most %g %% of the run without contact force's, or a depth at most %g %% of its depth with a "
-           "position error no larger: %.3g mm and %.3g mm here), the smallest largest position error; among those "
-           "within 10 %% "
+           "position error no larger: %.3g mm and %.3g mm here, against the %s reference), the smallest largest "
+           "position error; among those within 10 %% "
            "of it, the smallest gap; among those, the fastest. %d of %d settings are stable, %d of them clearly "
-           "better than no force. " % (100 * USEFUL, 100 * USEFUL, base["pos_err_max_mm"], base["depth_max_mm"], len(stable),
-                                       len(rows), len(good)))
+           "better than no force, %d of those with voxels at or above the node spacing (%g mm). " % (
+               100 * USEFUL, 100 * USEFUL, base["pos_err_max_mm"], base["depth_max_mm"],
+               "two-sided" if (rows[0].get("reference") or "both ways") == "both ways" else "one-sided",
+               len(stable), len(rows), len(good), sum(r["voxel_mm"] >= footing for r in good), round(footing, 3)))
     if best is None:
         return out + ("None qualifies: the voxel model has no default for this scenario, and CI has no accuracy "
                       "threshold for it (results/thresholds.json says why).")
@@ -116,6 +139,39 @@ def default_text(scene, rows, best, base):
                   "step for detection and elimination." % (best["force"], best["voxel_mm"], best["pos_err_max_mm"],
                                                             best["gap_max_mm"], best["depth_max_mm"],
                                                             best["t_contact_us"]) + tunnel_note(best))
+
+
+def fragility(rows, best, base, footing):
+    """Whether the default stands under the rule's other choices: the marginal band counted stable,
+    every setting and the run without force against the two-sided reference (their
+    pos_err_max_both_ways_mm), and how many settings qualify at all; "" when there is nothing to say."""
+    if base is None:
+        return ""
+    on = [r for r in rows if r["voxel_mm"] >= footing]
+    name = lambda r: "none" if r is None else "%s at %g mm" % (r["force"], r["voxel_mm"])
+    out = []
+    base_kind = rules.same_kind_base(rows[0] if rows else {}, base)
+    qualify = [r for r in on if r["stable"] == "yes" and reader.present(r.get("pos_err_max_mm")) and
+               rules.useful(r, base_kind)]
+    if best is not None and len(qualify) == 1:
+        out.append("it is the only setting that qualifies")
+    with rules.using(rules.Variant(marginal="stable")):
+        other = rules.choose([rules.reclassify_row(r) for r in on], base)
+    if name(other) != name(best):
+        out.append("with the marginal band counted stable the default would be %s" % name(other))
+    two = [rules.as_two_sided(r) for r in on]
+    other = rules.choose(two, rules.as_two_sided(base))
+    if name(other) != name(best):
+        out.append("with every run against the two-sided reference it would be %s" % name(other))
+    elif best is not None:
+        b2 = next(r for r in two if name(r) == name(best))
+        base2 = rules.same_kind_base(b2, rules.as_two_sided(base))
+        if b2["pos_err_max_mm"] > USEFUL * base2["pos_err_max_mm"]:
+            out.append("against the two-sided reference it helps by depth alone (position error %.3g mm against "
+                       "%.3g mm without force)" % (b2["pos_err_max_mm"], base2["pos_err_max_mm"]))
+    if best is not None and reader.present(best.get("gap_max_mm")) and reader.num(best["gap_max_mm"]) > 0:
+        out.append("it holds the bodies up to %.3g mm apart where the reference has them touching" % best["gap_max_mm"])
+    return (" Fragility: " + "; ".join(out) + ".") if out else " The default stands under the rule's other choices."
 
 
 def tunnel_note(best):

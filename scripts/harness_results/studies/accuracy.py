@@ -16,7 +16,7 @@ from ..rules import INJECTION_LIMIT, MARGIN
 from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
 from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, combine, config_sets, figure_path, figures, folder_name,
                      footing_voxels, force_label, kind_floor_mm, read_rows, reference_of_kind,
-                     scenes,
+                     scenes, with_both_kinds,
                      table_path)
 
 # The equal-footing comparison: the paper's voxel model with voxels at or above the host's node
@@ -97,11 +97,7 @@ def run(a):
                    two_sided="yes" if BOTH_WAYS[0] in extra else "no", reference=kind,
                    t_bound_us=bound_time_us(jobs[i][1]) if BOUND in extra else float("nan"))
         vs = rule_variants(jobs[i][1], sums[i], row)
-        also = rewindow.also_reference(sums[i])  # the other kind, measured on the same steps
-        row["pos_err_max_%s_mm" % KIND_KEY[kind]] = row["pos_err_max_mm"]
-        other_kind = "one-sided" if kind == "both ways" else "both ways"
-        row["pos_err_max_%s_mm" % KIND_KEY[other_kind]] = (figures(also)["pos_err_max_mm"] if also is not None
-                                                          else float("nan"))
+        with_both_kinds(row, sums[i], kind)  # the other kind, measured on the same steps
         row["one_sided_cost_mm"] = one_sided_cost_mm(a, scene)
         rows.append(row)
         variants += vs
@@ -109,7 +105,6 @@ def run(a):
     write_variants(a, rows, variants)
 
 
-KIND_KEY = {"one-sided": "one_sided", "both ways": "both_ways"}
 WINDOW_FACTORS = (1.0, 0.5, 2.0)
 REFERENCE_RULES = ("of its kind", "both ways")
 VARIANT_FIGURES = ["stable", "stability", "verdict", "why_unstable", "settled", "steps", "window_from", "rho_norm",

@@ -114,6 +114,23 @@ def reference_of_kind(a, scene, two_sided):
     return "one-sided", one, both
 
 
+KIND_KEY = {"one-sided": "one_sided", "both ways": "both_ways"}
+
+
+def with_both_kinds(row, s, kind):
+    """`row` (the error run `s`'s figures against the reference of `kind`) given its kind and its
+    largest position error against both kinds of reference (pos_err_max_one_sided_mm,
+    pos_err_max_both_ways_mm): the other from the second reference the run measured beside the first
+    (rewindow.also_reference; NaN where none was). Returns row."""
+    from .. import rewindow
+    row["reference"] = kind
+    row["pos_err_max_%s_mm" % KIND_KEY[kind]] = row["pos_err_max_mm"]
+    other = "one-sided" if kind == "both ways" else "both ways"
+    also = rewindow.also_reference(s)
+    row["pos_err_max_%s_mm" % KIND_KEY[other]] = figures(also)["pos_err_max_mm"] if also is not None else float("nan")
+    return row
+
+
 def reference_floor_mm(a, scene):
     """The floor (mm) of the scene's reference (reader.reference_floor; reference_dir); 0 without one."""
     path = reference_dir(a, scene)

@@ -19,7 +19,7 @@ each verdict naming the regimes its comparisons come from.
 
 import os
 
-from .. import reader, rules, runner, writers
+from .. import rules, runner, writers
 from ..claims import b_episodes
 from .accuracy import FOOTING_VOXELS, NO_FORCE
 from .common import (config_sets, figures, footing_voxels, force_label, pair_bodies, read_rows, scenes,

@@ -1,7 +1,10 @@
 """study.py swap: which body carries the grid (the paper leaves it open): the voxel model with host
 and guest as the scene has them and swapped, with the scene's default (defaults.json) when there is
 one and the paper's eliminator with the automatic force at the scene's voxel size -> swap.csv,
-tables/swap.md.
+tables/swap.md. Both placements are measured against the two-sided reference: the one-sided
+reference (`harness reference --one-sided`) is the limit of the scene's placement only (its guest
+kept out of its host); the swapped placement's one-sided limit is another contact problem, so the
+two-sided reference is the only one both sides of a comparison share.
 """
 
 import os
@@ -47,7 +50,8 @@ def run(a):
 
 COLUMNS = ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "swapped", "stable", "stability", "why_unstable",
            "pos_err_max_mm", "pos_err_amp_mm", "tunnelled", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm",
-           "true_pen_final", "recall", "precision", "t_contact_us", "helps", "useless"]
+           "true_pen_final", "recall", "precision", "t_contact_us", "helps", "useless", "settled", "contact_power_ratio",
+           "rho_norm"]
 
 
 def write(a, rows):
