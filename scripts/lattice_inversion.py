@@ -63,12 +63,11 @@ def main():
         doc = scene.to_dict()
         t = doc.get("time", {})
         steps = a.steps or int(t.get("steps", 0)) + int((t.get("settle") or {}).get("max_steps", 0))
-        scene = scene.with_steps(steps)  # settling off: exactly that many steps
+        scene = scene.with_steps(steps)  # as --steps: settling off (sim.step below runs exactly that many)
     except (harness.SceneError, ValueError) as e:
         print("lattice_inversion.py: error: %s" % e, file=sys.stderr)
         sys.exit(2)
     sim = harness.Simulation(scene, threads=1)
-    sim = harness.Simulation(doc, threads=1)
     names = [b["name"] for b in doc["bodies"]]
     x0 = {n: np.array(sim.positions(n)) for n in names}
     sim.step(steps)

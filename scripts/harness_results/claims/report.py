@@ -64,8 +64,8 @@ def verdict_table(records):
                  "other studies, run before it); the last column gives the verdict and its counts (for-against-noise-not judged) with "
                  "rho over the loading period, the harness's rule since, all else as written. The errors of "
                  "accuracy_time.csv are against the reference of each method's kind (one-sided methods against the "
-                 "one-sided reference, methods both ways against the two-sided one; so are ablation.csv's, the paper's model "
-                 "against the one-sided reference; the other studies' against the two-sided reference). Robustness: the "
+                 "one-sided reference, methods both ways against the two-sided one; so are ablation.csv's and convergence.csv's, the "
+                 "paper's model against the one-sided reference; the other studies' against the two-sided reference). Robustness: the "
                  "verdict judged again under %d variants of the rule's free choices (results/robustness.csv, "
                  "harness_results/robustness.py); a verdict that any variant changes is stated fragile. Not varied: "
                  "%s." % (len(robustness.VARIANTS), robustness.NOT_VARIED), ""]

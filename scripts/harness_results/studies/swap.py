@@ -60,7 +60,8 @@ def write(a, rows):
     writers.write_csv(os.path.join(a.results, "swap.csv"), rows, COLUMNS)
     md = ["# Which body carries the grid\n\n",
           "The voxel model with host and guest as the scene has them and swapped (the grid on the other body), "
-          "against the converged reference (errors over the final window, mm; peak depth over the run; recall "
+          "against the scene's two-sided reference, which both placements share (references.csv says whether it "
+          "converged; errors over the final window, mm; peak depth over the run; recall "
           "and precision of the guest nodes detected, CGAL every 10 steps); useless (whatever the stability): tunnels, "
           "or no better than no force. Made by `scripts/study.py swap`.\n\n",
           writers.md_table(rows, ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "stable", "useless",
