@@ -10,8 +10,9 @@ Definitions:
                 against the one-sided reference (harness reference --one-sided: the limit it converges
                 to), a method both ways against the two-sided one; the error against the other kind is
                 measured beside it (--compare-also) and shown, with the two references' distance (what
-                one-sidedness alone costs); the studies run before accuracy_time.csv's rerun (orient,
-                swap, regime, restriction, region) are against the two-sided reference. Over the window: pos_err_max (largest
+                one-sidedness alone costs); so are the ablation's, convergence's, orientation's and
+                regime's rows (the paper's model: one-sided); the swap (and the regime's swapped runs),
+                restriction and region studies are against the two-sided reference (scripts say why). Over the window: pos_err_max (largest
                 distance of a surface vertex from where the reference has it) as its window mean, with
                 its window maximum and chatter amplitude (max - min); gap_max (largest gap where the
                 reference has contact) window mean; depth_max (deepest node inside the other body)

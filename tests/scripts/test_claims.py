@@ -377,3 +377,32 @@ def test_regime_claims_name_their_regimes(tmp_path):
     # no regime.csv: not tested
     os.remove(os.path.join(str(tmp_path), "regime.csv"))
     assert regime.judge(Context(str(tmp_path))).verdict == "not tested"
+
+
+def test_regime_swap_on_two_sided_errors(tmp_path):
+    """The scene's placement is measured against the one-sided reference (its kind), the swapped run
+    against the two-sided one: the swap compares their two-sided errors; (a) compares the one-sided."""
+    from harness_results.claims import regime
+    head = REGIME_HEAD.rstrip("\n") + ",reference,pos_err_max_one_sided_mm,pos_err_max_both_ways_mm\n"
+
+    def kinded(line, kind, one, both):
+        return line.rstrip("\n") + ",%s,%s,%s\n" % (kind, one, both)
+    rows = [kinded(regime_row("line", "dt/8", 3.0, force=f), "one-sided", 3.0, 9.0) for f in ("F=0.001", "F=0.003", "F=0.01")]
+    rows += [kinded(regime_row("plane", "dt/8", 2.0, force=f), "one-sided", 2.0, 12.0) for f in ("F=0.001", "F=0.003", "F=0.01")]
+    rows.append(kinded(regime_row("line", "dt/8", 5.0, force="F=0.001", swapped="yes"), "both ways", "", 5.0))
+    m = dict(regime.judge(Context(write(tmp_path, "regime.csv", head + "".join(rows)))).macros)
+    # (a) on the one-sided errors: the plane (2.0) beats the line (3.0) in all three
+    assert (m["ClaimARegimeFor"], m["ClaimARegimeVerdict"]) == ("3", "supported")
+    # the swap on the two-sided ones: swapped 5.0 against the scene's 9.0 (one-sided 3.0 would say the scene's)
+    assert (m["SwapRegimeSceneWins"], m["SwapRegimeSwappedWins"]) == ("0", "1")
+
+
+def test_claims_say_how_each_file_recorded_rho_and_its_reference(tmp_path):
+    """claims.md's note on rho and references is read from the files, not typed."""
+    from harness_results.claims import report
+    (tmp_path / "orient.csv").write_text("scene,rho_norm,reference\ns,loading,one-sided\ns,loading,one-sided\n")
+    (tmp_path / "swap.csv").write_text("scene,rho_norm,reference\ns,loading,\n")
+    (tmp_path / "region.csv").write_text("scene,stable\ns,yes\n")
+    rho, kinded = report.recorded_text(str(tmp_path))
+    assert rho == "over the loading period: orient.csv, swap.csv; over the whole time before the window: region.csv"
+    assert kinded == "orient.csv"

@@ -239,3 +239,18 @@ def test_median_and_nearest_rank():
     assert rules.nearest_rank([10, 20, 30, 40, 50, 60, 70, 80, 90, 100], 90) == 90
     assert rules.nearest_rank([10, 20, 30], 50) == 20
     assert rules.nearest_rank([], 50) is None
+
+
+def test_regime_swaps_where_evidence_against_either_reference():
+    """study.py regime runs a setting swapped where its scene placement is evidence against the
+    reference of its kind or against the two-sided one (its helps judged again there)."""
+    from harness_results.studies.regime import evidence_either_kind
+    base = {"pos_err_max_mm": 10.0, "depth_max_mm": 5.0, "reference": "one-sided",
+            "pos_err_max_one_sided_mm": 10.0, "pos_err_max_both_ways_mm": 12.0}
+    row = {"stable": "yes", "stability": "stable", "tunnelled": 0, "pos_err_max_mm": 9.95, "depth_max_mm": 5.0,
+           "reference": "one-sided", "pos_err_max_one_sided_mm": 9.95, "pos_err_max_both_ways_mm": 6.0}
+    row["helps"] = rules.helps_word(row, base)
+    assert row["helps"] == "no" and rules.evidence_gap(row) is not None  # one-sided: 9.95 against 10
+    assert evidence_either_kind(row, base)  # both ways: 6.0 against 12.0 helps
+    assert not evidence_either_kind(dict(row, pos_err_max_both_ways_mm=11.9), base)
+    assert not evidence_either_kind(dict(row, stable="no", stability="unstable", pos_err_max_both_ways_mm=6.0), base)

@@ -12,7 +12,7 @@ The claim predicts the plane's error smaller.
 """
 
 from .. import rules
-from .common import Verdict, figure, floor_mm, tally_macros, verdict_line, word
+from .common import Verdict, figure, floor_mm, scene_cell, tally_macros, verdict_line, word
 
 SCENE = "implant_expansion"
 NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "t_contact_us", "voxel_mm"]
@@ -38,12 +38,12 @@ def judge(ctx):
     grid = grid_rows(ctx)
     orient = ctx.window_csv("orient.csv", NUMBERS)
     md = ["## (a) The plane works better than the line in implant expansion", "",
-          "On `%s`, position error against the converged reference over the final window (mm; chatter amplitude "
+          "On `%s`, position error against the reference over the final window (mm; chatter amplitude "
           "and the reference's floor make the noise: rules.py): the grid's runs (one-sided, as the paper's model) "
           "against the reference of their kind (floor %.3g mm), the oriented runs against the reference orient.csv "
-          "names (%s; floor %.3g mm). The claim predicts the plane's error smaller." % (
+          "names (%s; floor %.3g mm). The references: %s. The claim predicts the plane's error smaller." % (
               SCENE, floor, orient_reference(orient), floor_orient.of(*orient) if hasattr(floor_orient, "of") and orient
-              else floor_orient), ""]
+              else floor_orient, scene_cell(ctx, SCENE, of_kind=True)), ""]
     outcomes = []
     # Grid: the same voxel and force.
     settings = sorted({(v, f) for v, f, e in grid if e == "line" and (v, f, "plane") in grid})

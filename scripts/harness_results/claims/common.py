@@ -157,7 +157,8 @@ def floor_mm(ctx, name, of_kind=False):
     """The floor (mm) of results/references/<name> that the noise takes under the current rule
     (rules.Variant.floor): reader.reference_floor, twice it, or the last level's Richardson estimate
     (results/references.csv error_estimate_mm; the floor where there is none). NaN when missing.
-    `of_kind`: the rows compared are accuracy_time.csv's, each against the reference of its kind
+    `of_kind`: the rows compared are each against the reference of its kind (accuracy_time.csv's, and a
+    study's rows that name it: orient.csv, regime.csv)
     (rules.OF_ITS_KIND): with a one-sided reference <name>_one_sided beside it, both floors
     (rules.KindFloor: a comparison takes the larger of its two rows' references' floors; as a number,
     the larger of the two).

@@ -11,11 +11,16 @@ comparisons come from.
                        a run that is not evidence is not judged, with why;
   swap in the regimes  per setting whose scene placement is evidence: as the scene has it against
                        swapped, by the swap's rule (rules.decide_stable_wins: the unstable side loses).
+
+The scene's placement is measured against the reference of the model's kind (one-sided where the
+scene has one) with the two-sided error beside it; (a) and (b) judge it on its kind. The swap judges
+both placements on their two-sided errors (the one-sided reference is the limit of the scene's
+placement only; the swapped runs are measured against the two-sided one).
 """
 
 from .. import reader, rules
 from . import b_episodes
-from .common import Verdict, figure, floor_mm, tally_macros, verdict_line
+from .common import Verdict, figure, floor_mm, scene_cell, tally_macros, verdict_line
 
 NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "tunnelled", "voxel_mm",
            "contact_power_ratio", "ep_episodes", "ep_p90", "ep_failed_frac", "ep_peak_frac"]
@@ -87,6 +92,17 @@ def combined(by, fam):
     return out
 
 
+def two_sided(ctx, r):
+    """The scene placement's row `r` on its two-sided error (rules.as_two_sided), its helps judged
+    again on it against the scene's run without contact force: what the swap compares with the
+    swapped run (measured against the two-sided reference). `r` itself where it is two-sided already."""
+    two = rules.as_two_sided(r)
+    base = ctx.no_force(r["scene"])
+    if two is r or base is None:  # (no base: its helps as recorded)
+        return two
+    return dict(two, helps=rules.helps_word(two, base))
+
+
 def decisive(o):
     return o in ("a", "b", rules.WITHIN_NOISE)
 
@@ -103,7 +119,12 @@ def judge(ctx):
           "the plane, forces 0.001, 0.003, 0.01 N and auto, the footing voxels, in each regime: as written, dt / 8, the "
           "grid over the host's full box, and a damping term on the contact force (a variant, not the paper's "
           "method). The paper says its force \"was defined experimentally for every task\"; this is that search. "
-          "Each verdict lists the regimes its decisive comparisons come from.", ""]
+          "Each verdict lists the regimes its decisive comparisons come from. The scene's placement is measured against "
+          "the reference of the model's kind (%s), (a) and (b) judge it there; the swap judges both placements on their "
+          "two-sided errors." % ", ".join(sorted({r.get("reference") or "both ways" for r in rows
+                                                  if r.get("swapped") != "yes" and r["regime"] != NO_FORCE})), "",
+          "The references: %s." % "; ".join(scene_cell(ctx, sc, of_kind=True) for sc in
+                                             sorted({r["scene"] for r in rows})), ""]
     own = [r for r in rows if r["regime"] != NO_FORCE and r.get("swapped") != "yes"]
     scenes = sorted({r["scene"] for r in own})
     md += ["A configuration is counted once: the regimes that change only the numerics (as written, dt / 8, the "
@@ -118,7 +139,7 @@ def judge(ctx):
            "| scene | regime | voxel (mm) | force | line (mm) | plane (mm) | better |", "|---|---|---:|---|---:|---:|---|"]
     a_by, a_sw = {}, {}
     for scene in scenes:
-        floor = floor_mm(ctx, scene)
+        floor = floor_mm(ctx, scene, of_kind=True)  # each row against the reference it names
         sets = {}
         for r in own:
             if r["scene"] == scene:
@@ -188,7 +209,7 @@ def judge(ctx):
                    regimes_text([r for o, r in b_res[fam] if decisive(o)]), b_own_text[fam]), ""]
     # The swap: the scene's placement against swapped where the scene's is evidence.
     md += ["### Which body carries the grid, in the regimes", "",
-           "Swapped only where the scene's placement is evidence (a biased sample by construction: the swapped "
+           "Swapped only where the scene's placement is evidence against either reference (a biased sample by construction: the swapped "
            "placement had no force search of its own).", "",
            "| scene | regime | elim. | voxel (mm) | force | as the scene (mm) | swapped (mm) | better |",
            "|---|---|---|---:|---|---:|---:|---|"]
@@ -198,6 +219,7 @@ def judge(ctx):
                      (sw["scene"], sw["regime"], sw["eliminator"], sw["voxel_mm"], sw["force"])), None)
         if mine is None:
             continue
+        mine = two_sided(ctx, mine)
         o = rules.decide_stable_wins(mine, sw, floor=floor_mm(ctx, sw["scene"]))
         s_by.setdefault((family(sw["regime"]), sw["scene"], sw["eliminator"], sw["voxel_mm"], sw["force"]),
                         []).append((sw["regime"], o))

@@ -52,23 +52,51 @@ TITLES = {"a_plane": "(a) the plane works better than the line (implant)",
           "completed": "the completed model (voxel_exact) is both fast and right"}
 
 
-def verdict_table(records):
-    """The verdicts at the top of claims.md, one line per verdict, with its counts and robustness."""
+# The study files the claims read, in the order claims.md names them.
+STUDY_FILES = ["accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "swap.csv", "region.csv",
+               "restriction.csv", "regime.csv"]
+
+
+def files_that(root, test):
+    """The STUDY_FILES under `root` whose rows (read as written) all pass `test` (a row -> bool), and
+    those that exist and do not: (yes, no), each a list of names."""
+    from .. import reader
+    yes, no = [], []
+    for name in STUDY_FILES:
+        rows = reader.read_csv(os.path.join(root, name), text=reader.STUDY_TEXT, missing=[])
+        if rows:
+            (yes if all(test(r) for r in rows) else no).append(name)
+    return yes, no
+
+
+def recorded_text(root):
+    """How the study files recorded rho and which reference their rows name, read from the files."""
+    loading, other = files_that(root, lambda r: r.get("rho_norm") == "loading")
+    kinded, _ = files_that(root, lambda r: (r.get("reference") or "") != "")
+    return ("over the loading period: %s; over the whole time before the window: %s" % (
+        ", ".join(loading) or "none", ", ".join(other) or "none"),
+        ", ".join(kinded) or "none")
+
+
+def verdict_table(records, root=None):
+    """The verdicts at the top of claims.md, one line per verdict, with its counts and robustness;
+    `root` the results folder the files are read from (how they recorded rho and their references)."""
+    rho_text, kinded = recorded_text(root) if root else ("as each file records it", "accuracy_time.csv")
     md = ["## Verdicts", "", "| claim | verdict | for | against | within noise | not judged | robustness | "
           "with rho over the loading period |", "|---|---|---:|---:|---:|---:|---|---|"]
     for title, verdict, counts, robust, loading in verdict_rows(records):
         md.append("| %s | %s | %s | %s | %s |" % (title, verdict, " | ".join(counts), robust, loading))
     return md + ["", "The rules: scripts/harness_results/rules.py (evidence, noise, comparison, verdict); each section "
-                 "below states its test and gives its numbers. The counts are the rule's as written, each run judged by the rho it recorded (over the loading period: accuracy_time.csv, "
-                 "ablation.csv, swap.csv, restriction.csv, regime.csv; over the whole time before the window: the "
-                 "other studies, run before it); the last column gives the verdict and its counts (for-against-noise-not judged) with "
+                 "below states its test and gives its numbers. The counts are the rule's as written, each run judged by the rho it recorded (%s; "
+                 "the report's runs as their summaries record it); the last column gives the verdict and its counts (for-against-noise-not judged) with "
                  "rho over the loading period, the harness's rule since, all else as written. The errors of "
-                 "accuracy_time.csv are against the reference of each method's kind (one-sided methods against the "
-                 "one-sided reference, methods both ways against the two-sided one; so are ablation.csv's and convergence.csv's, the "
-                 "paper's model against the one-sided reference; the other studies' against the two-sided reference). Robustness: the "
+                 "the files whose rows name their reference (%s) are against the reference of each method's kind "
+                 "(one-sided methods against the one-sided reference where the scene has one, methods both ways "
+                 "against the two-sided one, the two-sided error beside; a swapped placement against the two-sided "
+                 "one); the other studies' against the two-sided reference. Robustness: the "
                  "verdict judged again under %d variants of the rule's free choices (results/robustness.csv, "
                  "harness_results/robustness.py); a verdict that any variant changes is stated fragile. Not varied: "
-                 "%s." % (len(robustness.VARIANTS), robustness.NOT_VARIED), ""]
+                 "%s." % (rho_text, kinded, len(robustness.VARIANTS), robustness.NOT_VARIED), ""]
 
 
 def verdict_rows(records):
@@ -223,7 +251,7 @@ def write_all(root, ctx):
     its common.Context, with runs)."""
     records = judged(root, ctx)
     md, first = header(ctx)
-    md += verdict_table(records)
+    md += verdict_table(records, root)
     for r in records:
         md += r.md
     writers.write_text(os.path.join(root, "claims.md"), "\n".join(md))

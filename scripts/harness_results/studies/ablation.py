@@ -165,7 +165,7 @@ def fragility(rows, best, base, footing):
         out.append("with every run against the two-sided reference it would be %s" % name(other))
     elif best is not None:
         b2 = next(r for r in two if name(r) == name(best))
-        base2 = rules.same_kind_base(b2, rules.as_two_sided(base))
+        base2 = rules.as_two_sided(base)  # b2 is two-sided too: no mapping needed
         if b2["pos_err_max_mm"] > USEFUL * base2["pos_err_max_mm"]:
             out.append("against the two-sided reference it helps by depth alone (position error %.3g mm against "
                        "%.3g mm without force)" % (b2["pos_err_max_mm"], base2["pos_err_max_mm"]))

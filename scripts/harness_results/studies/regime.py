@@ -9,9 +9,12 @@ pair's and twice it), each in every REGIME: the scene as written; dt / 8 (`--dt-
 key that counts steps scaled, so the same physical time); the grid over the host's full box; and,
 named as a variant and not the paper's method, a damping term on the contact force
 (contacts.N.damping, N s/m per contact: F -> max(0, F - c v_n)) at two strengths. Every run once,
-untimed (-j at once), against the reference over the final window; the scene with no contact force
-beside (the run a useful setting must beat). Where a run is evidence (stable, helps, tunnels
-nothing), the same setting is run again with host and guest swapped (the grid on the other body).
+untimed (-j at once), over the final window against the reference of the model's kind (one-sided
+where the scene has one: the limit the voxel model converges to; the two-sided error beside it); the
+scene with no contact force beside (the run a useful setting must beat). Where a run is evidence (stable, helps, tunnels
+nothing), the same setting is run again with host and guest swapped (the grid on the other body),
+against the two-sided reference only (the one-sided reference is the limit of the scene's placement:
+the swap is judged on the two-sided errors of both placements, as study.py swap does).
 Per run its guest's penetration episodes (claim (b)'s criteria: claims/b_episodes.py) are kept.
 -> regime.csv, tables/regime.md. The claims judge (a), (b) and the swap on it (claims/regime.py),
 each verdict naming the regimes its comparisons come from.
@@ -22,8 +25,8 @@ import os
 from .. import rules, runner, writers
 from ..claims import b_episodes
 from .accuracy import FOOTING_VOXELS, NO_FORCE
-from .common import (config_sets, figures, footing_voxels, force_label, pair_bodies, read_rows, scenes,
-                     table_path)
+from .common import (config_sets, figures, footing_voxels, force_label, pair_bodies, read_rows, reference_dir,
+                     reference_of_kind, scenes, table_path, with_both_kinds)
 from .swap import SWAP_BODIES
 
 FORCES = ["0.001", "0.003", "0.01", "auto"]
@@ -82,18 +85,39 @@ def episodes(path, divide=1):
             "ep_holds": "no" if reasons else "yes", "ep_why": "; ".join(reasons) if reasons else "all three met"}
 
 
-def row(scene, elim, force, voxel, regime, swapped, host, guest, s, path):
+def row(scene, elim, force, voxel, regime, swapped, host, guest, s, path, kind):
     divide = dt_divide(dict(REGIMES).get(regime, []))
     r = dict(figures(s), scene=scene, config="voxel %g mm" % (1e3 * voxel), eliminator=elim, force=force_label(force),
              voxel_mm=1e3 * voxel, regime=regime, swapped="yes" if swapped else "no", host=host, guest=guest,
              dt_divide=divide)
     r.update(episodes(path, divide))
-    return r
+    return with_both_kinds(r, s, kind)
+
+
+def evidence_either_kind(r, base):
+    """Whether the scene placement's row `r` is evidence (rules.evidence_gap) against the reference of
+    its kind or against the two-sided one (its helps judged again on its two-sided error against
+    `base`): the settings whose swap is run (the swap is judged on the two-sided errors)."""
+    if rules.evidence_gap(r) is None:
+        return True
+    two = rules.as_two_sided(r)
+    if two is r or base is None:
+        return False
+    two = dict(two, helps=rules.helps_word(two, base))
+    return rules.evidence_gap(two) is None
+
+
+def run_jobs(a, configs, compare):
+    """runner.run_all of (meta, scene, folder under sweeps, sets) configurations, each compared with
+    `compare`[scene] ((first, second) reference folders); (meta, summary) pairs in order."""
+    jobs = [(scene, os.path.join(a.results, "sweeps", f), sets, compare[scene]) for _m, scene, f, sets in configs]
+    return [(c[0], s) for c, s in zip(configs, runner.run_all(a, jobs))]
 
 
 def run(a):
-    rows, configs = [], []
+    rows, configs, kinds = [], [], {}
     for scene in regime_scenes(a):
+        kinds[scene] = reference_of_kind(a, scene, False)
         host, guest = pair_bodies(a, scene, SWAP_BODIES)
         v0 = footing_voxels(a, scene, FOOTING_VOXELS)[0]
         configs.append(((scene, "line", "0", v0, NO_FORCE, False, host, guest), scene,
@@ -101,15 +125,15 @@ def run(a):
         for e, f, v, name, extra in grid(a, scene):
             configs.append(((scene, e, f, v, name, False, host, guest), scene, folder(scene, e, f, v, name, False),
                             sets_of(e, f, v, extra)))
-    done = runner.run_configs(a, configs)
+    done = run_jobs(a, configs, {scene: k[1:] for scene, k in kinds.items()})
     for (meta, s), c in zip(done, configs):
-        rows.append(row(*meta, s, os.path.join(a.results, "sweeps", c[2])))
+        rows.append(row(*meta, s, os.path.join(a.results, "sweeps", c[2]), kinds[meta[0]][0]))
     bases = {r["scene"]: r for r in rows if r["regime"] == NO_FORCE}
     rules.mark_useless(rows, bases)
     # The swap where the scene's placement is evidence: the same setting, the grid on the other body.
     swaps = []
     for r in rows:
-        if r["regime"] == NO_FORCE or rules.evidence_gap(r) is not None:
+        if r["regime"] == NO_FORCE or not evidence_either_kind(r, bases.get(r["scene"])):
             continue
         extra = dict(REGIMES)[r["regime"]]
         force = "auto" if r["force"] == "auto" else r["force"][2:]
@@ -117,8 +141,9 @@ def run(a):
         swaps.append(((r["scene"], r["eliminator"], force, v, r["regime"], True, r["guest"], r["host"]), r["scene"],
                       folder(r["scene"], r["eliminator"], force, v, r["regime"], True),
                       sets_of(r["eliminator"], force, v, extra, r["guest"], r["host"])))
-    for (meta, s), c in zip(runner.run_configs(a, swaps), swaps):
-        rows.append(row(*meta, s, os.path.join(a.results, "sweeps", c[2])))
+    both = {scene: (reference_dir(a, scene), None) for scene in kinds}
+    for (meta, s), c in zip(run_jobs(a, swaps, both), swaps):
+        rows.append(row(*meta, s, os.path.join(a.results, "sweeps", c[2]), "both ways"))
     write(a, rows)
 
 
@@ -126,7 +151,7 @@ COLUMNS = ["scene", "config", "eliminator", "force", "voxel_mm", "regime", "dt_d
            "stability", "why_unstable", "helps", "useless", "pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm",
            "depth_max_mm", "tunnelled", "contact_power_ratio", "rho_norm", "recall", "precision", "steps", "ep_episodes",
            "ep_median", "ep_p90", "ep_failed_frac", "ep_through_frac", "ep_peak_frac", "ep_passages", "ep_holds",
-           "ep_why"]
+           "ep_why", "reference", "pos_err_max_one_sided_mm", "pos_err_max_both_ways_mm"]
 
 
 def write(a, rows):
@@ -139,9 +164,11 @@ def write(a, rows):
           "The paper's voxel model (line and plane; constant forces and `auto`; the footing voxels) in each regime: "
           "the scene as written, dt / 8 (every step count scaled: the same physical time), the grid over the host's "
           "full box, and a damping term on the contact force (a variant, not the paper's method: F -> max(0, F - c "
-          "v_n), c in N s/m per contact). Errors over the final window against the reference (mm); evidence: stable, "
-          "helps (beats the run without contact force) and tunnels nothing. Where the scene's placement is evidence, "
-          "the same setting swapped (host and guest exchanged). Episodes (claim (b), guest nodes): count, 90th "
+          "v_n), c in N s/m per contact). Errors over the final window (mm) against the reference of the model's kind "
+          "(`reference`: one-sided for the scene's placement, where the scene has one; the two-sided error beside it); "
+          "evidence: stable, helps (beats the run without contact force) and tunnels nothing. Where the scene's "
+          "placement is evidence against either reference, the same setting swapped (host and guest exchanged), "
+          "against the two-sided reference only (the one-sided one is the limit of the scene's placement). Episodes (claim (b), guest nodes): count, 90th "
           "percentile length in the scene's steps (at dt / 8 the run's steps / 8: the same time), failed share (open at the end or through), peak share of nodes. Made by "
           "`scripts/study.py regime`.\n\n"]
     for scene in sorted({r["scene"] for r in rows}):
@@ -152,10 +179,12 @@ def write(a, rows):
             ", ".join("%s %d" % (name, sum(1 for r in ev if r["regime"] == name)) for name, _ in REGIMES)))
         md.append(writers.md_table(sr, ["regime", "eliminator", "force", "voxel_mm", "swapped", "stability", "useless",
                                         "pos_err_max_mm", "pos_err_amp_mm", "depth_max_mm", "tunnelled",
-                                        "ep_episodes", "ep_p90", "ep_failed_frac", "ep_peak_frac", "why_unstable"],
+                                        "ep_episodes", "ep_p90", "ep_failed_frac", "ep_peak_frac", "why_unstable",
+                                        "reference", "pos_err_max_both_ways_mm"],
                                    ["regime", "elim.", "force", "voxel (mm)", "swapped", "stability", "useless",
                                     "pos. error max (mm)", "chatter (mm)", "depth max (mm)", "tunnelled",
-                                    "episodes", "p90 (scene steps)", "failed", "peak share", "why unstable"]))
+                                    "episodes", "p90 (scene steps)", "failed", "peak share", "why unstable",
+                                    "reference", "pos. error both ways (mm)"]))
         md.append("\n")
     with open(table_path(a, "regime.md"), "w") as f:
         f.write("".join(md))

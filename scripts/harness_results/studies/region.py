@@ -106,7 +106,7 @@ def write(a, rows):
           "penetrating guest nodes outside the grid's region over all truly penetrating guest nodes (window means); "
           "outside peak: the most outside at one measured step over the run; recall and precision over the run "
           "(CGAL every 10 steps); flag-all: the precision of flagging every guest node; flag-region: of flagging every guest node inside the region's box; region size in voxels "
-          "(mean over the measured steps); useless (whatever the stability): tunnels, or \"baseline\" (force 0: "
+          "(mean over the measured steps); untimed runs two at a time: the time is indicative only; useless (whatever the stability): tunnels, or \"baseline\" (force 0: "
           "detection alone). Made by `scripts/study.py region`; the verdict is in claims.md.\n\n" % (
               ", ".join("%s (`%s`)" % (d, l) for d, l, _p in DEFORMATIONS), 1e3 * REGION_VOXEL),
           writers.md_table(rows, ["deformation", "force", "region", "margin", "stability", "useless", "tunnelled",
@@ -115,7 +115,7 @@ def write(a, rows):
                                   "t_contact_us"],
                            ["deformation", "force", "region", "margin (voxels)", "stability", "useless", "tunnelled",
                             "outside share", "outside peak", "penetrating (nodes)", "recall", "precision", "flag-all", "flag-region",
-                            "region (voxels)", "depth (mm)", "peak depth (mm)", "detect+elim (µs)"])]
+                            "region (voxels)", "depth (mm)", "peak depth (mm)", "detect+elim (µs, untimed)"])]
     with open(table_path(a, "region.md"), "w") as f:
         f.write("".join(md))
 

@@ -62,14 +62,14 @@ def write(a, rows):
           "The voxel model with host and guest as the scene has them and swapped (the grid on the other body), "
           "against the scene's two-sided reference, which both placements share (references.csv says whether it "
           "converged; errors over the final window, mm; peak depth over the run; recall "
-          "and precision of the guest nodes detected, CGAL every 10 steps); useless (whatever the stability): tunnels, "
-          "or no better than no force. Made by `scripts/study.py swap`.\n\n",
+          "and precision of the guest nodes detected, CGAL every 10 steps); untimed runs two at a time: the time is "
+          "indicative only; useless (whatever the stability): tunnels, or no better than no force. Made by `scripts/study.py swap`.\n\n",
           writers.md_table(rows, ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "stable", "useless",
                                   "tunnelled", "pos_err_max_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "true_pen_final",
                                   "recall", "t_contact_us"],
                            ["scene", "elim.", "force", "voxel (mm)", "host (grid)", "guest", "stable", "useless",
                             "tunnelled", "pos. error (mm)",
-                            "gap (mm)", "depth (mm)", "peak depth (mm)", "pen. final", "recall", "detect+elim (µs)"])]
+                            "gap (mm)", "depth (mm)", "peak depth (mm)", "pen. final", "recall", "detect+elim (µs, untimed)"])]
     with open(table_path(a, "swap.md"), "w") as f:
         f.write("".join(md))
 
