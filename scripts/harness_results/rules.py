@@ -423,6 +423,16 @@ def useless_text(row):
     return "; ".join(words)
 
 
+def two_sided_row(row, base):
+    """`row` on its two-sided error (as_two_sided) with its helps judged again there against `base`
+    (the scene's run without contact force; its helps as recorded without one); `row` itself where
+    it is two-sided already or records no two-sided error."""
+    two = as_two_sided(row)
+    if two is row or base is None:
+        return two
+    return dict(two, helps=helps_word(two, base))
+
+
 def mark_useless(rows, bases):
     """Give every row its `helps` (helps_word against bases[its scene]) and `useless` (useless_text)
     columns; a run without contact force (config NO_FORCE, or force "F=0": detection alone) reads

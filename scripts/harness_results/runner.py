@@ -77,10 +77,12 @@ def run_all(a, jobs):
     return out
 
 
-def run_configs(a, configs):
-    """configs: (meta, scene, folder under --results/sweeps, sets); runs them -j at once; returns
-    (meta, summary) pairs in order."""
-    sums = run_all(a, [(scene, os.path.join(a.results, "sweeps", folder), sets) for _, scene, folder, sets in configs])
+def run_configs(a, configs, compare=None):
+    """configs: (meta, scene, folder under --results/sweeps, sets); runs them -j at once, each compared
+    with compare[scene] (run's `compare`: (first, second) reference folders) or, without `compare`,
+    with the scene's reference; returns (meta, summary) pairs in order."""
+    sums = run_all(a, [(scene, os.path.join(a.results, "sweeps", folder), sets) +
+                       ((compare[scene],) if compare is not None else ()) for _, scene, folder, sets in configs])
     return [(c[0], s) for c, s in zip(configs, sums)]
 
 

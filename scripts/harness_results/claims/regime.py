@@ -96,11 +96,7 @@ def two_sided(ctx, r):
     """The scene placement's row `r` on its two-sided error (rules.as_two_sided), its helps judged
     again on it against the scene's run without contact force: what the swap compares with the
     swapped run (measured against the two-sided reference). `r` itself where it is two-sided already."""
-    two = rules.as_two_sided(r)
-    base = ctx.no_force(r["scene"])
-    if two is r or base is None:  # (no base: its helps as recorded)
-        return two
-    return dict(two, helps=rules.helps_word(two, base))
+    return rules.two_sided_row(r, ctx.no_force(r["scene"]))
 
 
 def decisive(o):

@@ -17,7 +17,7 @@ ORIENT_VOXELS = [0.008, 0.016]
 
 
 def run(a):
-    rows, jobs, index = [], [], []
+    rows, configs = [], []
     kind, ref, other = reference_of_kind(a, ORIENT_SCENE, False)
     for force in ORIENT_FORCES:
         for voxel in ORIENT_VOXELS:
@@ -25,9 +25,8 @@ def run(a):
                 for o in ["guest", "outward"]:
                     sets = config_sets("voxel", voxel, elim, force, ['contacts.0.orient="%s"' % o])
                     folder = "orient/%s/%s_%s_%g_%s" % (ORIENT_SCENE, elim, force_label(force), 1e3 * voxel, o)
-                    index.append((force, voxel, elim, o))
-                    jobs.append((ORIENT_SCENE, os.path.join(a.results, "sweeps", folder), sets, (ref, other)))
-    for (force, voxel, elim, o), s in zip(index, runner.run_all(a, jobs)):
+                    configs.append(((force, voxel, elim, o), ORIENT_SCENE, folder, sets))
+    for (force, voxel, elim, o), s in runner.run_configs(a, configs, {ORIENT_SCENE: (ref, other)}):
         row = dict(figures(s), scene=ORIENT_SCENE, eliminator=elim, orient=o, force=force_label(force),
                    voxel_mm=1e3 * voxel, max_depth_peak_mm=reader.pair_figures(s)["max_depth_peak_mm"])
         rows.append(with_both_kinds(row, s, kind))

@@ -100,18 +100,8 @@ def evidence_either_kind(r, base):
     `base`): the settings whose swap is run (the swap is judged on the two-sided errors)."""
     if rules.evidence_gap(r) is None:
         return True
-    two = rules.as_two_sided(r)
-    if two is r or base is None:
-        return False
-    two = dict(two, helps=rules.helps_word(two, base))
-    return rules.evidence_gap(two) is None
-
-
-def run_jobs(a, configs, compare):
-    """runner.run_all of (meta, scene, folder under sweeps, sets) configurations, each compared with
-    `compare`[scene] ((first, second) reference folders); (meta, summary) pairs in order."""
-    jobs = [(scene, os.path.join(a.results, "sweeps", f), sets, compare[scene]) for _m, scene, f, sets in configs]
-    return [(c[0], s) for c, s in zip(configs, runner.run_all(a, jobs))]
+    two = rules.two_sided_row(r, base)
+    return two is not r and base is not None and rules.evidence_gap(two) is None
 
 
 def run(a):
@@ -125,7 +115,7 @@ def run(a):
         for e, f, v, name, extra in grid(a, scene):
             configs.append(((scene, e, f, v, name, False, host, guest), scene, folder(scene, e, f, v, name, False),
                             sets_of(e, f, v, extra)))
-    done = run_jobs(a, configs, {scene: k[1:] for scene, k in kinds.items()})
+    done = runner.run_configs(a, configs, {scene: k[1:] for scene, k in kinds.items()})
     for (meta, s), c in zip(done, configs):
         rows.append(row(*meta, s, os.path.join(a.results, "sweeps", c[2]), kinds[meta[0]][0]))
     bases = {r["scene"]: r for r in rows if r["regime"] == NO_FORCE}
@@ -142,7 +132,7 @@ def run(a):
                       folder(r["scene"], r["eliminator"], force, v, r["regime"], True),
                       sets_of(r["eliminator"], force, v, extra, r["guest"], r["host"])))
     both = {scene: (reference_dir(a, scene), None) for scene in kinds}
-    for (meta, s), c in zip(run_jobs(a, swaps, both), swaps):
+    for (meta, s), c in zip(runner.run_configs(a, swaps, both), swaps):
         rows.append(row(*meta, s, os.path.join(a.results, "sweeps", c[2]), "both ways"))
     write(a, rows)
 
