@@ -32,8 +32,9 @@ Options: --harness PATH (default build/bin/harness), --results DIR (default resu
          --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
          --repeats N (runs per configuration for the timings, default 5),
          --plots-only (runs nothing: writes the tables and figures of accuracy, ablation,
-         convergence, orient, swap, region, realtime and detection again from their CSVs in --results, judged
-         under the current rules: helps, useless and the front included; the others have none),
+         convergence, orient, swap, region, realtime, detection, restriction, regime and bullet again from
+         their CSVs in --results, judged under the current rules: helps, useless and the front
+         included; the others have none),
          --cached-only (runs nothing: writes a study's files from the runs already cached in
          results/sweeps/; a configuration not run yet is listed with status "not run").
 Every study ends by rewriting tables/counts.tex (the counts the report quotes).

@@ -96,8 +96,9 @@ def summary(results):
 
 
 def _choices_behind(flips):
-    """The choices every flipping variant shares and the rule as written does not make (text), or
-    None when they share none."""
+    """The choices every flipping variant shares and the rule as written does not make (text: "rho
+    limits x2 and marginal counted stable, together" where they share several), or None when they
+    share none."""
     d = rules.DEFAULT
     parts = []
     for attr, say in (("rho_scale", lambda x: "rho limits x%g" % x), ("marginal", lambda x: "marginal counted %s" % x),
@@ -111,7 +112,9 @@ def _choices_behind(flips):
         vals = {getattr(v, attr) for v, _ in flips}
         if getattr(d, attr) not in vals:
             parts.append(" or ".join(say(x) for x in sorted(vals, key=str)))
-    return "; ".join(parts) or None
+    if len(parts) > 1:  # every flipping variant makes all of them: they flip it together
+        return " and ".join(parts) + ", together"
+    return parts[0] if parts else None
 
 
 def robustness_text(s):

@@ -337,6 +337,10 @@ def test_regime_claims_name_their_regimes(tmp_path):
     m = dict(v.macros)
     assert m["ClaimARegimeVerdict"] == "supported" and m["ClaimARegimeFrom"] == "dt/8 (3)"
     assert (m["ClaimARegimeFor"], m["ClaimARegimeNotJudged"]) == ("3", "0")  # F=0.003 once, from dt/8
+    # the report's counts from the rows: 6 of 8 runs evidence (the unstable as-written pair is not),
+    # the line in 3 of its 4, and dt/8 changes the class of the one setting (line/plane F=0.003 of 2) it shares
+    assert m["RegimeEvidence"] == "6 of 8" and m["RegimeEvidenceByScene"] == "6 of 8 on \\code{s}"
+    assert m["RegimeLineEvidence"] == "3 of its 4" and m["RegimeDtClassChanges"] == "2 of 2"
     # (b): each configuration once (the runs that are evidence): six; the variant has none
     assert m["ClaimBRegimeVerdict"] == "supported" and m["ClaimBRegimeFor"] == "6"
     assert m["ClaimBRegimeDampedVerdict"] == "not tested"
@@ -352,6 +356,8 @@ def test_regime_claims_name_their_regimes(tmp_path):
     m2 = dict(judge(*(rows + [regime_row("plane", "damping 0.1", 2.0, holds="no")])).macros)
     assert (m2["ClaimBRegimeFor"], m2["ClaimBRegimeDampedAgainst"]) == ("6", "1")
     assert m2["ClaimBRegimeDampedVerdict"] == "inconclusive"
+    # the line's count is the paper's method's: a damped line run does not enter it
+    assert dict(judge(*(rows + [regime_row("line", "damping 0.1", 2.0)])).macros)["RegimeLineEvidence"] == "3 of its 4"
     rows[-1] = regime_row("plane", "dt/8", 2.0, force="F=0.01", holds="no")
     v = judge(*rows)
     m = dict(v.macros)

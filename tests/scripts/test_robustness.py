@@ -67,6 +67,11 @@ def test_fragile_names_the_choices_that_flip_it():
          for v in robustness.VARIANTS]
     text = robustness.robustness_text(robustness.summary(z)["ClaimZ"])
     assert text.endswith("; alone: rho limits x0.5, window x0.5)"), text
+    # flipped only where two choices are made together: both named, and said to act together
+    w = [(v, {"ClaimW": ("inconclusive", flat) if (v.rho_scale == 2 and v.marginal == "stable") else ("supported", t)})
+         for v in robustness.VARIANTS]
+    text = robustness.robustness_text(robustness.summary(w)["ClaimW"])
+    assert "(rho limits x2 and marginal counted stable, together" in text, text
 
 
 def test_the_committed_table_is_what_the_claims_give():

@@ -9,12 +9,13 @@ import sys
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 RESULTS = os.path.join(ROOT, "results")
-STUDIES = ["accuracy", "ablation", "convergence", "orient", "swap", "region", "detection", "restriction", "regime"]
+STUDIES = ["accuracy", "ablation", "convergence", "orient", "swap", "region", "detection", "restriction", "regime",
+           "bullet"]
 CSVS = ["accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "swap.csv", "region.csv", "detection.csv",
-        "restriction.csv", "regime.csv"]
+        "restriction.csv", "regime.csv", "bullet.csv"]
 WRITTEN = CSVS + ["defaults.json"] + [os.path.join("tables", n) for n in (
     "accuracy_time.md", "accuracy_time_front.tex", "ablation.md", "ablation_defaults.tex", "convergence.md",
-    "orient.md", "swap.md", "region.md", "detection.md", "restriction.md", "regime.md")]
+    "orient.md", "swap.md", "region.md", "detection.md", "restriction.md", "regime.md", "bullet.md", "bullet.tex", "bullet_note.tex")]
 
 
 def read(path):
@@ -37,3 +38,32 @@ def test_study_tables_are_written_from_their_csv(tmp_path):
                    ["--plots-only", "--results", str(res)], check=True, cwd=ROOT, capture_output=True)
     differ = [n for n in WRITTEN if read(os.path.join(RESULTS, n)) != read(res / n)]
     assert differ == []
+
+
+def test_bullet_tables_say_how_their_times_were_taken():
+    """bullet.{md,tex} label their times untimed and say how many runs went at once, from bullet.csv's
+    `jobs` and `machine` (a file without them says it does not know: never a typed "two")."""
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    from harness_results.studies import bullet
+    rows = [{"jobs": 2.0, "machine": "Intel(R) Xeon(R) Processor (2 cores)"}]
+    assert bullet.timing_note(rows) == ("untimed runs 2 at a time on Intel(R) Xeon(R) Processor (2 cores): "
+                                        "the times are indicative only")
+    assert "not recorded" in bullet.timing_note([{"jobs": float("nan"), "machine": ""}])
+    md = read(os.path.join(RESULTS, "tables", "bullet.md"))
+    assert "contact (µs, untimed)" in md and "indicative only" in md
+
+
+def test_regime_searches_each_scene_with_its_own_forces():
+    """The regime search's forces per scene (SCENE_FORCES): the spheres one step below the implant,
+    a scene it does not name the implant's list; every force appears in the grid of its scene only."""
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    from harness_results.studies import regime
+
+    class A:
+        user = None
+    for scene in regime.REGIME_SCENES:
+        forces = {f for _e, f, _v, _n, _s in regime.grid(A, scene)}
+        assert forces == set(regime.forces_of(scene))
+    assert "0.0005" in regime.forces_of("sphere_collision") and "0.01" not in regime.forces_of("sphere_collision")
+    assert regime.forces_of("a_users_scene") == regime.FORCES
+    assert regime.forces_text(["sphere_collision"]) == "0.0005, 0.001, 0.003 N and `auto` (sphere_collision)"
