@@ -341,6 +341,8 @@ def test_regime_claims_name_their_regimes(tmp_path):
     # the line in 3 of its 4, and dt/8 changes the class of the one setting (line/plane F=0.003 of 2) it shares
     assert m["RegimeEvidence"] == "6 of 8" and m["RegimeEvidenceByScene"] == "6 of 8 on \\code{s}"
     assert m["RegimeLineEvidence"] == "3 of its 4" and m["RegimeDtClassChanges"] == "2 of 2"
+    # the unstable as-written pair's episodes meet (b): counted as not judged, by why
+    assert m["RegimeBHoldsNotEvidence"] == "2 (unstable 2)"
     # (b): each configuration once (the runs that are evidence): six; the variant has none
     assert m["ClaimBRegimeVerdict"] == "supported" and m["ClaimBRegimeFor"] == "6"
     assert m["ClaimBRegimeDampedVerdict"] == "not tested"
