@@ -177,6 +177,8 @@ void apply_node_permutation(ShapeModel& m, const std::vector<int>& perm) {
   m.node_volume = std::move(vol);
   for (Tri& t : m.faces)
     for (int& v : t) v = inv[static_cast<std::size_t>(v)];
+  for (Cell& cell : m.cells)
+    for (int& v : cell) v = inv[static_cast<std::size_t>(v)];
   for (Edge& e : m.springs)
     for (int& v : e) v = inv[static_cast<std::size_t>(v)];
   std::vector<std::size_t> idx(m.springs.size());

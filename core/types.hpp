@@ -20,6 +20,9 @@ using Points = std::vector<Vec3>;
 using Tri = std::array<int, 3>;
 // Spring as the indices of its two end nodes.
 using Edge = std::array<int, 2>;
+// Hexahedral cell of a box lattice as its 8 corner nodes, corner c at lattice offset
+// (c & 1, (c >> 1) & 1, (c >> 2) & 1) from the cell's lowest corner.
+using Cell = std::array<int, 8>;
 
 // Raised for bad input: `where` is "file: key.path" or "file:line:col"; the command line turns
 // it into one line on stderr and exit status 2.

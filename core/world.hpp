@@ -23,6 +23,7 @@ struct Material {
   double nonlinearity = 0.0;  // beta >= 0
   double damping = 0.0;       // N s/m, dashpot along each spring (effect "damping")
   double mass_damping = 0.0;  // 1/s, global damping force -mass_damping * m * v (effect "damping")
+  double bulk_modulus = 0.0;  // Pa, a box cell's resistance to a change of its volume (effect "bulk")
 };
 
 struct Body {
@@ -32,6 +33,8 @@ struct Body {
   int n_surface = 0;  // the first n_surface nodes of the body are its surface vertices
   // Closed, outward-oriented triangles over body-local node indices 0..n_surface-1.
   std::vector<Tri> faces;
+  // A box lattice's cells over body-local node indices (empty for other shapes): effect "bulk".
+  std::vector<Cell> cells;
   // Body-local vertex -> incident faces (CSR), for vertex normals on demand.
   std::vector<int> vf_start, vf_faces;
   int spring_begin = 0, spring_end = 0;  // range in World::springs

@@ -20,7 +20,7 @@ ShapeModel generate(const Scene& sc, const BodySpec& b) {
   const Fill fill = s.volume_fill ? Fill::volume : Fill::shell;
   try {
     switch (s.type) {
-      case ShapeType::box: return make_box(s.min, s.max, s.cells);
+      case ShapeType::box: return make_box(s.min, s.max, s.cells, s.alternating_diagonals);
       case ShapeType::sphere: return make_sphere(s.center, s.radius, s.subdivisions, fill);
       case ShapeType::ellipsoid: return make_ellipsoid(s.center, s.radii, s.subdivisions, fill);
       case ShapeType::cylinder: return make_cylinder(s.center, s.axis, s.radius, s.length, s.segments, s.rings, fill);
@@ -85,6 +85,7 @@ void append_body(World& w, const BodySpec& bs, ShapeModel&& model, const WorldBu
   b.end = b.begin + static_cast<int>(model.nodes.size());
   b.n_surface = model.n_surface;
   b.faces = std::move(model.faces);
+  b.cells = std::move(model.cells);
   b.material = bs.material;
   b.volume = model.volume;
   // Vertex -> face CSR for vertex normals.

@@ -115,6 +115,8 @@ void check_representable(const Scene& sc) {
       refuse(b.path + ".material.mass_damping", "Bullet's velocity damping kDP = mass_damping x dt must be below 1");
     if (sc.has(kPressure) && b.pressure.present)
       refuse(b.path + ".pressure", "the harness's pressure ramp on a closed surface is not mapped to Bullet");
+    if (sc.has(kBulk) && b.material.bulk_modulus > 0.0)
+      refuse(b.path + ".material.bulk_modulus", "the cells' bulk term is not mapped to Bullet");
     if (sc.has(kLoads) && !b.loads.empty())
       refuse(b.path + ".loads", "nodal loads are not mapped to Bullet");
   }

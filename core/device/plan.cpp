@@ -32,6 +32,9 @@ void check_device_support(const Simulation& sim) {
     for (int e : w.springs.ends[k])
       if (e < b.begin || e >= b.end) refuse(s, "bodies", "a spring whose ends lie in different bodies");
   }
+  if (s.has(kBulk))
+    for (const BodySpec& b : s.bodies)
+      if (b.material.bulk_modulus > 0.0) refuse(s, b.path + ".material.bulk_modulus", "the bulk effect");
   if (!s.has(kContact)) return;
   for (std::size_t i = 0; i < s.contacts.size(); ++i) {
     const ContactSpec& c = s.contacts[i].spec;

@@ -8,6 +8,7 @@
 #include "core/effects/pins.hpp"
 #include "core/effects/pressure.hpp"
 #include "core/effects/springs.hpp"
+#include "core/effects/bulk.hpp"
 #include "core/scene/scene.hpp"
 
 namespace harness {
@@ -15,6 +16,7 @@ namespace harness {
 const std::vector<EffectEntry>& effect_table() {
   static const std::vector<EffectEntry> table = {
       {kSprings, effect_name(kSprings), make_springs_effect},
+      {kBulk, effect_name(kBulk), make_bulk_effect},
       {kDamping, effect_name(kDamping), make_damping_effect},
       {kGravity, effect_name(kGravity), make_gravity_effect},
       {kPins, effect_name(kPins), make_pins_effect},

@@ -17,7 +17,7 @@ using nlohmann::json;
 using namespace scene_check;
 
 std::vector<std::pair<EffectFlag, const char*>> effect_names() {
-  return {{kSprings, "springs"}, {kDamping, "damping"}, {kGravity, "gravity"}, {kPins, "pins"},
+  return {{kSprings, "springs"}, {kBulk, "bulk"}, {kDamping, "damping"}, {kGravity, "gravity"}, {kPins, "pins"},
           {kDrivers, "drivers"}, {kPressure, "pressure"}, {kLoads, "loads"}, {kContact, "contact"}};
 }
 
@@ -91,6 +91,7 @@ ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json&
     }
     if (total > kMaxBoxNodes) c.fail(o.at("cells"), "too many nodes (" + std::to_string(total) + " > " + std::to_string(kMaxBoxNodes) + ")");
     o.out()["cells"] = {s.cells[0], s.cells[1], s.cells[2]};
+    s.alternating_diagonals = o.word_in("diagonals", {"aligned", "alternating"}) == "alternating";
     // A box lattice is always volumetric: of the fills a surface takes (the shared fill key), only
     // volume.
     if (o.has("fill") && o.word_in("fill", word_list<FillWord>()) != scene_word(FillWord::volume))
@@ -130,7 +131,7 @@ ShapeSpec read_shape(const Ctx& c, const json& j, const std::string& path, json&
   return s;
 }
 
-Material read_material(const Ctx& c, const json* j, const std::string& path, json& out, bool shell) {
+Material read_material(const Ctx& c, const json* j, const std::string& path, json& out, bool shell, bool box) {
   static const json empty = json::object();
   Obj o(c, j ? *j : empty, path, out, "material");
   Material m;
@@ -149,6 +150,9 @@ Material read_material(const Ctx& c, const json* j, const std::string& path, jso
   m.nonlinearity = o.number("nonlinearity");
   m.damping = o.number("damping");
   m.mass_damping = o.number("mass_damping");
+  m.bulk_modulus = o.number("bulk_modulus");
+  if (m.bulk_modulus > 0.0 && !box)
+    c.fail(o.at("bulk_modulus"), "only a box lattice (shape \"box\") has the cells the bulk effect acts on");
   o.finish();
   return m;
 }
@@ -182,7 +186,8 @@ BodySpec read_body(const Ctx& c, const json& j, const std::string& path, json& o
   b.path = path;
   b.name = o.string("name");
   b.shape = read_shape(c, o.require("shape"), o.at("shape"), o.out()["shape"], dir);
-  b.material = read_material(c, o.get("material"), o.at("material"), o.out()["material"], !b.shape.volume_fill);
+  b.material = read_material(c, o.get("material"), o.at("material"), o.out()["material"], !b.shape.volume_fill,
+                             b.shape.type == ShapeType::box);
   b.velocity = o.vec3("velocity");
   read_list(o, "pins", [&](const json& e, const std::string& at, json& r) { b.pins.push_back(read_selection(c, e, at, r)); });
   read_list(o, "drivers", [&](const json& e, const std::string& at, json& r) {
@@ -413,7 +418,7 @@ Scene scene_from_json(const json& doc, const std::string& file, const std::strin
 Material material_defaults() {
   const Ctx c{"(the key table's defaults)"};
   json resolved = json::object();
-  return read_material(c, nullptr, "material", resolved, false);
+  return read_material(c, nullptr, "material", resolved, false, true);
 }
 
 ReferenceSpec reference_spec_defaults() {

@@ -34,6 +34,7 @@ enum EffectFlag : unsigned {
   kPressure = 1u << 5,
   kContact = 1u << 6,
   kLoads = 1u << 7,
+  kBulk = 1u << 8,
 };
 // (flag, name) of every effect: the scene's words for them, in the order a step evaluates them
 // (core/effects/effects.cpp's table makes each in this order, and a test checks that it does).
@@ -86,6 +87,7 @@ struct ShapeSpec {
   ShapeType type = ShapeType::box;
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();
   Vec3i cells = Vec3i::Zero();
+  bool alternating_diagonals = false;  // box: surface quads split along alternating diagonals
   Vec3 center = Vec3::Zero();
   double radius = 0.0;
   Vec3 radii = Vec3::Zero();

@@ -93,7 +93,8 @@ struct BoxLattice {
 
   // Surface: both triangles of each boundary quad. On the face of normal +a (axes a, u, w
   // right-handed) the quad (p,q) -> (p+1,q) -> (p+1,q+1) -> (p,q+1) is counter-clockwise.
-  void add_surface() {
+  // alternating: quads of odd (p + q) split along the other diagonal, (p+1,q) - (p,q+1).
+  void add_surface(bool alternating) {
     for (int a = 0; a < 3; ++a) {
       const int u = (a + 1) % 3, w = (a + 2) % 3;
       for (int side = 0; side < 2; ++side)
@@ -107,7 +108,15 @@ struct BoxLattice {
               return at(c);
             };
             const int n00 = node(0, 0), n10 = node(1, 0), n11 = node(1, 1), n01 = node(0, 1);
-            if (side == 1) {
+            if (alternating && (pp + q) % 2 == 1) {
+              if (side == 1) {
+                out.faces.push_back({n00, n10, n01});
+                out.faces.push_back({n10, n11, n01});
+              } else {
+                out.faces.push_back({n00, n01, n10});
+                out.faces.push_back({n10, n01, n11});
+              }
+            } else if (side == 1) {
               out.faces.push_back({n00, n10, n11});
               out.faces.push_back({n00, n11, n01});
             } else {
@@ -128,11 +137,22 @@ struct BoxLattice {
         for (int i = 0; i < nx; ++i)
           for (int c = 0; c < 8; ++c) out.node_volume[at(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))] += eighth;
   }
+  // Every cell's 8 corners (Cell's corner order), for the bulk effect.
+  void add_cells() {
+    out.cells.reserve(static_cast<std::size_t>(nx) * ny * nz);
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          Cell corners;
+          for (int c = 0; c < 8; ++c) corners[c] = at(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+          out.cells.push_back(corners);
+        }
+  }
 };
 
 }  // namespace
 
-ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells) {
+ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells, bool alternating) {
   require_finite(min, "box: min");
   require_finite(max, "box: max");
   require((max - min).minCoeff() > 0.0, "box: max must exceed min along every axis");
@@ -144,8 +164,9 @@ ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells) {
   BoxLattice box(min, max, cells);
   box.place_nodes();
   box.add_springs();
-  box.add_surface();
+  box.add_surface(alternating);
   box.add_volumes();
+  box.add_cells();
   return std::move(box.out);
 }
 

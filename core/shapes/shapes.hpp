@@ -30,12 +30,15 @@ struct ShapeModel {
   // modulus (0: isotropic; box cells longer than about 1.2 : 1 cannot be).
   double kappa_anisotropy = 0.0;
   std::vector<double> node_volume;  // lumped volume per node, m^3; sums to the enclosed volume
+  std::vector<Cell> cells;          // a box lattice's hexahedral cells (empty for other shapes)
   double volume = 0.0;       // enclosed volume, m^3
 };
 
 // Box lattice of (nx+1)(ny+1)(nz+1) nodes: structural, face-shear and body-diagonal springs.
 // Always volumetric. Lumped volume: each cell gives 1/8 of its volume to each corner.
-ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells);
+// alternating: the surface quads split along alternating diagonals (a checkerboard), else all
+// along the same one.
+ShapeModel make_box(const Vec3& min, const Vec3& max, const Vec3i& cells, bool alternating = false);
 
 // Limits of the generators, and of the scene format: core/limits.hpp.
 

@@ -24,6 +24,7 @@ after every study, scripts/reproduce.sh before it builds the report.
                              \\BenchAuditShare, \\BenchStepTwoThreads
 """
 
+import csv
 import os
 
 from . import reader, rules
@@ -207,6 +208,39 @@ def reference_counts(root, text):
                      ("implant_expansion: one way", "OneWayImplant"), ("sphere_collision: mesh refined", "RefinedSphere")):
         row = next((r for r in diff or [] if r["comparison"].startswith(key)), None)
         text("Ref" + tag, mm(row and row["difference_mm"]))
+    cylinder_bulk_counts(root, text)
+
+
+# The variants of results/cylinder_bulk.csv the report names (scripts/cylinder_bulk.py).
+CYL_BULK_ALIGNED = "bulk aligned"
+CYL_BULK_FIXED = "bulk alternating, cylinder 48 segments"
+
+
+def cylinder_bulk_counts(root, text):
+    """The cylinder's references with a layer that resists inversion (scripts/cylinder_bulk.py): its
+    inverted rows, the gap between the two kinds and convergence of the variant that converges."""
+    path = os.path.join(root, "cylinder_bulk.csv")
+    rows = None
+    if os.path.exists(path):
+        with open(path) as f:
+            rows = list(csv.DictReader(f))
+    inv = [int(r["inverted_rows"]) for r in rows or [] if r["variant"].startswith("bulk") and r["kind"].startswith("inversion")]
+    text("RefCylVolInverted", None if not inv else "%d" % sum(inv))
+    text("RefCylVolRows", None if not rows else next(r["rows"] for r in rows if r["kind"].startswith("inversion")))
+
+    def last(variant, kind):
+        lv = [r for r in rows or [] if r["variant"] == variant and r["kind"] == kind]
+        return lv[-1] if lv else None
+
+    gap = lambda v: mm(last(v, "one-sided") and last(v, "one-sided")["kinds_gap_mm"])
+    text("RefCylVolAlignedGap", gap(CYL_BULK_ALIGNED))
+    text("RefCylVolFixedGap", gap(CYL_BULK_FIXED))
+    conv = [last(v, k) for v in (CYL_BULK_ALIGNED, CYL_BULK_FIXED) for k in ("two-sided", "one-sided")]
+    word = lambda r: None if r is None else "converged" if r["converged"] == "True" else "not converged"
+    text("RefCylVolAlignedConverged", None if None in conv[:2] else
+         word(conv[0]) + " both ways, " + word(conv[1]) + " one way")
+    text("RefCylVolFixedConverged", None if None in conv[2:] else
+         word(conv[2]) + " both ways, " + word(conv[3]) + " one way")
 
 
 def best_of(rows):

@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <algorithm>
+#include <array>
 #include <set>
 #include <stdexcept>
 
@@ -354,5 +356,38 @@ TEST_CASE("volume fill of a hollow sphere leaves the cavity empty", "[shapes]") 
   for (std::size_t i = V.size(); i < m.nodes.size(); ++i) {
     const double r = m.nodes[i].norm();
     CHECK((r > 0.5 && r < 1.0));
+  }
+}
+
+// The surface's triangles as sets of rest positions, mirrored x -> lo + hi - x along `axis`.
+namespace {
+std::set<std::array<std::array<long long, 3>, 3>> mirrored_faces(const ShapeModel& m, int axis, double mid2) {
+  std::set<std::array<std::array<long long, 3>, 3>> out;
+  for (const Tri& t : m.faces) {
+    std::array<std::array<long long, 3>, 3> tri;
+    for (int v = 0; v < 3; ++v) {
+      Vec3 p = m.nodes[t[v]];
+      if (axis >= 0) p[axis] = mid2 - p[axis];
+      for (int a = 0; a < 3; ++a) tri[v][a] = std::llround(p[a] * 1e6);
+    }
+    std::sort(tri.begin(), tri.end());
+    out.insert(tri);
+  }
+  return out;
+}
+}  // namespace
+
+TEST_CASE("box: alternating diagonals make a closed surface that the mirrors keep", "[shapes]") {
+  const Vec3 lo(-2, -2, 0), hi(2, 2, 1);
+  const ShapeModel alt = make_box(lo, hi, Vec3i(4, 4, 2), true);
+  const ShapeModel aligned = make_box(lo, hi, Vec3i(4, 4, 2), false);
+  check_model(alt, true);
+  CHECK(alt.faces.size() == aligned.faces.size());
+  CHECK(alt.springs == aligned.springs);
+  const auto a0 = mirrored_faces(alt, -1, 0.0), b0 = mirrored_faces(aligned, -1, 0.0);
+  for (int axis = 0; axis < 3; ++axis) {
+    INFO("mirror across the mid-plane of axis " << axis);
+    CHECK(mirrored_faces(alt, axis, lo[axis] + hi[axis]) == a0);
+    CHECK(mirrored_faces(aligned, axis, lo[axis] + hi[axis]) != b0);  // the aligned surface has a handedness
   }
 }

@@ -66,11 +66,10 @@ def family(regime):
     return "damped" if regime.startswith("damping") else "paper"
 
 
-def combined(by, fam):
-    """[(outcome, regimes)] per configuration of family `fam` in `by` ({(fam, ...): [(regime, outcome)]}):
-    one outcome per configuration: its regimes' decisive outcome where they agree, within the noise
-    where they disagree, else the first regime's reason it is not judged. A damping strength is a
-    configuration of its own (its regime in the key)."""
+def configurations(by, fam):
+    """{configuration key: [(regime, outcome)]} of family `fam` in `by` ({(fam, scene, ...): [(regime,
+    outcome)]}): the paper's regimes of one setting together; a damping strength a configuration of
+    its own (its regime in the key)."""
     groups = {}
     for key, items in by.items():
         if key[0] != fam:
@@ -80,6 +79,14 @@ def combined(by, fam):
                 groups.setdefault(key + (reg,), []).append((reg, o))
         else:
             groups.setdefault(key, []).extend(items)
+    return groups
+
+
+def combined(by, fam):
+    """[(outcome, regimes)] per configuration of family `fam` in `by` (configurations()): one outcome
+    per configuration: its regimes' decisive outcome where they agree, within the noise where they
+    disagree, else the first regime's reason it is not judged."""
+    groups = configurations(by, fam)
     out = []
     for key in sorted(groups, key=str):
         items = groups[key]
@@ -128,12 +135,9 @@ def decisive_scenes(by, fam, tex=False):
     """"sphere_collision (3)": the scenes of family `fam`'s configurations in `by` that have a decisive
     outcome (counted as combined() counts them), "none"."""
     counts = {}
-    for key, items in by.items():
-        if key[0] != fam:
-            continue
-        n = sum(1 for _r, o in items if decisive(o)) if fam == "damped" else int(any(decisive(o) for _r, o in items))
-        if n:
-            counts[key[1]] = counts.get(key[1], 0) + n
+    for key, items in configurations(by, fam).items():
+        if any(decisive(o) for _r, o in items):
+            counts[key[1]] = counts.get(key[1], 0) + 1
     name = (lambda sc: "\\code{%s}" % sc.replace("_", "\\_")) if tex else (lambda sc: sc)
     return ", ".join("%s (%d)" % (name(sc), n) for sc, n in sorted(counts.items())) or "none"
 
@@ -237,17 +241,17 @@ def judge(ctx):
            "| scene | regime | elim. | voxel (mm) | force | run | episodes | p90 (scene steps) | failed (%) | peak (% of nodes) "
            "| outcome |", "|---|---|---|---:|---|---|---:|---:|---:|---:|---|"]
 
-    b_by = {}
-    for r in own:
-        b_by.setdefault((family(r["regime"]), r["scene"], r["eliminator"], r["voxel_mm"], r["force"]), []).append(
-            (r["regime"], b_outcome(r)))
-
-    def b_outcomes(v=(100, 0.05, 0.05)):
+    def b_grouped(v=(100, 0.05, 0.05)):
         by = {}
         for r in own:
             by.setdefault((family(r["regime"]), r["scene"], r["eliminator"], r["voxel_mm"], r["force"]), []).append(
                 (r["regime"], b_outcome(r, *v)))
+        return by
+
+    def b_outcomes(v=(100, 0.05, 0.05)):
+        by = b_grouped(v)
         return {fam: combined(by, fam) for fam in FAMILIES}
+    b_by = b_grouped()
     for r in own:
         o = b_outcome(r)
         if decisive(o):
