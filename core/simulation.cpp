@@ -34,7 +34,7 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : s
   if (external_) f_ext_.assign(world_.x.size(), Vec3::Zero());  // sized once: no allocation per step
   if (options.audit) {
     AuditSetup a;
-    a.springs = scene_.has(kSprings);
+    a.springs = scene_.has(kSprings) || scene_.has(kBulk);  // the elastic forces and energy per node
     a.damping = scene_.has(kDamping);
     a.gravity = scene_.has(kGravity);
     a.gravity_acceleration = scene_.gravity;

@@ -14,7 +14,8 @@ Rows, per layer (variant: "springs" the scene as it is, then VARIANTS), kind
   top_z_mm      that row's height at x = 0
   kinds_gap_mm  (last level only) the largest distance between the two kinds' settled surfaces
 Then rows of kind "inversion": the layer's inverted vertical rows at level 0, both ways and one way,
-of the scene and of the first two variants (inversion.csv, results/lattice_inversion.csv for "springs").
+of the scene and of each variant (inversion.csv, inversion48.csv; results/lattice_inversion.csv for
+"springs").
 Usage: scripts/cylinder_bulk.py [RESULTS]   (default results)
 """
 import csv
@@ -93,7 +94,11 @@ def main():
         for r in csv.DictReader(f):
             if r["body"] == "layer" and r["axis"] == "z":
                 inv[("bulk " + r["diagonals"], r["two_sided"])] = r
-    for variant in ("springs", "bulk aligned", "bulk alternating"):
+    with open(os.path.join(d, "inversion48.csv")) as f:
+        for r in csv.DictReader(f):
+            if r["body"] == "layer" and r["axis"] == "z":
+                inv[(VARIANTS[2][0], r["two_sided"])] = r
+    for variant in ["springs"] + [v for v, _s in VARIANTS]:
         for ts, kind in (("true", "two-sided"), ("false", "one-sided")):
             r = inv[(variant, ts)]
             rows.append({"variant": variant, "kind": "inversion " + kind, "inverted_rows": r["inverted_rows"],

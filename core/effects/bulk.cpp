@@ -2,6 +2,7 @@
 
 #include "core/scene/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace harness {
@@ -44,6 +45,10 @@ std::array<Vec3, 4> volume_gradient(const Vec3& a, const Vec3& b, const Vec3& c,
 
 // E = k |V0| (J - 1)^2 / 2: dE/dx = k sign(V0) (J - 1) dV/dx.
 void BulkEffect::add_forces(World& w, const StepContext& s) {
+  if (alone_) {
+    if (s.f_spring) std::fill(s.f_spring->begin(), s.f_spring->end(), Vec3::Zero());
+    if (s.spring_energy) std::fill(s.spring_energy->begin(), s.spring_energy->end(), 0.0);
+  }
   for (const BulkTet& t : tets_) {
     const Vec3 &a = w.x[t.node[0]], &b = w.x[t.node[1]], &c = w.x[t.node[2]], &d = w.x[t.node[3]];
     const double J = tet_volume(a, b, c, d) / t.v0;
@@ -104,7 +109,10 @@ bool BulkEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) con
 std::unique_ptr<Effect> make_bulk_effect(EffectBuild& b) {
   std::vector<BulkTet> tets = bulk_tets(b.world);
   if (tets.empty()) return nullptr;
-  return std::make_unique<BulkEffect>(std::move(tets));
+  if (b.scene.integrator != Integrator::symplectic_euler)
+    throw InputError(b.scene.file + ": time.integrator",
+                     "the bulk effect runs with \"symplectic_euler\" only (its Jacobian is not assembled by the implicit integrator)");
+  return std::make_unique<BulkEffect>(std::move(tets), !b.scene.has(kSprings));
 }
 
 }  // namespace harness

@@ -11,7 +11,8 @@
 // symmetric), and an inverted corner (J <= 0) is pushed back with a force that grows with how far
 // it went. Forces -dE/dx; its energy is elastic (the energy audit's stored energy, with the
 // springs'); Gershgorin rows of its Hessian for the stability guard. The implicit integrator
-// takes its forces explicitly (no Jacobian blocks: LinearSystem holds springs only).
+// is refused (exit 2): its Jacobian has no place in LinearSystem (springs only), and forces taken
+// explicitly inside it would run unguarded.
 #pragma once
 
 #include "core/effects/effects.hpp"
@@ -36,7 +37,9 @@ double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
 class BulkEffect final : public Effect {
  public:
-  explicit BulkEffect(std::vector<BulkTet> tets) : tets_(std::move(tets)) {}
+  // alone: the springs effect is not built, so this pass is the first to write the audit's elastic
+  // forces and node energies of the substep (it clears them).
+  BulkEffect(std::vector<BulkTet> tets, bool alone) : tets_(std::move(tets)), alone_(alone) {}
   const char* name() const override { return "bulk"; }
   EffectCategory category() const override { return EffectCategory::elastic; }
   void add_forces(World& w, const StepContext& s) override;
@@ -47,6 +50,7 @@ class BulkEffect final : public Effect {
 
  private:
   std::vector<BulkTet> tets_;
+  bool alone_ = false;
 };
 
 // Null when no body of the scene has a bulk modulus (listed, nothing to simulate).

@@ -6,10 +6,14 @@
 #   alternating48_*  alternating, and the cylinder with 48 segments instead of 24 (at least 5 levels)
 # each reference both ways (*_two) and one way (*_one), into this folder: the reference's summary.json
 # and settled surfaces, and each level's (levels/L); then the lattice's inverted rows at level 0 of
-# the first two (scripts/lattice_inversion.py: inversion.csv). About 100 min on 2 cores.
+# each variant (scripts/lattice_inversion.py: inversion.csv, the 48 segments' inversion48.csv).
+# About 110 min on 2 cores.
 # Then: scripts/cylinder_bulk.py results
-# The committed folders were made before the effect was renamed from "volume" to "bulk" (their
-# summary.json's resolved scenes list "volume"); the code is the same, and so is its place in a step.
+# The committed folders were made from the working tree of commit 1aa4d40 with this change (their
+# summary.json's git_commit says 1aa4d40-dirty), before the effect was renamed from "volume" to
+# "bulk" (their resolved scenes list "volume") and, for aligned_*, before the key shape.diagonals
+# existed (their resolved scenes lack it; "aligned" is the split the generator made then). The
+# arithmetic is the same, and so is the effect's place in a step.
 H=${HARNESS:-build/bin/harness}
 PY=${PYTHON:-/usr/bin/python3}
 D=$(dirname "$0")
@@ -41,3 +45,14 @@ wait
   for d in aligned alternating; do for t in true false; do tail -n +2 "$D/inv_${d}_$t.csv" | sed "s/^/$d,$t,/"; done; done
 } > "$D/inversion.csv"
 rm -f "$D"/inv_*.csv
+inv48() {  # two_sided
+  PYTHONPATH=build/python $PY scripts/lattice_inversion.py cylinder_press --set "effects=$EFF" \
+    --set bodies.0.material.bulk_modulus=10000 --set 'bodies.0.shape.diagonals="alternating"' \
+    --set bodies.1.shape.segments=48 --set contacts.0.two_sided=$1 --set 'contacts.0.detector="cgal"' \
+    --set 'contacts.0.eliminator="line"' --set 'contacts.0.force={"stiffness":500}' --out "$D/inv48_$1.csv"
+}
+inv48 true & inv48 false & wait
+{ echo "two_sided,$(head -1 "$D/inv48_true.csv")"
+  for t in true false; do tail -n +2 "$D/inv48_$t.csv" | sed "s/^/$t,/"; done
+} > "$D/inversion48.csv"
+rm -f "$D"/inv48_*.csv

@@ -226,13 +226,16 @@ def cylinder_bulk_counts(root, text):
             rows = list(csv.DictReader(f))
     inv = [int(r["inverted_rows"]) for r in rows or [] if r["variant"].startswith("bulk") and r["kind"].startswith("inversion")]
     text("RefCylVolInverted", None if not inv else "%d" % sum(inv))
-    text("RefCylVolRows", None if not rows else next(r["rows"] for r in rows if r["kind"].startswith("inversion")))
+    text("RefCylVolRows", None if not rows else next(r["rows"] for r in rows if r["kind"].startswith("inversion")
+                                                      and r["variant"].startswith("bulk")))
 
     def last(variant, kind):
         lv = [r for r in rows or [] if r["variant"] == variant and r["kind"] == kind]
         return lv[-1] if lv else None
 
-    gap = lambda v: mm(last(v, "one-sided") and last(v, "one-sided")["kinds_gap_mm"])
+    def gap(v):
+        g = last(v, "one-sided") and last(v, "one-sided")["kinds_gap_mm"]
+        return "less than 0.0001" if g and float(g) < 1e-4 else mm(g)
     text("RefCylVolAlignedGap", gap(CYL_BULK_ALIGNED))
     text("RefCylVolFixedGap", gap(CYL_BULK_FIXED))
     conv = [last(v, k) for v in (CYL_BULK_ALIGNED, CYL_BULK_FIXED) for k in ("two-sided", "one-sided")]

@@ -391,3 +391,10 @@ TEST_CASE("box: alternating diagonals make a closed surface that the mirrors kee
     CHECK(mirrored_faces(aligned, axis, lo[axis] + hi[axis]) != b0);  // the aligned surface has a handedness
   }
 }
+
+TEST_CASE("box: alternating diagonals on a face of an odd cell count break that mirror", "[shapes]") {
+  const ShapeModel alt = make_box(Vec3(-1.5, -2, 0), Vec3(1.5, 2, 1), Vec3i(3, 4, 2), true);
+  const auto a0 = mirrored_faces(alt, -1, 0.0);
+  CHECK(mirrored_faces(alt, 0, 0.0) != a0);  // 3 cells along x
+  CHECK(mirrored_faces(alt, 1, 0.0) == a0);  // 4 along y
+}
