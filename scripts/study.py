@@ -21,7 +21,8 @@
   study.py all          every one of them, in this order (or name several: study.py accuracy realtime)
   study.py all --scene FILE --out DIR   (or name some of accuracy ablation convergence refinement realtime swap detection)
                         the same studies on a scene of your own: the same tables, figures and CSV files in DIR
-                        (its reference: --reference REF, else made into DIR/references/<name>); nothing in results/
+                        (its reference: --reference REF, else made into DIR/references/<name>; its voxels:
+                        --voxel V (m) and twice it, else the harness's auto voxel and twice it); nothing in results/
                         (references, region, orient and bullet are about the bundled scenes and claims)
   study.py card         one scene's verdict at a glance: --scene FILE|NAME --out DIR (card.md, card.csv,
                         card.{png,pdf}, the runs and, unless --reference DIR is given, the reference in DIR);
@@ -66,6 +67,9 @@ def main():
     ap.add_argument("--out", help="with --scene: the output folder (default cards/<name> or studies/<name>)")
     ap.add_argument("--reference", help="with --scene: the reference folder (default: the bundled one for card, "
                                         "else made in --out)")
+    ap.add_argument("--voxel", type=float, help="with --scene: the footing voxel in m (the studies take it and twice it; "
+                    "default: the harness's auto voxel, the smallest power of two in m at or above the host's mean "
+                    "surface edge)")
     ap.add_argument("--methods", default=",".join(card.METHODS), help="card: the detectors (default %(default)s)")
     ap.add_argument("--set", dest="card_sets", action="append", default=[], help="card: KEY=JSON for every run")
     a = ap.parse_args()

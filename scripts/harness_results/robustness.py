@@ -145,8 +145,8 @@ def stated_verdict(s):
     return "fragile (%s as written)" % s["verdict"]
 
 
-def write_csv(root, results):
-    """results/robustness.csv."""
+def write_csv(root, results, name="robustness.csv"):
+    """results/robustness.csv (or `name` in root)."""
     rows = []
     for v, got in results:
         for p, (verdict, t) in sorted(got.items()):
@@ -156,7 +156,7 @@ def write_csv(root, results):
                                            "%g" % v.window, v.reference, verdict,
                                            t["for"], t["against"], t["noise"], t["not judged"],
                                            "" if sf is None else "%.4g" % sf])))
-    path = os.path.join(root, "robustness.csv")
+    path = os.path.join(root, name)
     writers.write_csv(path, rows, COLUMNS)
     return path
 

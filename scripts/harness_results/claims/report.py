@@ -8,9 +8,10 @@ each claim's own tables (claims_b.tex).
 import os
 import re
 import sys
+import tempfile
 
 from .. import robustness, rules, runs, writers
-from . import judge_all
+from . import judge_all, layer
 from .common import Context
 
 # claims_macros.tex in the order the report has had it: a macro's name, or a claim's module (the rest
@@ -205,6 +206,8 @@ def defaults():
     for p in TALLY_PREFIXES:
         out += [(p + "Verdict", "not tested")] + [(p + k, "--") for k in ("For", "Against", "Noise", "NotJudged", "Robust",
                                                                          "Loading")]
+    out += [(n, "not made") for p in layer.PREFIXES for n in ("RefCylFix%sVerdict" % p,)]
+    out += [(n, "--") for p in layer.PREFIXES for n in ("RefCylFix%sCounts" % p,)]
     return out + [(n, "--") for n in EXTRA_DEFAULTS]
 
 
@@ -226,6 +229,8 @@ def ordered_macros(first, records):
             if name not in done:
                 done.add(name)
                 out.append((name, value))
+    out += [(n, v) for n, v in first if n not in done]  # the header's others (the fixed layer's: layer.py)
+    done.update(n for n, _v in first)
     return out + [(n, v) for n, v in defaults() if n not in done]
 
 
@@ -248,6 +253,17 @@ def judged(root, ctx):
     return records
 
 
+def fixed_layer(root, records):
+    """claims.md's section on the cylinder made on a layer that resists inversion and its macros
+    (claims/layer.py), with results/robustness_layer.csv; ([], []) where that study was not made."""
+    if not layer.available(root):
+        return [], []
+    with tempfile.TemporaryDirectory() as tmp:
+        fixed, results = layer.judge(root, tmp)
+    print("claims: wrote %s" % layer.write_csv(root, results))
+    return layer.section(root, records, fixed, results, title_of)
+
+
 def write_all(root, ctx):
     """claims.md, robustness.csv, figures/robustness.pdf and the claims' LaTeX files under root (ctx:
     its common.Context, with runs)."""
@@ -256,6 +272,9 @@ def write_all(root, ctx):
     md += verdict_table(records, root)
     for r in records:
         md += r.md
+    md_layer, macros_layer = fixed_layer(root, records)
+    md += md_layer
+    first += macros_layer
     writers.write_text(os.path.join(root, "claims.md"), "\n".join(md))
     print("claims: wrote %s" % os.path.join(root, "claims.md"))
     d = os.path.join(root, "tables")

@@ -33,7 +33,7 @@ def use_user_scene(a):
     studies/<name>); its reference (a.reference, else made into a.out/references/<name> unless
     --plots-only)."""
     user = common.set_user_scene(a, a.scene, a.out or os.path.join("studies", os.path.basename(a.scene).split(".")[0]),
-                                 a.reference)
+                                 a.reference, getattr(a, "voxel", None))
     if not a.plots_only and not reader.has_summary(user["reference"]):
         print("study: making the reference of %s into %s" % (a.scene, user["reference"]), file=sys.stderr)
         runner.reference(a, user["path"], user["reference"])

@@ -51,9 +51,10 @@ def footing_voxels(a, scene, bundled):
     return user["footing"] if user and scene == user["name"] else bundled[scene]
 
 
-def set_user_scene(a, scene, out, reference=None):
+def set_user_scene(a, scene, out, reference=None, voxel=None):
     """study.py --scene: a.user for `scene` (a file or bundled name), every output in `out` (a.results),
-    the reference `reference`, else out/references/<name> (made by the study that needs it)."""
+    the reference `reference`, else out/references/<name> (made by the study that needs it); the
+    footing voxels `voxel` (m) and twice it, else the harness's `auto` voxel and twice it."""
     name = reader.scene_name(scene)
     with tempfile.TemporaryDirectory() as tmp:  # the auto voxel of the voxel detector, from a 0-step run
         subprocess.run([a.harness, "run", scene, "--steps", "0", "--quiet", "--out", tmp,
@@ -61,7 +62,7 @@ def set_user_scene(a, scene, out, reference=None):
                         "--set", "references.solvers=[]", "--set", "output.frames_every=0"],
                        check=True, stderr=subprocess.DEVNULL)
         s = reader.load_summary(tmp)
-    v = reader.num(reader.pair_value(s, "voxel_size_used"))
+    v = voxel if voxel else reader.num(reader.pair_value(s, "voxel_size_used"))
     contact = reader.contact(s, strict=False)
     elim = contact.get("eliminator", "line")
     a.results = out

@@ -47,6 +47,30 @@ def surface_difference(a_dir, b_dir, match_rest=False):
     return worst, n
 
 
+COLUMNS = ["reference", "level", "dt", "stiffness", "substeps_max", "h_over_dt_crit_min", "guard_violations", "steps",
+           "settled", "residual", "change_mm", "order", "error_estimate_mm", "wall_s", "converged", "floor_mm", "floor_rule"]
+
+
+def reference_rows(name, summary):
+    """references.csv's rows (COLUMNS) of the reference `name` (its summary.json): one per level, the
+    last with its convergence and floor."""
+    rows = []
+    levels, converged = reader.reference_levels(summary)
+    floor, why = reader.reference_floor(summary)
+    for lv in levels:
+        dt_crit_min = reader.num(lv.get("dt_crit_min"))
+        rows.append({"reference": name, "level": lv["level"], "dt": lv["dt"], "stiffness": lv["stiffness"],
+                     "substeps_max": lv.get("max_substeps"), "guard_violations": lv.get("guard_violations"),
+                     "h_over_dt_crit_min": lv["dt"] / reader.num(lv.get("max_substeps"), 1) / dt_crit_min if dt_crit_min > 0 else float("nan"),
+                     "steps": lv["steps_run"], "settled": lv["settled"], "residual": lv["residual"],
+                     "change_mm": 1e3 * reader.num(lv["change_max"]), "order": reader.num(lv.get("order")),
+                     "error_estimate_mm": 1e3 * reader.num(lv.get("error_estimate")), "wall_s": lv["wall_s"],
+                     "converged": converged if lv is levels[-1] else "",
+                     "floor_mm": 1e3 * floor if lv is levels[-1] else float("nan"),
+                     "floor_rule": why if lv is levels[-1] else ""})
+    return rows
+
+
 def run(a):
     rows = []
     for name, scene, extra in reference_runs():
@@ -54,23 +78,8 @@ def run(a):
         dest = os.path.join(a.results, "references", name)
         runner.reference(a, scene, work, extra)
         runner.install_reference(work, dest)
-        summary = reader.load_summary(dest)
-        levels, converged = reader.reference_levels(summary)
-        floor, why = reader.reference_floor(summary)
-        for lv in levels:
-            dt_crit_min = reader.num(lv.get("dt_crit_min"))
-            rows.append({"reference": name, "level": lv["level"], "dt": lv["dt"], "stiffness": lv["stiffness"],
-                         "substeps_max": lv.get("max_substeps"), "guard_violations": lv.get("guard_violations"),
-                         "h_over_dt_crit_min": lv["dt"] / reader.num(lv.get("max_substeps"), 1) / dt_crit_min if dt_crit_min > 0 else float("nan"),
-                         "steps": lv["steps_run"], "settled": lv["settled"], "residual": lv["residual"],
-                         "change_mm": 1e3 * reader.num(lv["change_max"]), "order": reader.num(lv.get("order")),
-                         "error_estimate_mm": 1e3 * reader.num(lv.get("error_estimate")), "wall_s": lv["wall_s"],
-                         "converged": converged if lv is levels[-1] else "",
-                         "floor_mm": 1e3 * floor if lv is levels[-1] else float("nan"),
-                         "floor_rule": why if lv is levels[-1] else ""})
-    cols = ["reference", "level", "dt", "stiffness", "substeps_max", "h_over_dt_crit_min", "guard_violations", "steps",
-            "settled", "residual", "change_mm", "order", "error_estimate_mm", "wall_s", "converged", "floor_mm", "floor_rule"]
-    writers.write_csv(os.path.join(a.results, "references.csv"), rows, cols)
+        rows += reference_rows(name, reader.load_summary(dest))
+    writers.write_csv(os.path.join(a.results, "references.csv"), rows, COLUMNS)
     # How far apart the answers are: one way against both ways (same mesh), refined against base.
     diffs = []
     for scene in SCENES:
