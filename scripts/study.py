@@ -73,6 +73,8 @@ def main():
     ap.add_argument("--methods", default=",".join(card.METHODS), help="card: the detectors (default %(default)s)")
     ap.add_argument("--set", dest="card_sets", action="append", default=[], help="card: KEY=JSON for every run")
     a = ap.parse_args()
+    if a.voxel is not None and (not a.scene or not a.voxel > 0):
+        ap.error("--voxel: a size in m above 0, with --scene (got %g%s)" % (a.voxel, "" if a.scene else ", no --scene"))
     if "card" in a.what:
         if len(a.what) > 1:
             ap.error("card is made alone (study.py card --scene ...)")
