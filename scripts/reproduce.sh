@@ -112,11 +112,16 @@ extra=()
 # voxel size) on a bundled scene, measured by CGAL every 10 steps and compared with the scene's
 # committed reference solution (results/references/), into results/runs/FOLDER; its stderr into
 # results/runs/FOLDER.log while it runs (removed when it succeeds).
+# The runs are one-sided (the paper's model): where the scene has a one-sided reference
+# (results/references/SCENE_one_sided) it is measured beside the two-sided one (--compare-also), so
+# every run is judged against the reference of its kind with the other beside.
 run() {
   local folder="$1" scene="$2" elim="$3" force="$4"
   shift 4
   rm -rf "${out:?}/$folder"
-  if HARNESS_THREADS=1 "$H" run "$scene" --out "$out/$folder" --quiet --compare "results/references/$scene" \
+  local also=()
+  [[ -f "results/references/${scene}_one_sided/summary.json" ]] && also=(--compare-also "results/references/${scene}_one_sided")
+  if HARNESS_THREADS=1 "$H" run "$scene" --out "$out/$folder" --quiet --compare "results/references/$scene" "${also[@]}" \
     --set 'contacts.0.detector="voxel"' --set "contacts.0.eliminator=\"$elim\"" --set "contacts.0.force=$force" \
     --set contacts.0.two_sided=false --set 'references.solvers=["cgal"]' --set references.every=10 --set output.format=vtk \
     "$@" "${extra[@]}" 2>"$out/$folder.log"; then

@@ -260,15 +260,24 @@ def best_counts(acc, text):
     for scene, tag in SCENE_TAG.items():
         sr = [r for r in acc or [] if r["scene"] == scene]
         base = next((r for r in sr if r["config"] == rules.NO_FORCE), None)
-        text("AccNoForce" + tag, mm(base and base.get("pos_err_max_mm")))
+        text("AccNoForce" + tag, kind_mm(base))
         for fam, name in (("voxel", "Voxel"), ("voxel_exact", "VoxelExact"), ("exact", "Exact")):
             dets = ("cgal", "hash") if fam == "exact" else (fam,)
             best = best_of([r for r in sr if r["detector"] in dets and is_evidence_row(r)
                             and reader.present(r.get("pos_err_max_mm"))])
-            text("AccBest%s%s" % (name, tag), None if not sr else mm(best["pos_err_max_mm"]) if best else "--")
+            text("AccBest%s%s" % (name, tag), None if not sr else kind_mm(best) if best else "--")
             text("AccBest%s%sTime" % (name, tag), None if not sr else num3(best.get("t_contact_us")) if best else "--")
             text("AccBest%s%sMethod" % (name, tag), None if not sr else "--" if not best else
                  "%s, %s, %s" % (best["config"], best["eliminator"], best["force"]))
+
+
+def kind_mm(row):
+    """A row's window position error in mm with the kind of reference it is against ("0.264 one-way",
+    "0.0879 both ways"; the table mixes kinds: each method against the reference of its kind)."""
+    if not row:
+        return mm(None)
+    kind = {"one-sided": " one-way", "both ways": " both ways"}.get(row.get("reference") or "", "")
+    return mm(row.get("pos_err_max_mm")) + kind
 
 
 def bench_counts(b, text):

@@ -3,12 +3,13 @@
 of the noise 10 %, 5 % or none, the reference's floor, its Richardson estimate or twice the floor,
 a run that tunnels up to 10 nodes over the window still evidence (the rule: none), two decisive
 comparisons sufficing (the rule: three), and a run helping at 80 % of the no-force run's figures
-(the rule: 90 %), rho's input power over the scene's loading period, the harness's rule since
-the studies were run (rules.loading_rho converts a row that records its steps: accuracy_time.csv; the
-report's runs from their summaries), the final window halved and doubled and every method judged
-against the two-sided reference instead of the reference of its kind (rules.variant_rows:
-accuracy_time.csv's runs judged again, accuracy_variants.csv): VARIANTS, 3 x 2 x 2 x 2 x 2 x 2 x 3 x 2
-x 3 x 3 = 5184, the first the rule as written.
+(the rule: 90 %), rho's input power over the whole time before the window (the old normalisation,
+with the limits as they were calibrated for it: rules.renormalised_rho converts a row that records
+its steps and rho_norm; the report's runs from their summaries), the noise's floor with the scene's
+mesh floor (the sphere's reference on a refined mesh against its own), the final window halved and
+doubled and every method judged against the two-sided reference instead of the reference of its kind
+(rules.variant_rows: accuracy_time.csv's runs judged again, accuracy_variants.csv): VARIANTS,
+3 x 2 x 2 x 2 x 2 x 2 x 3 x 2 x 3 x 4 = 6912, the first the rule as written.
 
 A verdict is stated as it is only when every variant gives it; otherwise it is "fragile", with the
 verdicts it flips to and the choices under which it does (stated_verdict). The choices the committed
@@ -28,9 +29,16 @@ from . import rules, writers
 
 VARIANTS = [rules.Variant(rho, marginal, tie, floor, tunnel, minimum, helps, norm, window, reference)
             for window in (1.0, 0.5, 2.0) for reference in (rules.OF_ITS_KIND, "both ways")
-            for norm in ("recorded", "loading") for minimum in (3, 2) for helps in (0.9, 0.8) for tunnel in (0, 10)
+            for norm in ("recorded", "before") for minimum in (3, 2) for helps in (0.9, 0.8) for tunnel in (0, 10)
             for rho in (1.0, 0.5, 2.0)
-            for marginal in ("unstable", "stable") for tie in (0.10, 0.05, 0.0) for floor in ("floor", "richardson", "double")]
+            for marginal in ("unstable", "stable") for tie in (0.10, 0.05, 0.0)
+            for floor in ("floor", "richardson", "double", "mesh")]
+# The choices a variant makes, by attribute, as robustness_text and moved_by say them.
+DIMENSIONS = (("rho_scale", "the rho limits"), ("marginal", "the marginal band"), ("tie", "the relative tie"),
+              ("floor", "the noise's floor"), ("tunnel_limit", "the tunnelled nodes allowed"),
+              ("min_decisive", "the decisive comparisons needed"), ("helps", "the helping share"),
+              ("rho_norm", "rho's normalisation"), ("window", "the window's length"),
+              ("reference", "the reference's kind"))
 NOT_VARIED = ("the window's length (halved, doubled) outside accuracy_time.csv: it varies the rows of "
               "accuracy_time.csv only (accuracy_variants.csv, the study's runs judged again from their steps.csv), and "
               "the other files' rows stand as they are under it; the reference's kind (every method against the "
@@ -42,12 +50,14 @@ NOT_VARIED = ("the window's length (halved, doubled) outside accuracy_time.csv: 
               "verdicts; each claim's "
               "own thresholds ((b)'s 5 %, 100 steps and 5 %, the factor 2 of (d)'s collision unit, real time's budget of one step (the scene's dt) and 1.5x; (c), (d) as stated and (e) vary their own thresholds in their sections). "
               "region.csv has no rho column (its unstable and marginal rows give it in "
-              "their reasons): its stable rows stay stable under every rho limit; realtime.csv records neither rho "
-              "nor reasons: its classes stand under every variant; rho over the loading period converts only the "
-              "report's runs (accuracy_time.csv, ablation.csv, orient.csv, swap.csv, restriction.csv and regime.csv recorded it "
-              "over the loading period already, rho_norm): the files above keep the rho they were run with. The rho "
-              "limits were set under the old normalisation and are "
-              "not recalibrated (for these scenes the new rho is 5 to 14 times smaller)")
+              "their reasons) and does not record rho's normalisation: its stable rows stay stable under every rho limit "
+              "and its rho as recorded under the old normalisation; realtime.csv records neither rho "
+              "nor reasons: its classes stand under every variant; rho over the time before the window (the old "
+              "normalisation, with the limits as they were calibrated for it: the same as limits 5 to 14 times "
+              "tighter on these scenes' runs) converts the rows that record their steps and rho_norm and the "
+              "report's runs from their summaries; the mesh floor is measured on the sphere only (its reference on a "
+              "mesh refined once, references_differences.csv): the cylinder's and the implant's comparisons keep "
+              "their reference's floor under it")
 COLUMNS = ["claim", "variant", "rho_scale", "marginal", "tie", "floor", "tunnel_limit", "min_decisive", "helps",
            "rho_norm", "window", "reference", "verdict", "for", "against", "noise", "not_judged", "share_for"]
 
@@ -91,7 +101,24 @@ def summary(results):
         flips = [(v, got[p][0]) for v, got in results[1:] if p in got and got[p][0] != verdict]
         distinct = {tuple(sorted(got[p][1].items())) for _v, got in results if p in got}
         out[p] = {"verdict": verdict, "total": len(results), "agree": len(results) - len(flips), "flips": flips,
-                  "distinct": len(distinct)}
+                  "distinct": len(distinct), "moved_by": moved_by(results, p)}
+    return out
+
+
+def moved_by(results, p):
+    """The dimensions (DIMENSIONS' words) whose choice changes verdict p's counts with every other
+    choice held: those that act on it; the others leave it where it is, however many variants they
+    make."""
+    out = []
+    for attr, say in DIMENSIONS:
+        groups = {}
+        for v, got in results:
+            if p not in got:
+                continue
+            key = tuple(getattr(v, a) for a, _s in DIMENSIONS if a != attr)
+            groups.setdefault(key, set()).add(tuple(sorted(got[p][1].items())))
+        if any(len(g) > 1 for g in groups.values()):
+            out.append(say)
     return out
 
 
@@ -106,7 +133,8 @@ def _choices_behind(flips):
                       ("tunnel_limit", lambda x: "up to %d tunnelled nodes" % x),
                       ("min_decisive", lambda x: "%d decisive comparisons suffice" % x),
                       ("helps", lambda x: "helps at %g %%" % (100 * x)),
-                      ("rho_norm", lambda x: {"loading": "rho over the loading period"}.get(x, "rho as recorded")),
+                      ("rho_norm", lambda x: {"loading": "rho over the loading period",
+                                              "before": "rho over the time before the window"}.get(x, "rho as recorded")),
                       ("window", lambda x: "window x%g" % x),
                       ("reference", lambda x: "reference %s" % x)):
         vals = {getattr(v, attr) for v, _ in flips}
@@ -121,7 +149,8 @@ def robustness_text(s):
     """"robust: 54 of 54 variants" or "fragile: 36 of 54 variants agree; flips to inconclusive (18:
     rho limits x0.5)"."""
     moved = ("no variant moves its counts" if s.get("distinct", 1) == 1 else
-             "%d different counts over the variants" % s["distinct"])
+             "%d different counts over the variants; moved by %s of the %d choices: %s" % (
+                 s["distinct"], len(s.get("moved_by", [])), len(DIMENSIONS), ", ".join(s.get("moved_by", []))))
     if not s["flips"]:
         return "robust: %d of %d variants (%s)" % (s["agree"], s["total"], moved)
     by = {}
@@ -181,9 +210,11 @@ def plot(root, results, labels):
             sf = share_for(t)
             pts.append((-1.0 if sf is None else sf, verdict, sf is None))
         pts.sort(key=lambda x: x[0])
-        for i, (y, verdict, none) in enumerate(pts):
-            c = COLOURS.get(verdict, "k")
-            ax.plot([i], [max(y, 0.0)], "o", ms=3.5, mfc="none" if none else c, mec=c, mew=0.8)
+        # one scatter per panel, its markers rasterised (thousands of variants: a vector marker each would
+        # make the PDF megabytes); the axes, text and bounds stay vector
+        cols = [COLOURS.get(verdict, "k") for _y, verdict, _n in pts]
+        ax.scatter(range(len(pts)), [max(y, 0.0) for y, _v, _n in pts], s=6, linewidths=0.6, edgecolors=cols,
+                   facecolors=["none" if none else c for (_y, _v, none), c in zip(pts, cols)], rasterized=True)
         for b in (rules.MIXED_SHARE, 1.0 - rules.MIXED_SHARE):
             ax.axhline(b, color="0.5", lw=0.6, ls="--")
         ax.set_ylim(-0.08, 1.08)

@@ -45,5 +45,34 @@ PYEOF
 [ $rc -eq 2 ] && grep -q -- "--compare-also" "$T/err" || fail "--compare-also alone: exit $rc, $(cat "$T/err")"
 "$H" run sphere_collision --steps 5 --quiet --out "$T/y" --compare "$A" --compare-also "$T/none" 2>"$T/err"; rc=$?
 [ $rc -eq 2 ] && grep -q -- "--compare-also $T/none" "$T/err" || fail "--compare-also not a reference: exit $rc, $(cat "$T/err")"
+# scripts/runs_compare_also.py adds the second reference to a finished run without making it again in
+# its folder: run A's folder gains what the run with --compare-also measured against B; a folder whose
+# rerun ends in another state (its recorded hash altered) is left untouched, exit 1.
+mkdir -p "$T/runs" "$T/refs"
+cp -r "$T/a" "$T/runs/a"
+ln -s "$(cd "$A" && pwd)" "$T/refs/sphere_collision"; ln -s "$(cd "$B" && pwd)" "$T/refs/sphere_collision_one_sided"
+"$PY" "$SRC/scripts/runs_compare_also.py" "$T/runs" --harness "$H" --references "$T/refs" -j 1 >"$T/out" 2>&1 \
+  || fail "runs_compare_also exited $?: $(cat "$T/out")"
+"$PY" - "$T" <<'PYEOF' || fail "runs_compare_also wrote other figures than --compare-also measures"
+import json, sys
+T = sys.argv[1]
+got, ab, a = (json.load(open("%s/%s/summary.json" % (T, k))) for k in ("runs/a", "ab", "a"))
+also, want = got["pairs"][0]["error_vs_reference_also"], ab["pairs"][0]["error_vs_reference_also"]
+for k in ("pos_err_max", "pos_err_rms", "gap_max", "gap_mean", "window"):
+    assert also[k] == want[k], k
+assert got["state_hash"] == a["state_hash"] and got["timing_us"] == a["timing_us"]
+assert got["pairs"][0]["error_vs_reference"] == a["pairs"][0]["error_vs_reference"]
+assert got["compare_also"]["reference"].endswith("sphere_collision_one_sided")
+PYEOF
+cp -r "$T/a" "$T/runs/c"
+"$PY" - "$T/runs/c/summary.json" <<'PYEOF'
+import json, sys
+s = json.load(open(sys.argv[1])); s["state_hash"] = "0" * 16
+json.dump(s, open(sys.argv[1], "w"))
+PYEOF
+cp "$T/runs/c/summary.json" "$T/c.json"
+"$PY" "$SRC/scripts/runs_compare_also.py" "$T/runs" --only c --harness "$H" --references "$T/refs" -j 1 >"$T/out" 2>&1; rc=$?
+[ $rc -eq 1 ] && grep -q "another state" "$T/out" && cmp -s "$T/c.json" "$T/runs/c/summary.json" \
+  || fail "a run that does not reproduce: exit $rc, $(cat "$T/out")"
 [ $fails -eq 0 ] && echo "compare-also: ok"
 exit $fails

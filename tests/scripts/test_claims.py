@@ -47,7 +47,10 @@ def test_a_verdict_needs_evidence_and_weighs_for_and_against_alike():
     a, b, n, s = "a", "b", rules.WITHIN_NOISE, rules.NOT_STABLE
     assert rules.claim_verdict([a, a, a, s, s]) == "supported"
     assert rules.claim_verdict([a, a, a, a, n]) == "supported"          # 80 % for
-    assert rules.claim_verdict([a, a, a, n, n]) == "mixed"              # 60 %
+    assert rules.claim_verdict([a, a, a, n, n]) == "inconclusive"       # 60 % for, nothing against: not mixed
+    assert rules.claim_verdict([a, a, n]) == "inconclusive"             # 2-0-1: neither borne out nor contradicted
+    assert rules.claim_verdict([a, a, b, b, n]) == "mixed"              # 2-2-1: both beyond the share
+    assert rules.claim_verdict([a, a, b, n, n]) == "inconclusive"       # against at the share, not beyond it
     assert rules.claim_verdict([a, a, b, b]) == "mixed"
     assert rules.claim_verdict([b, b, b, a, b]) == "not supported"      # 20 % for
     assert rules.claim_verdict([n, n, n]) == "not supported"            # no difference where one is predicted
@@ -146,7 +149,7 @@ def test_claim_a_grid_best_and_oriented(tmp_path):
     # grid (8 mm F=0.003, 8 mm auto, 16 mm F=0.003): for, not judged, within noise; best: plane 2.0
     # against line 2.0: within noise
     assert v.data == ["a", rules.NOT_STABLE, rules.WITHIN_NOISE, rules.WITHIN_NOISE]
-    assert v.verdict == "mixed"  # three decisive, one for: a third
+    assert v.verdict == "inconclusive"  # three decisive, one for, nothing against: not mixed
     # oriented the same way, the line better beyond the noise: against the claim
     # (an orient.csv without the window figures, the `stability` column, is not judged at all)
     write(tmp_path, "orient.csv", "scene,eliminator,orient,force,voxel_mm,stable,pos_err_max_mm,pos_err_amp_mm\n"
@@ -412,5 +415,23 @@ def test_claims_say_how_each_file_recorded_rho_and_its_reference(tmp_path):
     (tmp_path / "swap.csv").write_text("scene,rho_norm,reference\ns,loading,\n")
     (tmp_path / "region.csv").write_text("scene,stable\ns,yes\n")
     rho, kinded = report.recorded_text(str(tmp_path))
-    assert rho == "over the loading period: orient.csv, swap.csv; over the whole time before the window: region.csv"
+    # a file that records no rho_norm does not say how (region.csv: made after the change, no column)
+    assert rho == ("over the loading period: orient.csv, swap.csv; over the whole time before the window: none; "
+                   "not recorded in the file: region.csv")
+    (tmp_path / "region.csv").write_text("scene,stable,rho_norm\ns,yes,before window\n")
+    assert report.recorded_text(str(tmp_path))[0].endswith("before the window: region.csv; not recorded in the file: none")
     assert kinded == "orient.csv"
+
+
+def test_a_verdict_says_what_rests_on_its_claims_own_exception():
+    """exception_text: the comparisons a claim's own rule decides where the general rule would not
+    judge them, and what the general rule gives."""
+    from harness_results.claims.common import exception_text
+    a, b, t, s = "a", "b", rules.TUNNELS, rules.NOT_STABLE
+    assert exception_text([a, b, s], [a, b, s], "x") == ""
+    text = exception_text([b, b, a, s], [t, t, a, s], "tunnelled runs")
+    assert text == ("2 of its 2 against rest on tunnelled runs; under the general evidence rule (those not judged): "
+                    "inconclusive (1-0-0-3)"), text
+    text = exception_text([a, a, a, b], [s, a, a, b], "improper restrictions")
+    assert text.startswith("1 of its 3 for rest on improper restrictions; under the general evidence rule"), text
+    assert text.endswith("mixed (2-1-0-1)"), text

@@ -57,7 +57,7 @@ def test_substituted_results_hold_the_fixed_layer(tmp_path):
 @needs_study
 def test_committed_section_is_what_the_rule_as_written_gives(tmp_path):
     """The counts claims.md and the report give for the fixed layer are the written rule's on the
-    substituted results (the first variant; the full 5184 are claims.py's)."""
+    substituted results (the first variant; the full 6912 are claims.py's)."""
     records, _results = layer.judge(RESULTS, str(tmp_path), robustness.VARIANTS[:1])
     macros = dict(re.findall(r"\\newcommand\{\\(\w+)\}\{(.*)\}", open(os.path.join(RESULTS, "tables",
                                                                                   "claims_macros.tex")).read()))

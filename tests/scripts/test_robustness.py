@@ -60,8 +60,8 @@ def test_fragile_names_the_choices_that_flip_it():
     assert robustness.robustness_text(s["ClaimY"]) == "robust: %d of %d variants (no variant moves its counts)" % (n, n)
     assert robustness.stated_verdict(s["ClaimX"]) == "fragile (supported as written)"
     assert robustness.robustness_text(s["ClaimX"]) == (
-        "fragile: %d of %d variants agree (2 different counts over the variants); flips to inconclusive in %d "
-        "(rho limits x0.5)" % (n - n // 3, n, n // 3))
+        "fragile: %d of %d variants agree (2 different counts over the variants; moved by 1 of the 10 choices: "
+        "the rho limits); flips to inconclusive in %d (rho limits x0.5)" % (n - n // 3, n, n // 3))
     # flipped by either of two choices: no choice shared, so each that flips it alone is named
     z = [(v, {"ClaimZ": ("inconclusive", flat) if (v.rho_scale == 0.5 or v.window == 0.5) else ("supported", t)})
          for v in robustness.VARIANTS]
@@ -97,6 +97,15 @@ def test_rho_over_the_loading_period_by_hand():
     assert rules.reclassify_row(row)["stability"] == "unstable"              # 0.284 > 0.04
     with rules.using(rules.Variant(rho_norm="loading")):
         assert rules.reclassify_row(row)["stability"] == "marginal"          # 0.0206: within the band (0.01, 0.04]
+    # the other way: a row recorded over the loading period, judged over the time before the window
+    # (the old normalisation, its limits as calibrated for it): 0.0206 -> 0.2838, unstable
+    loaded = dict(row, rho_norm="loading", contact_power_ratio=0.2838 * 2400 / 33000)
+    assert rules.reclassify_row(loaded)["stability"] == "marginal"
+    assert abs(rules.renormalised_rho(loaded, 0.2838 * 2400 / 33000, "before") - 0.2838) < 1e-12
+    with rules.using(rules.Variant(rho_norm="before")):
+        assert rules.reclassify_row(loaded)["stability"] == "unstable"
+        assert rules.reclassify_row(row)["stability"] == "unstable"          # recorded so already: as it is
+    assert rules.renormalised_rho(dict(loaded, steps=""), 0.02, "before") == 0.02  # its length unknown
     # A summary written before input_period_s: converted from its window figures; one written after
     # it: the loading period is what it records, and the old period is converted back.
     w = {"contact_power_W": 2e-4, "energy_in_J": 1e-3, "forcing_ends_step": 2400, "from_step": 33001,
@@ -116,3 +125,47 @@ def test_an_unforced_run_is_taken_over_its_window():
          "after_forcing": True, "contact_power_ratio": 1e-4 * 29000 * 1e-3 / 1e-3}
     s = {"window": w, "resolved_scene": {"time": {"dt": 1e-3}}}
     assert abs(reader.rho_over(s, "loading") - 1e-4 * 1000 * 1e-3 / 1e-3) < 1e-15
+
+
+def test_moved_by_names_the_choices_that_act_on_a_verdict():
+    """A verdict's counts moved by the tie alone: the tie is named, the other nine choices are not,
+    however many variants they make."""
+    t = {"for": 3, "against": 0, "noise": 0, "not judged": 0}
+    u = {"for": 2, "against": 0, "noise": 1, "not judged": 0}
+    results = [(v, {"ClaimX": ("supported", t) if v.tie != 0.0 else ("inconclusive", u)}) for v in robustness.VARIANTS]
+    assert robustness.moved_by(results, "ClaimX") == ["the relative tie"]
+    flat = [(v, {"ClaimX": ("supported", t)}) for v in robustness.VARIANTS]
+    assert robustness.moved_by(flat, "ClaimX") == []
+    # two choices that act only together: both named (each moves the counts with the other held)
+    both = [(v, {"ClaimX": ("inconclusive", u) if (v.window == 2.0 and v.floor == "mesh") else ("supported", t)})
+            for v in robustness.VARIANTS]
+    assert robustness.moved_by(both, "ClaimX") == ["the noise's floor", "the window's length"]
+
+
+def test_the_mesh_floor_enters_the_noise_of_the_spheres_only(tmp_path):
+    """floor "mesh": the larger of the reference's floor and the scene's mesh floor
+    (references_differences.csv), for either kind of reference; a scene without a refined reference
+    keeps its floor."""
+    from harness_results.claims import common
+    (tmp_path / "references_differences.csv").write_text(
+        "comparison,difference_mm,vertices\n"
+        "\"sphere_collision: mesh refined (x2) against base, at the base vertices\",1.13389,1284\n"
+        "\"sphere_collision: one way against both ways\",0.5159,1284\n")
+    ctx = common.Context(str(tmp_path))
+    assert abs(common.mesh_floor_mm(ctx, "sphere_collision") - 1.13389) < 1e-12
+    assert common.mesh_floor_mm(ctx, "cylinder_press") != common.mesh_floor_mm(ctx, "cylinder_press")  # NaN
+    orig = reader.reference_floor_mm
+    try:
+        reader.reference_floor_mm = lambda root, name: {"sphere_collision": 0.0012, "sphere_collision_one_sided": 0.002,
+                                                        "cylinder_press": 0.27}[name]
+        assert common._kind_floor_mm(ctx, "sphere_collision") == 0.0012
+        with rules.using(rules.Variant(floor="mesh")):
+            assert common._kind_floor_mm(ctx, "sphere_collision") == 1.13389
+            assert common._kind_floor_mm(ctx, "sphere_collision_one_sided") == 1.13389
+            assert common._kind_floor_mm(ctx, "cylinder_press") == 0.27
+            # two sphere rows 0.5 mm apart: decided under the rule, within the noise with the mesh floor
+            a, b = {"pos_err_max_mm": 1.45, "stable": "yes"}, {"pos_err_max_mm": 0.51, "stable": "yes"}
+            assert rules.decide(a, b, floor=common._kind_floor_mm(ctx, "sphere_collision")) == rules.WITHIN_NOISE
+        assert rules.decide(a, b, floor=common._kind_floor_mm(ctx, "sphere_collision")) == "b"
+    finally:
+        reader.reference_floor_mm = orig

@@ -22,7 +22,7 @@ Writes tables/claims_b.tex.
 """
 
 from .. import reader, rules, writers
-from .common import Verdict, tally_macros, verdict_line
+from .common import Verdict, exception_text, tally_macros, verdict_line
 
 SEPARATE_MAX_FRACTION = 0.05
 P90_MAX_STEPS = 100
@@ -103,10 +103,25 @@ def outcome(stab, g):
     return "a" if g["holds"] else "b"
 
 
+def general_outcome(stab, g):
+    """outcome under the general evidence rule (rules.evidence_gap): a run that tunnelled over the
+    window is not judged whatever its episodes (the claim's own rule judges it: its tunnelled
+    episodes failed)."""
+    o = outcome(stab, g)
+    if o in ("a", "b") and g.get("tunnelled", 0) > rules.CURRENT.tunnel_limit:
+        return rules.TUNNELS
+    return o
+
+
+EXCEPTION = ("runs whose nodes tunnelled over the window, judged by (b)'s own rule (a tunnelled episode failed: "
+             "not eliminated) where the general rule does not judge a run that tunnels")
+
+
 def judge(ctx):
     rows = run_rows(ctx)
     outcomes = [outcome(stab, g) for _t, _e, stab, g, _h in rows]
     verdict = rules.claim_verdict(outcomes, "a")
+    rests = exception_text(outcomes, [general_outcome(stab, g) for _t, _e, stab, g, _h in rows], EXCEPTION)
     fmt = writers.fmt
     md = ["## (b) Penetrating points are few and eliminated within several iterations", "",
           "An episode: a node found truly penetrating on consecutive measured steps (every 10 steps); its length in "
@@ -159,4 +174,8 @@ def judge(ctx):
         ("ClaimBRuns", str(len(rows))), ("ClaimBSepMax", "%g" % (100 * SEPARATE_MAX_FRACTION)),
         ("ClaimBPninetyMax", "%d" % P90_MAX_STEPS), ("ClaimBOpenMax", "%g" % (100 * OPEN_MAX_FRACTION)),
         ("ClaimBStableRuns", str(sum(1 for r in rows if r[2] == rules.STABLE)))]
-    return Verdict("b_episodes", verdict, md, macros, {"claims_b.tex": "".join(tex)}, data=rows)
+    if rests:
+        md.insert(-1, "**The claim's own rule:** %s." % rests)
+        md.insert(-1, "")
+    return Verdict("b_episodes", verdict, md, macros, {"claims_b.tex": "".join(tex)}, data=rows,
+                   rests={"ClaimB": rests} if rests else None)

@@ -24,7 +24,7 @@ the same rule; without restriction.csv it is judged on accuracy_time.csv as the 
 """
 
 from .. import reader, rules
-from .common import SCENE_ORDER, Verdict, figure, floor_mm, scene_cell, tally_macros, verdict_line
+from .common import SCENE_ORDER, Verdict, exception_text, figure, floor_mm, scene_cell, tally_macros, verdict_line
 
 MUCH = 2.0
 # The claim's own thresholds, varied: (factor, time statistic); the first is the test as written.
@@ -101,6 +101,17 @@ def outcome(rest, pen, floor, factor=MUCH, stat="median", bound=0.0, basis="time
     return rules.WITHIN_NOISE, "%.3gx the time, within the repeats' spread of %gx" % (ratio, factor)
 
 
+def general_outcome(rest, pen, o):
+    """`o` (outcome of the pair) under the general evidence rule: not judged, with why, where the
+    restriction is not evidence (the claim's own rule counts it improper: for)."""
+    gap = rules.evidence_gap(rest)
+    return o if gap is None or o not in ("a", "b", rules.WITHIN_NOISE) else gap
+
+
+EXCEPTION = ("restriction runs that are not evidence (not stable, tunnelling or no better than no force), counted "
+             "improper by (c)'s own rule where the general rule does not judge a pair with a run that is not evidence")
+
+
 def ratio_text(r, pen, stat, bound=0.0):
     """Its time over the penalty's, marked where the run failed (its times are over the steps it ran,
     not the same work)."""
@@ -144,6 +155,7 @@ def judge_practical(ctx, rows):
           "projection + exact bound / penalty | penalty err. (mm) | volume err. (mm) | projection err. (mm) | outcome |",
           "|---|---|---:|---:|---:|---:|---:|---:|---:|---|"]
     outcomes, exact, ratios, exact_ratios, items, labels = [], [], [], [], [], []
+    general, general_exact = [], []
     for scene in SCENE_ORDER + sorted({r["scene"] for r in rows} - set(SCENE_ORDER)):
         floor = floor_mm(ctx, scene)
         for label, pen, vol, proj, pb in pairs_of(rows, scene):
@@ -152,10 +164,12 @@ def judge_practical(ctx, rows):
             items.append((pen, vol, floor))
             o, why = outcome(vol, pen, floor, MUCH, "mean")
             outcomes.append(o)
+            general.append(general_outcome(vol, pen, o))
             labels.append(pen.get("detector") or label)
             if pb is not None:
                 oe, _ = outcome(pb, pen, floor, MUCH, "mean", reader.num(pb.get("t_bound_us")))
                 exact.append(oe)
+                general_exact.append(general_outcome(pb, pen, oe))
                 if oe in ("a", "b", rules.WITHIN_NOISE):
                     exact_ratios.append(timed(pb, "mean", reader.num(pb.get("t_bound_us")))["t_us"] /
                                         timed(pen, "mean")["t_us"])
@@ -205,7 +219,11 @@ def judge_practical(ctx, rows):
                ("ClaimCExactRatioMin", num(min(exact_ratios)) if exact_ratios else "--"),
                ("ClaimCExactRatioMax", num(max(exact_ratios)) if exact_ratios else "--"), ("ClaimCOwn", own_text),
                ("ClaimCBasis", basis)]
-    return md, macros, outcomes + exact, (own_text if flips else None)
+    rests = {p: t for p, t in (("ClaimC", exception_text(outcomes, general, EXCEPTION)),
+                               ("ClaimCExact", exception_text(exact, general_exact, EXCEPTION))) if t}
+    for p, t in rests.items():
+        md += ["**The claim's own rule (%s):** %s." % ("as stated" if p == "ClaimC" else "the exact bound", t), ""]
+    return md, macros, outcomes + exact, (own_text if flips else None), rests
 
 
 def num(x):
@@ -221,9 +239,9 @@ def rng(xs):
 def judge(ctx):
     rows = restriction_rows(ctx)
     if rows:
-        md, macros, outcomes, own = judge_practical(ctx, rows)
+        md, macros, outcomes, own, rests = judge_practical(ctx, rows)
         return Verdict("c_restrictions", dict(macros)["ClaimCVerdict"], md, macros, data=outcomes,
-                       own={"ClaimC": own} if own else None)
+                       own={"ClaimC": own} if own else None, rests=rests)
     verdict, md, macros, outcomes = judge_exact_accuracy(ctx)
     md = md + ["The practical bound (`scripts/study.py restriction`, results/restriction.csv) was not run: (c) is "
                "not tested, the exact bound above is its second finding.", ""]

@@ -21,9 +21,12 @@ class Verdict:
     {verdict prefix: text} for a claim that varies its own thresholds and finds that they change its
     verdict (the text says how): the verdict is then stated fragile whatever the rule's variants say;
     rule_free: the verdict prefixes that no choice of the rule's variants enters (no stability, noise
-    or tunnelling): their robustness says the variants do not apply instead of "robust"."""
+    or tunnelling): their robustness says the variants do not apply instead of "robust"; rests:
+    {verdict prefix: text} for a verdict some of whose comparisons are decisive only by the claim's
+    own exception to the evidence rule (exception_text says which and what the general rule gives):
+    the verdict table states it beside the verdict."""
 
-    def __init__(self, key, verdict=None, md=(), macros=(), tex=None, data=None, own=None, rule_free=()):
+    def __init__(self, key, verdict=None, md=(), macros=(), tex=None, data=None, own=None, rule_free=(), rests=None):
         self.key = key
         self.verdict = verdict
         self.md = list(md)
@@ -32,6 +35,7 @@ class Verdict:
         self.data = data
         self.own = dict(own or {})
         self.rule_free = list(rule_free)
+        self.rests = dict(rests or {})
 
     def __repr__(self):
         return "Verdict(%r, %r)" % (self.key, self.verdict)
@@ -155,8 +159,9 @@ def pen_series(path):
 
 def floor_mm(ctx, name, of_kind=False):
     """The floor (mm) of results/references/<name> that the noise takes under the current rule
-    (rules.Variant.floor): reader.reference_floor, twice it, or the last level's Richardson estimate
-    (results/references.csv error_estimate_mm; the floor where there is none). NaN when missing.
+    (rules.Variant.floor): reader.reference_floor, twice it, the last level's Richardson estimate
+    (results/references.csv error_estimate_mm; the floor where there is none), or the larger of the
+    floor and the scene's mesh floor (mesh_floor_mm; the floor where there is none). NaN when missing.
     `of_kind`: the rows compared are each against the reference of its kind (accuracy_time.csv's, and a
     study's rows that name it: orient.csv, regime.csv)
     (rules.OF_ITS_KIND): with a one-sided reference <name>_one_sided beside it, both floors
@@ -180,6 +185,9 @@ def _kind_floor_mm(ctx, name):
     how = rules.CURRENT.floor
     if how == "double":
         return 2.0 * floor
+    if how == "mesh":  # the mesh floor beside the reference's: no figure below it says anything of the shape
+        mesh = mesh_floor_mm(ctx, name[:-len("_one_sided")] if name.endswith("_one_sided") else name)
+        return floor if math.isnan(mesh) else max(mesh, reader.num(floor, 0.0))
     if how == "richardson":
         est = [reader.num(r.get("error_estimate_mm")) for r in ctx.csv("references.csv")
                if r.get("reference") == name and reader.present(r.get("error_estimate_mm"))]
@@ -229,6 +237,17 @@ def _floor_rule(ctx, name):
     return reader.reference_floor(reader.load_summary(path))[1] if reader.has_summary(path) else ""
 
 
+def mesh_floor_mm(ctx, scene):
+    """The scene's mesh floor (mm, references_differences.csv): its reference on the mesh refined once
+    against the reference on the scene's mesh, at the scene's vertices (how far the answer moves
+    with the discretisation alone); NaN where the scene has no refined reference (the variant
+    "mesh" then keeps the reference's floor: robustness.NOT_VARIED says so)."""
+    for r in ctx.csv("references_differences.csv"):
+        if str(r.get("comparison", "")).startswith(scene + ": mesh refined"):
+            return reader.num(r.get("difference_mm"))
+    return math.nan
+
+
 def one_sided_cost_mm(ctx, scene):
     """The scene's one-sided and two-sided references apart (mm, references_differences.csv): what
     one-sidedness alone costs a one-sided method judged against the two-sided limit; NaN without it."""
@@ -236,6 +255,26 @@ def one_sided_cost_mm(ctx, scene):
         if str(r.get("comparison", "")).startswith(scene + ": one way against both ways"):
             return reader.num(r.get("difference_mm"))
     return math.nan
+
+
+def exception_text(outcomes, general, exception, expected="a"):
+    """What a verdict owes to its claim's own exception to the evidence rule (rules.py, verdict:
+    "Claims with rules of their own"): `outcomes` as the claim judges them, `general` the same
+    comparisons under the general rule (those the exception decides not judged, with why), `exception`
+    the exception in words. "" when no comparison rests on it; else "N of its F for and A against
+    rest on <exception>; under the general evidence rule: <verdict> (f-a-n-nj)"."""
+    moved = [(o, g) for o, g in zip(outcomes, general) if o != g]
+    if not moved:
+        return ""
+    n_for = sum(1 for o, _g in moved if o == expected)
+    n_against = sum(1 for o, _g in moved if o not in (expected, rules.WITHIN_NOISE) and o not in rules.NOT_JUDGED)
+    t = rules.tally(general, expected)
+    parts = [x for x in ("%d of its %d for" % (n_for, rules.tally(outcomes, expected)["for"]) if n_for else "",
+                         "%d of its %d against" % (n_against, rules.tally(outcomes, expected)["against"]) if n_against else "")
+             if x]
+    return "%s rest on %s; under the general evidence rule (those not judged): %s (%d-%d-%d-%d)" % (
+        " and ".join(parts), exception, rules.claim_verdict(general, expected), t["for"], t["against"], t["noise"],
+        t["not judged"])
 
 
 def word(outcome, a_name, b_name):

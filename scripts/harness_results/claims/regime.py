@@ -252,14 +252,24 @@ def judge(ctx):
         by = b_grouped(v)
         return {fam: combined(by, fam) for fam in FAMILIES}
     b_by = b_grouped()
-    for r in own:
+    # every run, the decisive ones first, each with why it is or is not decisive
+    for r in sorted(own, key=lambda r: not decisive(b_outcome(r))):
         o = b_outcome(r)
         if decisive(o):
-            md.append("| %s | %s | %s | %g | %s | %s | %d | %s | %.1f | %.2f | %s |" % (
-                r["scene"], r["regime"], r["eliminator"], r["voxel_mm"], r["force"], figure(r),
-                int(r["ep_episodes"]), "%g" % r["ep_p90"] if reader.present(r.get("ep_p90")) else "-",
-                100 * reader.num(r.get("ep_failed_frac"), 0.0), 100 * reader.num(r.get("ep_peak_frac"), 0.0),
-                "holds" if o == "a" else "fails: %s" % r.get("ep_why", "")))
+            said = "decisive: holds" if o == "a" else "decisive: fails: %s" % r.get("ep_why", "")
+        else:
+            said = "not judged: %s" % (r.get("stability") if o == rules.NOT_STABLE and r.get("stability") else o)
+            if o != rules.MISSING and reader.present(r.get("ep_episodes")) and int(r["ep_episodes"]) > 0:
+                fails = b_episodes.failing_criteria(reader.num(r.get("ep_peak_frac"), 0.0), reader.num(r.get("ep_p90")),
+                                                    reader.num(r.get("ep_failed_frac"), 0.0))
+                said += " (its episodes %s)" % ("fail" if fails else "meet the criteria")
+        md.append("| %s | %s | %s | %g | %s | %s | %s | %s | %s | %s | %s |" % (
+            r["scene"], r["regime"], r["eliminator"], r["voxel_mm"], r["force"], figure(r),
+            "%d" % int(r["ep_episodes"]) if reader.present(r.get("ep_episodes")) else "-",
+            "%g" % r["ep_p90"] if reader.present(r.get("ep_p90")) else "-",
+            "%.1f" % (100 * reader.num(r.get("ep_failed_frac"), 0.0)) if reader.present(r.get("ep_episodes")) else "-",
+            "%.2f" % (100 * reader.num(r.get("ep_peak_frac"), 0.0)) if reader.present(r.get("ep_episodes")) else "-",
+            said))
     b_res = b_outcomes()
     b_own_text, b_flipped = {}, {}
     md.append("")
