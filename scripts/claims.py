@@ -12,7 +12,7 @@ oriented the same way), (b) penetrating points are few and eliminated within sev
 cost included), (d) voxelization is one of the fastest searches at matched error, (e) a large
 region detects collisions under any deformation (a skin wrapped around a limb), which body carries
 the grid (a finding), real time (collision unit and simulator), and the completed model. The
-comparison and verdict rules (four verdicts: supported, not supported, inconclusive, not tested)
+comparison and verdict rules (supported, not supported, mixed, inconclusive, not tested)
 are in harness_results/rules.py; claims.md and the LaTeX files are written by
 harness_results/claims/report.py.
 """

@@ -24,6 +24,7 @@ sorted, coloured by the variant's verdict.
 """
 
 import os
+import textwrap
 
 from . import rules, writers
 
@@ -202,8 +203,11 @@ def plot(root, results, labels):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     prefixes = [p for p in labels if p in results[0][1]]
-    fig, axes = plt.subplots(len(prefixes), 1, figsize=(7.0, 1.05 * len(prefixes) + 0.6), sharex=True, squeeze=False)
-    for ax, p in zip(axes[:, 0], prefixes):
+    rows = (len(prefixes) + 1) // 2  # two columns of panels: the figure fits a page with its caption
+    fig, axes = plt.subplots(rows, 2, figsize=(7.0, 1.1 * rows + 0.7), sharex=True, squeeze=False)
+    for ax in axes.flat[len(prefixes):]:
+        ax.set_visible(False)
+    for ax, p in zip(axes.flat, prefixes):
         pts = []
         for v, got in results:
             verdict, t = got[p]
@@ -219,10 +223,11 @@ def plot(root, results, labels):
             ax.axhline(b, color="0.5", lw=0.6, ls="--")
         ax.set_ylim(-0.08, 1.08)
         ax.set_yticks([0, 0.5, 1])
-        ax.set_ylabel("share for", fontsize=7)
-        ax.set_title(labels[p], fontsize=8, loc="left")
-        ax.tick_params(labelsize=7)
-    axes[-1, 0].set_xlabel("variant of the rule (sorted by share for)", fontsize=8)
+        ax.set_ylabel("share for", fontsize=6)
+        ax.set_title(textwrap.fill(labels[p], 60), fontsize=6, loc="left")
+        ax.tick_params(labelsize=6)
+    for ax in axes[-1, :]:
+        ax.set_xlabel("variant of the rule (sorted by share for)", fontsize=6)
     handles = [plt.Line2D([], [], marker="o", ls="", color=c, label=k, ms=4) for k, c in COLOURS.items()]
     handles.append(plt.Line2D([], [], marker="o", ls="", mfc="none", mec="k", label="no decisive comparison", ms=4))
     fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7, frameon=False)
@@ -234,3 +239,19 @@ def plot(root, results, labels):
                     metadata={"CreationDate": None} if ext == "pdf" else None)
     plt.close(fig)
     return os.path.join(d, "robustness.pdf")
+
+
+def results_from_csv(root, name="robustness.csv"):
+    """[(variant name, {prefix: (verdict, counts)})] read back from robustness.csv, in its order: what
+    plot draws, without judging the variants again."""
+    import csv
+    out, index = [], {}
+    with open(os.path.join(root, name)) as f:
+        for r in csv.DictReader(f):
+            if r["variant"] not in index:
+                index[r["variant"]] = len(out)
+                out.append((r["variant"], {}))
+            out[index[r["variant"]]][1][r["claim"]] = (r["verdict"], {
+                "for": int(r["for"]), "against": int(r["against"]), "noise": int(r["noise"]),
+                "not judged": int(r["not_judged"])})
+    return out

@@ -12,16 +12,19 @@ Definitions:
                 measured beside it (--compare-also) and shown, with the two references' distance (what
                 one-sidedness alone costs); so are the ablation's, convergence's, orientation's and
                 regime's rows (the paper's model: one-sided); the swap (and the regime's swapped runs),
-                restriction and region studies are against the two-sided reference (scripts say why). Over the window: pos_err_max (largest
+                restriction and region studies are against the two-sided reference (scripts say why),
+                and so is the real-time study (it measured no other: the paper's one-sided model's
+                error there includes its one-sidedness, as its section says). Over the window: pos_err_max (largest
                 distance of a surface vertex from where the reference has it) as its window mean, with
                 its window maximum and chatter amplitude (max - min); gap_max (largest gap where the
                 reference has contact) window mean; depth_max (deepest node inside the other body)
                 window maximum, and its peak over the whole run; tunnelled nodes (through the other
                 body) window maximum.
   stable        by the run's contact power over the window against the power the scene put in
-                (over its loading period since input_period_s is recorded; the committed studies were run
-                with the power over the whole time before the window: each run is judged by the rho it
-                recorded, and robustness judges every verdict with rho over the loading period too)
+                (over its loading period: every committed study file records it so, rho_norm "loading",
+                and so do the report's runs; region.csv does not record its normalisation; robustness
+                judges every verdict with rho over the whole time before the window too, the old
+                normalisation with the limits as they were calibrated for it)
                 (rho, summary.json window.contact_power_ratio; the harness calls a run "injects"
                 above 0.02) with a stated margin of a factor 2 either way: stable when the run
                 settled or chatters with rho <= 0.01; unstable when rho > 0.04, when its kinetic
@@ -50,7 +53,9 @@ Definitions:
                 state hash), but not robust in its last digits: a rounding perturbation (the node
                 order, docs/architecture.md) moves a chattering run's rho from 0.016 to 0.028 and a
                 tunnelling run's count from 1 to 3 nodes, and the harness has not measured that
-                spread per configuration (no ensemble over node orders); the tie stands in for it.
+                spread per configuration (no ensemble over node orders), nor what it does to the
+                position error the tie is applied to; the tie stands in for it, an argument by
+                analogy, not a measurement.
                 It is a choice, not a measurement: robustness varies it (0, 5 and 10 %), and so the
                 mesh floor (the sphere's reference on a refined mesh against its own, 1.13 mm, for a
                 claim read as about the method rather than this mesh), and a verdict that either
@@ -89,10 +94,11 @@ Definitions:
   robustness    (claims, harness_results/robustness.py) every verdict is judged again under every
                 combination of the rule's free choices (VARIANTS: the rho limits halved and doubled,
                 the marginal band counted stable, the relative tie 0 or 5 % instead of 10 %, the
-                reference's floor or its Richardson estimate or twice the floor, up to 10 nodes
+                reference's floor or its Richardson estimate or twice the floor or the mesh floor beside
+                it, up to 10 nodes
                 tunnelled over the window instead of none, two decisive comparisons sufficing instead
                 of three, a run helping at 80 % of the no-force run's figures instead of 90 %, rho over
-                the loading period for the runs that recorded it otherwise, the final window halved and
+                the whole time before the window (the old normalisation), the final window halved and
                 doubled, every method against the two-sided reference instead of the reference of its
                 kind: the last two from accuracy_time.csv's runs judged again, accuracy_variants.csv); a
                 verdict is stated
@@ -143,9 +149,9 @@ class Variant:
         self.tunnel_limit = tunnel_limit  # nodes a run may tunnel over the window and still be evidence
         self.min_decisive = min_decisive  # decisive comparisons a verdict needs (MIN_DECISIVE)
         self.helps = helps                # a run helps at this share of the no-force run's figures (USEFUL)
-        # rho as each run recorded it ("recorded": the committed studies and runs over the time before
-        # the window, runs since over the loading period) or over the loading period for all that
-        # allow it ("loading": reader.rho_over, loading_rho)
+        # rho as each run recorded it ("recorded": over the loading period, every committed study file and
+        # the report's runs), over the loading period for all that allow it ("loading") or over the whole
+        # time before the window ("before": the old normalisation; reader.rho_over, renormalised_rho)
         self.rho_norm = rho_norm
         # the final window's length over the scene's time.window (accuracy_variants.csv: the runs judged
         # again over half and twice it) and the reference each method is judged against: OF_ITS_KIND
@@ -292,7 +298,11 @@ def renormalised_rho(row, rho, norm):
     f = forcing_end(row.get("scene") or "")
     if math.isnan(rho) or not reader.present(steps) or f is None:
         return rho
-    window = scene_window(row["scene"])
+    # a run at dt / k (the regime study's dt/8: its dt_divide) counts k times the scene's steps for
+    # its forcing and its window
+    k = reader.num(row.get("dt_divide"), 1.0)
+    k = 1.0 if math.isnan(k) or k <= 0 else k
+    f, window = f * k, scene_window(row["scene"]) * k
     start = max(steps - window + 1, f + 1)
     if start <= 1 or steps <= f:
         return rho

@@ -435,3 +435,17 @@ def test_a_verdict_says_what_rests_on_its_claims_own_exception():
     text = exception_text([a, a, a, b], [s, a, a, b], "improper restrictions")
     assert text.startswith("1 of its 3 for rest on improper restrictions; under the general evidence rule"), text
     assert text.endswith("mixed (2-1-0-1)"), text
+
+
+def test_a_reference_with_two_equilibria_is_named_in_the_tables(tmp_path):
+    """scene_cell names the two equilibria reference_equilibria.csv found, beside the convergence marks."""
+    from harness_results.claims.common import scene_cell
+    write(tmp_path, "reference_equilibria.csv",
+          "reference,level_a,level_b,apart_mm,a_from_b_to_b_mm,b_from_a_to_a_mm,verdict\n"
+          "implant_expansion,1,2,0.263671,0.00688,0.00505,two equilibria\n"
+          "sphere_collision,1,2,0.2,0.15,0.1,one equilibrium per level\n")
+    ctx = Context(str(tmp_path))
+    assert scene_cell(ctx, "implant_expansion") == (
+        "implant_expansion (reference: two equilibria 0.264 mm apart at levels 1 and 2 (each level settles where it "
+        "is started, within 0.0069 mm: reference_equilibria.csv))")
+    assert scene_cell(ctx, "sphere_collision") == "sphere_collision"

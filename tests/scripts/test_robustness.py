@@ -169,3 +169,13 @@ def test_the_mesh_floor_enters_the_noise_of_the_spheres_only(tmp_path):
         assert rules.decide(a, b, floor=common._kind_floor_mm(ctx, "sphere_collision")) == "b"
     finally:
         reader.reference_floor_mm = orig
+
+
+def test_the_old_normalisation_scales_with_a_runs_dt_divide():
+    """A regime row at dt/8 counts 8 times the scene's steps for its forcing and its window: the
+    implant (forcing 5000 steps, window 1000) run 208000 steps at dt/8 converts by 200000/40000 = 5,
+    as the same run at the scene's dt (26000 steps: 25000/5000), not by 207000/5000."""
+    row = dict(chatter(0.0152), scene="implant_expansion", steps="208000", dt_divide="8", rho_norm="loading")
+    assert abs(rules.renormalised_rho(row, 0.0152, "before") - 0.0152 * 5.0) < 1e-12
+    same = dict(row, steps="26000", dt_divide="1")
+    assert abs(rules.renormalised_rho(same, 0.0152, "before") - 0.0152 * 5.0) < 1e-12

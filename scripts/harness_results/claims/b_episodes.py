@@ -21,8 +21,9 @@ the sampling; one that goes through is).
 Writes tables/claims_b.tex.
 """
 
-from .. import reader, rules, writers
-from .common import Verdict, exception_text, tally_macros, verdict_line
+from .. import reader, rewindow, rules, writers
+from ..tables import of_its_kind
+from .common import Verdict, exception_record, tally_macros, verdict_line
 
 SEPARATE_MAX_FRACTION = 0.05
 P90_MAX_STEPS = 100
@@ -81,12 +82,36 @@ def run_figures(path):
     return _FIGURES[path]
 
 
+_REWINDOWED = {}
+
+
+def under_window(path, s):
+    """The run's summary judged over the current rule's window (rules.Variant.window: the scene's
+    time.window times it; rewindow.rewindow from its steps.csv), `s` itself at the scene's window."""
+    f = rules.CURRENT.window
+    if f == 1.0:
+        return s
+    if (path, f) not in _REWINDOWED:
+        _REWINDOWED[(path, f)] = rewindow.rewindow(path, s, f)
+    return _REWINDOWED[(path, f)]
+
+
 def run_rows(ctx):
-    """Per run: (title, eliminator, stability under the current rule, guest stats, host stats)."""
+    """Per run: (title, eliminator, stability under the current rule, guest stats, host stats); the
+    stability and the nodes tunnelled over the window are the current window's (under_window), the
+    episodes are the whole run's."""
     out = []
     for key, _scene, title, _force, elim, path in ctx.runs:
         s, gs, hs = run_figures(path)
-        out.append((title, elim, rules.classify(s)[0], gs, hs))
+        sw = under_window(path, s)
+        if sw is not s:
+            gs = dict(gs, tunnelled=reader.num(reader.window_figures(sw).get("tunnelled"), 0.0))
+        # whether it helps (the general evidence rule's third test; (b)'s own rule does not ask it):
+        # against the reference of its kind, as the accuracy table says it
+        k, kind = of_its_kind(sw)
+        base = ctx.no_force(reader.scene(s))
+        gs = dict(gs, helps=rules.helps_word(dict(reader.window_figures(k), reference=kind), base) if base else "")
+        out.append((title, elim, rules.classify(sw)[0], gs, hs))
     return out
 
 
@@ -110,18 +135,21 @@ def general_outcome(stab, g):
     o = outcome(stab, g)
     if o in ("a", "b") and g.get("tunnelled", 0) > rules.CURRENT.tunnel_limit:
         return rules.TUNNELS
+    if o in ("a", "b") and g.get("helps") == "no":
+        return rules.NO_HELP
     return o
 
 
-EXCEPTION = ("runs whose nodes tunnelled over the window, judged by (b)'s own rule (a tunnelled episode failed: "
-             "not eliminated) where the general rule does not judge a run that tunnels")
+EXCEPTION = ("runs that are not evidence by the general rule (nodes tunnelled over the window, or no better than no "
+             "contact force), judged by (b)'s own rule (a stable run is judged on its episodes; a tunnelled episode "
+             "failed: not eliminated)")
 
 
 def judge(ctx):
     rows = run_rows(ctx)
     outcomes = [outcome(stab, g) for _t, _e, stab, g, _h in rows]
     verdict = rules.claim_verdict(outcomes, "a")
-    rests = exception_text(outcomes, [general_outcome(stab, g) for _t, _e, stab, g, _h in rows], EXCEPTION)
+    rests = exception_record(outcomes, [general_outcome(stab, g) for _t, _e, stab, g, _h in rows], EXCEPTION)
     fmt = writers.fmt
     md = ["## (b) Penetrating points are few and eliminated within several iterations", "",
           "An episode: a node found truly penetrating on consecutive measured steps (every 10 steps); its length in "
@@ -175,7 +203,7 @@ def judge(ctx):
         ("ClaimBPninetyMax", "%d" % P90_MAX_STEPS), ("ClaimBOpenMax", "%g" % (100 * OPEN_MAX_FRACTION)),
         ("ClaimBStableRuns", str(sum(1 for r in rows if r[2] == rules.STABLE)))]
     if rests:
-        md.insert(-1, "**The claim's own rule:** %s." % rests)
+        md.insert(-1, "**The claim's own rule:** %s." % rests["text"])
         md.insert(-1, "")
     return Verdict("b_episodes", verdict, md, macros, {"claims_b.tex": "".join(tex)}, data=rows,
                    rests={"ClaimB": rests} if rests else None)

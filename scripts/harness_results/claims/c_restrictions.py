@@ -24,7 +24,7 @@ the same rule; without restriction.csv it is judged on accuracy_time.csv as the 
 """
 
 from .. import reader, rules
-from .common import SCENE_ORDER, Verdict, exception_text, figure, floor_mm, scene_cell, tally_macros, verdict_line
+from .common import SCENE_ORDER, Verdict, exception_record, figure, floor_mm, scene_cell, tally_macros, verdict_line
 
 MUCH = 2.0
 # The claim's own thresholds, varied: (factor, time statistic); the first is the test as written.
@@ -219,10 +219,10 @@ def judge_practical(ctx, rows):
                ("ClaimCExactRatioMin", num(min(exact_ratios)) if exact_ratios else "--"),
                ("ClaimCExactRatioMax", num(max(exact_ratios)) if exact_ratios else "--"), ("ClaimCOwn", own_text),
                ("ClaimCBasis", basis)]
-    rests = {p: t for p, t in (("ClaimC", exception_text(outcomes, general, EXCEPTION)),
-                               ("ClaimCExact", exception_text(exact, general_exact, EXCEPTION))) if t}
+    rests = {p: t for p, t in (("ClaimC", exception_record(outcomes, general, EXCEPTION)),
+                               ("ClaimCExact", exception_record(exact, general_exact, EXCEPTION))) if t}
     for p, t in rests.items():
-        md += ["**The claim's own rule (%s):** %s." % ("as stated" if p == "ClaimC" else "the exact bound", t), ""]
+        md += ["**The claim's own rule (%s):** %s." % ("as stated" if p == "ClaimC" else "the exact bound", t["text"]), ""]
     return md, macros, outcomes + exact, (own_text if flips else None), rests
 
 

@@ -216,6 +216,9 @@ def scene_cell(ctx, scene, of_kind=False):
         kinds = [(scene, "two-sided ", "the methods both ways"), (scene + "_one_sided", "one-sided ", "the one-sided methods")]
     for k in kinds:
         used = (", used by " + k[2]) if len(k) > 2 else ""
+        eq = equilibria(ctx, k[0])
+        if eq:
+            marks.append("%sreference: %s" % (k[1], eq))
         if reference_converged(ctx, k[0]) is False:
             marks.append("%sreference not converged: floor %.3g mm%s" % (
                 k[1], reader.reference_floor_mm(ctx.root, k[0]), used))
@@ -229,6 +232,19 @@ def scene_cell(ctx, scene, of_kind=False):
     if of_kind and not math.isnan(cost):
         marks.insert(0, "one-sidedness alone %.3g mm" % cost)
     return "%s (%s)" % (scene, "; ".join(marks)) if marks else scene
+
+
+def equilibria(ctx, name):
+    """"two equilibria 0.264 mm apart at levels 1 and 2 (each level settles where it is started, ...)"
+    where scripts/reference_equilibria.py found that the reference's jump between two levels is a
+    switch between equilibria (results/reference_equilibria.csv); "" otherwise."""
+    for r in ctx.csv("reference_equilibria.csv"):
+        if r.get("reference") == name and r.get("verdict") == "two equilibria":
+            return ("two equilibria %.3g mm apart at levels %d and %d (each level settles where it is started, within "
+                    "%.2g mm: reference_equilibria.csv)" % (
+                        reader.num(r.get("apart_mm")), int(reader.num(r.get("level_a"))), int(reader.num(r.get("level_b"))),
+                        max(reader.num(r.get("a_from_b_to_b_mm")), reader.num(r.get("b_from_a_to_a_mm")))))
+    return ""
 
 
 def _floor_rule(ctx, name):
@@ -262,19 +278,28 @@ def exception_text(outcomes, general, exception, expected="a"):
     "Claims with rules of their own"): `outcomes` as the claim judges them, `general` the same
     comparisons under the general rule (those the exception decides not judged, with why), `exception`
     the exception in words. "" when no comparison rests on it; else "N of its F for and A against
-    rest on <exception>; under the general evidence rule: <verdict> (f-a-n-nj)"."""
+    rest on <exception>; under the general evidence rule: <verdict> (f-a-n-nj)". exception_record
+    gives it with the general rule's verdict and counts apart."""
+    rec = exception_record(outcomes, general, exception, expected)
+    return rec["text"] if rec else ""
+
+
+def exception_record(outcomes, general, exception, expected="a"):
+    """{"text": exception_text's, "general": the general rule's verdict, "counts": "<verdict> (f-a-n-nj)"},
+    None when no comparison rests on the exception."""
     moved = [(o, g) for o, g in zip(outcomes, general) if o != g]
     if not moved:
-        return ""
+        return None
     n_for = sum(1 for o, _g in moved if o == expected)
     n_against = sum(1 for o, _g in moved if o not in (expected, rules.WITHIN_NOISE) and o not in rules.NOT_JUDGED)
     t = rules.tally(general, expected)
     parts = [x for x in ("%d of its %d for" % (n_for, rules.tally(outcomes, expected)["for"]) if n_for else "",
                          "%d of its %d against" % (n_against, rules.tally(outcomes, expected)["against"]) if n_against else "")
              if x]
-    return "%s rest on %s; under the general evidence rule (those not judged): %s (%d-%d-%d-%d)" % (
-        " and ".join(parts), exception, rules.claim_verdict(general, expected), t["for"], t["against"], t["noise"],
-        t["not judged"])
+    verdict = rules.claim_verdict(general, expected)
+    counts = "%s (%d-%d-%d-%d)" % (verdict, t["for"], t["against"], t["noise"], t["not judged"])
+    return {"text": "%s rest on %s; under the general evidence rule (those not judged): %s" % (
+        " and ".join(parts), exception, counts), "general": verdict, "counts": counts}
 
 
 def word(outcome, a_name, b_name):

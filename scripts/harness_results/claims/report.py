@@ -53,6 +53,33 @@ TITLES = {"a_plane": "(a) the plane works better than the line (implant)",
           "completed": "the completed model (voxel_exact) is both fast and right"}
 
 
+# The files each verdict reads (its claim's module), and the rule's choices that reach only some files
+# (robustness.NOT_VARIED): a choice that reaches none of a verdict's files leaves it where it is by
+# construction, and its robustness says so (not_reached) instead of letting those variants count as
+# agreement.
+READS = {"ClaimA": {"accuracy_time.csv", "orient.csv"}, "ClaimB": {"runs/"},
+         "ClaimC": {"restriction.csv"}, "ClaimCExact": {"restriction.csv"}, "ClaimD": {"detection.csv"},
+         "ClaimDUnit": {"accuracy_time.csv"}, "ClaimE": {"region.csv"}, "ClaimARegime": {"regime.csv"},
+         "ClaimBRegime": {"regime.csv"}, "ClaimARegimeDamped": {"regime.csv"}, "ClaimBRegimeDamped": {"regime.csv"},
+         "ClaimRTUnit": {"realtime.csv"}, "ClaimRTSim": {"realtime.csv"}, "ClaimVE": {"accuracy_time.csv"}}
+REACHES = [("the window's length", {"accuracy_time.csv", "runs/"}),
+           ("the reference's kind", {"accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "regime.csv"}),
+           ("the stability choices (rho limits, marginal band, rho's normalisation)",
+            {"accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "regime.csv", "runs/", "swap.csv",
+             "restriction.csv", "region.csv"})]
+
+
+def not_reached(prefix):
+    """"; not reached by the window's length (its files: regime.csv)": the choices that vary none of
+    the verdict's files (READS), "" when every choice reaches it or its files are not known."""
+    files = READS.get(prefix)
+    if not files:
+        return ""
+    missed = [name for name, reach in REACHES if not files & reach]
+    return ("; not reached by %s (its files: %s): those variants agree by construction" % (
+        " nor ".join(missed), ", ".join(sorted(files)))) if missed else ""
+
+
 # The study files the claims read, in the order claims.md names them.
 STUDY_FILES = ["accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "swap.csv", "region.csv",
                "restriction.csv", "regime.csv"]
@@ -92,7 +119,7 @@ def verdict_table(records, root=None):
     rests = {}
     for r in records:
         for p, t in r.rests.items():
-            rests[title_of(r.key, p, sum(1 for n, _v in r.macros if n.endswith("Verdict")))] = t
+            rests[title_of(r.key, p, sum(1 for n, _v in r.macros if n.endswith("Verdict")))] = t["text"]
     for title, verdict, counts, robust, loading in verdict_rows(records):
         md.append("| %s | %s | %s | %s | %s | %s |" % (title, verdict, " | ".join(counts), robust, loading,
                                                      rests.get(title, "-")))
@@ -160,6 +187,13 @@ def with_robustness(records, results):
             if name.endswith("Verdict") and p in summ:
                 r.macros[i] = (name, robustness.stated_verdict(summ[p]))
                 text = robustness.robustness_text(summ[p])
+                if p not in r.rule_free:
+                    text += not_reached(p)
+                if p in r.rests and r.rests[p].get("general") != summ[p]["verdict"]:
+                    # its own exception decides it: fragile, whatever the rule's variants say
+                    if not r.macros[i][1].startswith("fragile") and summ[p]["verdict"] != rules.NOT_TESTED:
+                        r.macros[i] = (name, "fragile (%s as written)" % summ[p]["verdict"])
+                    text += "; under the general evidence rule (its own exception off): %s" % r.rests[p]["counts"]
                 if p in r.rule_free and not summ[p]["flips"]:
                     text = ("the rule's variants do not apply: no stability, noise or tunnelling enters it (all %d "
                             "leave it unchanged by construction)" % summ[p]["total"])

@@ -7,7 +7,7 @@ setting, the grid as the scene has it against swapped.
 """
 
 from .. import rules
-from .common import Verdict, figure, floor_mm, scene_cell, word
+from .common import Verdict, exception_record, figure, floor_mm, scene_cell, word
 
 NUMBERS = ["pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm", "max_depth_peak_mm", "recall",
            "true_pen_final", "t_contact_us", "voxel_mm", "margin"]
@@ -84,4 +84,10 @@ def judge(ctx):
            robustness_line(judged, sw) if rules.CURRENT is rules.DEFAULT else "", ""]
     macros = [("SwapSceneWins", str(t["for"])), ("SwapSwappedWins", str(t["against"])),
               ("SwapNoise", str(t["noise"])), ("SwapNotJudged", str(t["not judged"])), ("SwapSettings", str(len(outcomes)))]
-    return Verdict("swap", None, md, macros, data=outcomes)
+    general = [rules.decide(a, b, floor=floor_of(scene)) for scene, _e, _f, _v, a, b in pairs]
+    rests = exception_record(outcomes, general, "pairs in which one placement's run is evidence and the other's is "
+                             "not (the swap's own rule: the evidence wins; the general rule does not judge them)")
+    if rests:
+        md.insert(-1, "**The finding's own rule:** %s." % rests["text"])
+        md.insert(-1, "")
+    return Verdict("swap", None, md, macros, data=outcomes, rests={"Swap": rests} if rests else None)
