@@ -32,7 +32,7 @@ import tempfile
 
 import numpy as np
 
-from harness_results import reader, writers
+from harness_results import reader, rules, writers
 
 FACTOR = 10.0
 CHUNK = 5000
@@ -74,26 +74,11 @@ def apart_mm(a, b):
     return 1e3 * max(float(np.max(np.linalg.norm(a[k] - b[k], axis=1))) for k in a)
 
 
-def forcing_steps(scene):
-    """The steps until the scene's forcing has finished (rules.forcing_end on the resolved scene)."""
-    end = 0
-    for b in scene.get("bodies", []):
-        for d in b.get("drivers") or []:
-            if any(v != 0 for v in d.get("velocity", [0, 0, 0])):
-                end = max(end, int(d.get("to_step", 0)))
-        for l in b.get("loads") or []:
-            end = max(end, int(l.get("ramp_steps", 0)))
-        p = b.get("pressure")
-        if p and p.get("from") != p.get("to"):
-            end = max(end, int(p.get("ramp_steps", 0)))
-    return end
-
-
 def settle_from(harness_mod, scene, start, tolerance):
     """A simulation of `scene` stepped through its forcing, then put in `start` at rest and stepped
     until its residual is below `tolerance` (MAX_CHUNKS chunks at most): (state, residual)."""
     sim = harness_mod.Simulation(scene)
-    n = forcing_steps(scene)
+    n = rules.forcing_end_of(scene) or 0
     if n:
         sim.step(n)
     for b, x in start.items():

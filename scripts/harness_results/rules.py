@@ -263,6 +263,12 @@ def forcing_end(scene):
         sc = reader.bundled_scene(scene)
     except (OSError, ValueError):
         return None
+    return forcing_end_of(sc)
+
+
+def forcing_end_of(sc):
+    """forcing_end of a scene document (a dict: a bundled scene or a run's resolved scene), None
+    for a moving driver that never stops."""
     end = 0
     for b in sc.get("bodies", []):
         for d in b.get("drivers") or []:
