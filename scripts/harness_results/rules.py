@@ -85,7 +85,10 @@ Definitions:
                 borne out by comparisons that find none): 0-3-0 and 0-0-3 are both "not
                 supported", 2-2-1 is "mixed" and 2-0-1 "inconclusive". For and against are treated
                 alike: swapping them swaps "supported" and "not supported" and keeps "mixed";
-                the within-noise comparisons are the one asymmetry (they count as not for). Each verdict is printed with its counts (for,
+                the within-noise comparisons are the one asymmetry (they count as not for: 0-1-2 is
+                "not supported", 1-0-2 "inconclusive"). That reading is a choice: robustness judges
+                every verdict with them on neither side too (noise_reading NEITHER: "not supported"
+                then needs 80 % against, the mirror of "supported"; 0-1-2 and 0-0-3 are inconclusive). Each verdict is printed with its counts (for,
                 against, within noise, not judged). Claims with rules of their own, stated in their
                 modules: (e) is about detection alone (force 0: nothing pushes, so stability,
                 helping and tunnelling do not apply); (c) counts a restriction that is not stable
@@ -133,6 +136,8 @@ NO_FORCE = "no contact force"
 TIE = 0.10
 MIN_DECISIVE = 3
 MIXED_SHARE = 0.2
+# How the within-noise comparisons count in a verdict (Variant.noise_reading).
+NOT_FOR, NEITHER = "not for", "neither"
 
 
 class Variant:
@@ -144,7 +149,8 @@ class Variant:
     reference on a mesh refined once against the reference on its own mesh)."""
 
     def __init__(self, rho_scale=1.0, marginal="unstable", tie=TIE, floor="floor", tunnel_limit=0,
-                 min_decisive=MIN_DECISIVE, helps=USEFUL, rho_norm="recorded", window=1.0, reference=OF_ITS_KIND):
+                 min_decisive=MIN_DECISIVE, helps=USEFUL, rho_norm="recorded", window=1.0, reference=OF_ITS_KIND,
+                 noise_reading=NOT_FOR):
         self.rho_scale, self.marginal, self.tie, self.floor = rho_scale, marginal, tie, floor
         self.tunnel_limit = tunnel_limit  # nodes a run may tunnel over the window and still be evidence
         self.min_decisive = min_decisive  # decisive comparisons a verdict needs (MIN_DECISIVE)
@@ -158,6 +164,10 @@ class Variant:
         # (one-sided methods against the one-sided reference, both ways against the two-sided) or
         # "both ways" (every method against the two-sided reference)
         self.window, self.reference = window, reference
+        # how the within-noise comparisons count in the verdict (claim_verdict): as not for (NOT_FOR, the
+        # rule as written: a predicted difference that is not found does not bear the claim out) or on
+        # neither side (NEITHER: not supported then needs the comparisons against, mirror of supported)
+        self.noise_reading = noise_reading
 
     def name(self):
         """"rho x0.5, marginal stable, tie 5 %, floor richardson": the choices that differ from the default."""
@@ -185,6 +195,8 @@ class Variant:
             parts.append("window x%g" % self.window)
         if self.reference != OF_ITS_KIND:
             parts.append("every method against the %s reference" % self.reference)
+        if self.noise_reading != NOT_FOR:
+            parts.append("within-noise comparisons on neither side")
         return ", ".join(parts) or "the rule as written"
 
 
@@ -612,6 +624,8 @@ def claim_verdict(outcomes, expected="a", minimum=None):
         return MIXED
     if t["for"] >= (1.0 - MIXED_SHARE) * decisive:
         return SUPPORTED
+    if CURRENT.noise_reading == NEITHER:  # the mirror of supported: the comparisons against decide it
+        return NOT_SUPPORTED if t["against"] >= (1.0 - MIXED_SHARE) * decisive else INCONCLUSIVE
     if t["for"] <= MIXED_SHARE * decisive:
         return NOT_SUPPORTED
     return INCONCLUSIVE  # for in between, nothing against beyond the share: the rest within the noise

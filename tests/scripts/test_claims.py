@@ -449,3 +449,20 @@ def test_a_reference_with_two_equilibria_is_named_in_the_tables(tmp_path):
         "implant_expansion (reference: two equilibria 0.264 mm apart at levels 1 and 2 (each level settles where it "
         "is started, within 0.0069 mm: reference_equilibria.csv))")
     assert scene_cell(ctx, "sphere_collision") == "sphere_collision"
+
+
+def test_the_within_noise_reading_is_a_choice():
+    """As written a within-noise comparison counts as not for (0-1-2 not supported, 2-0-1 inconclusive);
+    on neither side, "not supported" needs 80 % against, the mirror of "supported"."""
+    a, b, n = "a", "b", rules.WITHIN_NOISE
+    assert rules.claim_verdict([b, n, n]) == "not supported"
+    assert rules.claim_verdict([n, n, n]) == "not supported"
+    with rules.using(rules.Variant(noise_reading=rules.NEITHER)):
+        assert rules.claim_verdict([b, n, n]) == "inconclusive"
+        assert rules.claim_verdict([n, n, n]) == "inconclusive"
+        assert rules.claim_verdict([b, b, b, b, n]) == "not supported"
+        assert rules.claim_verdict([a, a, a, a, n]) == "supported"
+        for o in ([a, n, n], [a, a, n], [a, b, n], [a, a, a, a, b]):  # for and against swap exactly
+            flip = {"supported": "not supported", "not supported": "supported", "mixed": "mixed",
+                    "inconclusive": "inconclusive"}
+            assert rules.claim_verdict([b if x == a else a if x == b else x for x in o]) == flip[rules.claim_verdict(o)]

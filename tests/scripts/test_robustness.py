@@ -60,7 +60,7 @@ def test_fragile_names_the_choices_that_flip_it():
     assert robustness.robustness_text(s["ClaimY"]) == "robust: %d of %d variants (no variant moves its counts)" % (n, n)
     assert robustness.stated_verdict(s["ClaimX"]) == "fragile (supported as written)"
     assert robustness.robustness_text(s["ClaimX"]) == (
-        "fragile: %d of %d variants agree (2 different counts over the variants; moved by 1 of the 10 choices: "
+        "fragile: %d of %d variants agree (2 different counts over the variants; moved by 1 of the 11 choices: "
         "the rho limits); flips to inconclusive in %d (rho limits x0.5)" % (n - n // 3, n, n // 3))
     # flipped by either of two choices: no choice shared, so each that flips it alone is named
     z = [(v, {"ClaimZ": ("inconclusive", flat) if (v.rho_scale == 0.5 or v.window == 0.5) else ("supported", t)})
@@ -179,3 +179,14 @@ def test_the_old_normalisation_scales_with_a_runs_dt_divide():
     assert abs(rules.renormalised_rho(row, 0.0152, "before") - 0.0152 * 5.0) < 1e-12
     same = dict(row, steps="26000", dt_divide="1")
     assert abs(rules.renormalised_rho(same, 0.0152, "before") - 0.0152 * 5.0) < 1e-12
+
+
+def test_a_choice_that_reaches_none_of_a_verdicts_files_is_named_and_not_counted():
+    from harness_results.claims import report
+    text, attrs = report.not_reached("ClaimARegime")  # regime.csv: the window does not reach it
+    assert attrs == ("window",) and "the window's length" in text and "regime.csv" in text
+    assert report.not_reached("ClaimA") == ("", ())      # accuracy_time.csv: every choice reaches it
+    _t, attrs = report.not_reached("ClaimRTSim")         # realtime.csv: neither window, reference nor stability
+    assert set(attrs) == {"window", "reference", "rho_scale", "marginal", "rho_norm"}
+    kept = report.reaching([(v, {}) for v in robustness.VARIANTS], attrs)
+    assert len(kept) == len(robustness.VARIANTS) // 72 + 1  # 96 of the product and the one made alone

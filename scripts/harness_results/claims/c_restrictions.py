@@ -198,7 +198,7 @@ def judge_practical(ctx, rows):
     everdict = rules.claim_verdict(exact, "a")
     dets = sorted({lab for (lab, o) in zip(labels, outcomes) if o in ("a", "b", rules.WITHIN_NOISE)})
     n_dec = sum(1 for o in outcomes if o in ("a", "b", rules.WITHIN_NOISE))
-    basis = ("Its %d decisive comparisons use %s's detection%s%s." % (
+    basis = ("Its %d comparisons decisive by its own rule use %s's detection%s%s." % (
         n_dec, " and ".join(dets) if dets else "no", " only" if len(dets) == 1 else "",
         (": the rule's minimum (%d), one fewer and it would be inconclusive; the paper's grid's penalty runs are "
          "not evidence in any scene" % rules.MIN_DECISIVE) if n_dec == rules.MIN_DECISIVE else "")) if outcomes else ""

@@ -62,22 +62,33 @@ READS = {"ClaimA": {"accuracy_time.csv", "orient.csv"}, "ClaimB": {"runs/"},
          "ClaimDUnit": {"accuracy_time.csv"}, "ClaimE": {"region.csv"}, "ClaimARegime": {"regime.csv"},
          "ClaimBRegime": {"regime.csv"}, "ClaimARegimeDamped": {"regime.csv"}, "ClaimBRegimeDamped": {"regime.csv"},
          "ClaimRTUnit": {"realtime.csv"}, "ClaimRTSim": {"realtime.csv"}, "ClaimVE": {"accuracy_time.csv"}}
-REACHES = [("the window's length", {"accuracy_time.csv", "runs/"}),
-           ("the reference's kind", {"accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "regime.csv"}),
-           ("the stability choices (rho limits, marginal band, rho's normalisation)",
+REACHES = [("the window's length", ("window",), {"accuracy_time.csv", "runs/"}),
+           ("the reference's kind", ("reference",),
+            {"accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "regime.csv"}),
+           ("the stability choices (rho limits, marginal band, rho's normalisation)", ("rho_scale", "marginal", "rho_norm"),
             {"accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "regime.csv", "runs/", "swap.csv",
              "restriction.csv", "region.csv"})]
 
 
 def not_reached(prefix):
-    """"; not reached by the window's length (its files: regime.csv)": the choices that vary none of
-    the verdict's files (READS), "" when every choice reaches it or its files are not known."""
+    """(text, attributes): the choices that vary none of the verdict's files (READS): "not reached by
+    the window's length (its files: regime.csv)" and their Variant attributes; ("", ()) when every
+    choice reaches it or its files are not known. Its agreement is counted over the variants that make
+    those choices as written only (the others were not computed for it)."""
     files = READS.get(prefix)
     if not files:
-        return ""
-    missed = [name for name, reach in REACHES if not files & reach]
-    return ("; not reached by %s (its files: %s): those variants agree by construction" % (
-        " nor ".join(missed), ", ".join(sorted(files)))) if missed else ""
+        return "", ()
+    missed = [(name, attrs) for name, attrs, reach in REACHES if not files & reach]
+    if not missed:
+        return "", ()
+    return ("not reached by %s (its files: %s): the variants that change %s are not counted" % (
+        " nor ".join(n for n, _a in missed), ", ".join(sorted(files)), "them" if len(missed) > 1 else "it"),
+        tuple(a for _n, attrs in missed for a in attrs))
+
+
+def reaching(results, attrs):
+    """The variants of `results` that make the choices `attrs` as the rule is written."""
+    return [(v, got) for v, got in results if all(getattr(v, a) == getattr(rules.DEFAULT, a) for a in attrs)]
 
 
 # The study files the claims read, in the order claims.md names them.
@@ -175,6 +186,10 @@ def with_robustness(records, results):
     """The records with each verdict as stated (robustness.stated_verdict) in its macro, its
     robustness in <prefix>Robust and a line after its section."""
     summ = robustness.summary(results)
+    for p in list(summ):  # a verdict some choices do not reach: its agreement over the variants that reach it
+        _t, attrs = not_reached(p)
+        if attrs:
+            summ[p] = robustness.summary(reaching(results, attrs))[p]
     # the verdicts with rho over the whole time before the window (the old normalisation, its limits as
     # calibrated for it), all else as written: where the old rule would have put them
     loading = next((got for v, got in results if v.rho_norm == "before" and v.name() == "rho over the time before the window"),
@@ -187,8 +202,8 @@ def with_robustness(records, results):
             if name.endswith("Verdict") and p in summ:
                 r.macros[i] = (name, robustness.stated_verdict(summ[p]))
                 text = robustness.robustness_text(summ[p])
-                if p not in r.rule_free:
-                    text += not_reached(p)
+                if p not in r.rule_free and not_reached(p)[0]:
+                    text += "; %s" % not_reached(p)[0]
                 if p in r.rests and r.rests[p].get("general") != summ[p]["verdict"]:
                     # its own exception decides it: fragile, whatever the rule's variants say
                     if not r.macros[i][1].startswith("fragile") and summ[p]["verdict"] != rules.NOT_TESTED:
