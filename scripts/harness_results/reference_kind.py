@@ -6,7 +6,7 @@ the two references in the noise. rules.py re-exports these names."""
 
 import os
 
-from . import reader
+from . import reader, rewindow
 
 # The reference a method is judged against (Variant.reference): its own kind, one-sided methods
 # against the one-sided reference (the limit a one-sided method converges to) and two-sided ones
@@ -87,3 +87,17 @@ def variant_rows(root, rows, window, reference):
                 r[k] = x
         out.append(r)
     return out
+
+
+def of_its_kind(s):
+    """(summary, kind): a run judged against the reference of its kind (rules.py, "error"): a
+    one-sided run (contacts two_sided false, the paper's model) measured against its scene's one-sided
+    reference beside (--compare-also .../<scene>_one_sided) on that one ("one-sided"); otherwise as
+    its summary has it ("both ways")."""
+    two = [bool((c or {}).get("two_sided")) for c in (reader.resolved(s).get("contacts") or [])]
+    also = (reader.pair(s).get("error_vs_reference_also") or {}).get("dir") or ""
+    if two and not any(two) and str(also).rstrip("/").endswith("_one_sided"):
+        k = rewindow.also_reference(s)
+        if k is not None:
+            return k, "one-sided"
+    return s, "both ways"

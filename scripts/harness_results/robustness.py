@@ -100,11 +100,14 @@ def share_for(t):
     return t["for"] / d if d else None
 
 
-def summary(results):
-    """{prefix: {"verdict": as written, "agree": n, "total": n, "flips": [(variant, verdict)]}}."""
+def summary(results, only=None):
+    """{prefix: {"verdict": as written, "agree": n, "total": n, "flips": [(variant, verdict)], ...}} (the
+    prefixes in `only` alone where given)."""
     base = results[0][1]
     out = {}
     for p, (verdict, _t) in base.items():
+        if only is not None and p not in only:
+            continue
         flips = [(v, got[p][0]) for v, got in results[1:] if p in got and got[p][0] != verdict]
         distinct = {tuple(sorted(got[p][1].items())) for _v, got in results if p in got}
         out[p] = {"verdict": verdict, "total": len(results), "agree": len(results) - len(flips), "flips": flips,

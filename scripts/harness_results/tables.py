@@ -17,7 +17,8 @@ The first two are identical from one run to the next; timing is measured and var
 import math
 import os
 
-from . import reader, rewindow, rules, runs, writers
+from . import reader, rules, runs, writers
+from .reference_kind import of_its_kind
 
 
 def tex_prose(s):
@@ -202,20 +203,6 @@ def scene_tables(root, data):
         crow, tex_header=["scenario", "$\\Delta t$ ($\\mu$s)", "steps", "effects", "host", "guest",
                           "$v$ asked", "$v$ used", "region", "margin", "force", "every"],
         align="lrrp{3cm}llrrlrll")
-
-
-def of_its_kind(s):
-    """(summary, kind): a run judged against the reference of its kind (rules.py, "error"): a
-    one-sided run (contacts two_sided false, the paper's model) measured against its scene's one-sided
-    reference beside (--compare-also .../<scene>_one_sided) on that one ("one-sided"); otherwise as
-    its summary has it ("both ways")."""
-    two = [bool((c or {}).get("two_sided")) for c in (reader.resolved(s).get("contacts") or [])]
-    also = (reader.pair(s).get("error_vs_reference_also") or {}).get("dir") or ""
-    if two and not any(two) and str(also).rstrip("/").endswith("_one_sided"):
-        k = rewindow.also_reference(s)
-        if k is not None:
-            return k, "one-sided"
-    return s, "both ways"
 
 
 def useless_of(r, bases):

@@ -22,7 +22,7 @@ Writes tables/claims_b.tex.
 """
 
 from .. import reader, rewindow, rules, writers
-from ..tables import of_its_kind
+from ..reference_kind import of_its_kind
 from .common import Verdict, exception_record, tally_macros, verdict_line
 
 SEPARATE_MAX_FRACTION = 0.05

@@ -186,10 +186,10 @@ def with_robustness(records, results):
     """The records with each verdict as stated (robustness.stated_verdict) in its macro, its
     robustness in <prefix>Robust and a line after its section."""
     summ = robustness.summary(results)
-    for p in list(summ):  # a verdict some choices do not reach: its agreement over the variants that reach it
-        _t, attrs = not_reached(p)
+    missed = {p: not_reached(p) for p in summ}
+    for p, (_t, attrs) in missed.items():  # a verdict some choices do not reach: its agreement over the variants that reach it
         if attrs:
-            summ[p] = robustness.summary(reaching(results, attrs))[p]
+            summ[p] = robustness.summary(reaching(results, attrs), only=(p,))[p]
     # the verdicts with rho over the whole time before the window (the old normalisation, its limits as
     # calibrated for it), all else as written: where the old rule would have put them
     loading = next((got for v, got in results if v.rho_norm == "before" and v.name() == "rho over the time before the window"),
@@ -202,8 +202,8 @@ def with_robustness(records, results):
             if name.endswith("Verdict") and p in summ:
                 r.macros[i] = (name, robustness.stated_verdict(summ[p]))
                 text = robustness.robustness_text(summ[p])
-                if p not in r.rule_free and not_reached(p)[0]:
-                    text += "; %s" % not_reached(p)[0]
+                if p not in r.rule_free and missed[p][0]:
+                    text += "; %s" % missed[p][0]
                 if p in r.rests and r.rests[p].get("general") != summ[p]["verdict"]:
                     # its own exception decides it: fragile, whatever the rule's variants say
                     if not r.macros[i][1].startswith("fragile") and summ[p]["verdict"] != rules.NOT_TESTED:
