@@ -13,6 +13,7 @@ namespace harness {
 Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : scene_(scene) {
   world_ = build_world(scene_, options.layout);
   kinematics_ = resolve_kinematics(scene_, world_);
+  if (options.jitter > 0.0) jitter_positions(world_, options.jitter, options.jitter_seed);
   build_pairs();
   build_effects(options);
   guard_ = std::make_unique<StabilityGuard>(scene_, world_, effects_);
@@ -46,6 +47,27 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : s
   }
 }
 
+void jitter_positions(World& w, double share, std::uint64_t seed) {
+  // splitmix64 of (seed, body, scene index, coordinate): uniform in [-1, 1).
+  auto unit = [seed](std::uint64_t a) {
+    std::uint64_t z = seed * 0x9E3779B97F4A7C15ull + a + 0x632BE59BD9B4E019ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
+  };
+  for (int b = 0; b < static_cast<int>(w.bodies.size()); ++b) {
+    const Body& body = w.bodies[b];
+    const double amp = share * rest_spring_length(w, b);
+    for (int k = 0; k < body.size(); ++k) {
+      const int i = body.begin + k;
+      if (!w.is_free(i)) continue;
+      const auto key = (static_cast<std::uint64_t>(b) << 40) ^ (static_cast<std::uint64_t>(body.scene_index(k)) << 2);
+      for (int c = 0; c < 3; ++c) w.x[i][c] += amp * unit(key + static_cast<std::uint64_t>(c));
+    }
+  }
+}
+
 void Simulation::build_pairs() {
   pairs_.reserve(scene_.contacts.size());
   for (const ContactPairSpec& cp : scene_.contacts) pairs_.emplace_back(cp.spec, cp.label);
@@ -73,6 +95,8 @@ void Simulation::integrate(const StepContext& s) {
   for (const auto& e : effects_) e->add_jacobian(world_, system_);
   stats_.implicit_last = implicit_.step(world_, s.h, system_);
   stats_.implicit_max_iterations = std::max(stats_.implicit_max_iterations, stats_.implicit_last.iterations);
+  stats_.implicit_iterations += stats_.implicit_last.iterations;
+  ++stats_.implicit_solves;
   if (!stats_.implicit_last.converged) ++stats_.implicit_unconverged;
 }
 

@@ -5,6 +5,8 @@
 // stability guard, and the energy audit (energy_audit.hpp).
 #pragma once
 
+#include <cstdint>
+
 #include "core/collision/collision.hpp"
 #include "core/effects/effects.hpp"
 #include "core/energy_audit.hpp"
@@ -40,6 +42,11 @@ struct SimulationOptions {
   // The node order of the world (node_order.hpp, world_build.hpp): a layout only; outputs keep the
   // scene's numbering.
   WorldBuild layout;
+  // An ensemble member's initial jitter (harness run --ensemble): every free node's initial
+  // position moved by up to jitter times its body's rest spring length per coordinate, pseudo-random
+  // from jitter_seed and the node's scene index (the same displacement in every node order). 0: none.
+  double jitter = 0.0;
+  std::uint64_t jitter_seed = 0;
 };
 
 // Wall time of the last step, microseconds (steady_clock). physics: everything but the contact
@@ -53,8 +60,13 @@ struct SimulationStats {
   StabilityStats stability;
   ImplicitStats implicit_last;   // of the last implicit solve
   int implicit_max_iterations = 0;
+  long long implicit_iterations = 0;  // summed over the solves
+  long long implicit_solves = 0;
   int implicit_unconverged = 0;  // solves that missed the CG tolerance
 };
+
+// SimulationOptions::jitter applied to w (free nodes only).
+void jitter_positions(World& w, double share, std::uint64_t seed);
 
 class Simulation {
  public:
@@ -74,6 +86,7 @@ class Simulation {
   double time() const { return step_index_ * scene_.dt; }  // s
   const StepTimes& last() const { return last_; }
   const SimulationStats& stats() const { return stats_; }
+  double implicit_tolerance() const { return implicit_.tolerance; }  // the CG's relative residual
   const Effects& effects() const { return effects_; }
   const Kinematics& kinematics() const { return kinematics_; }
   const StepEngine* engine() const { return engine_.get(); }  // null: the harness's own

@@ -1,6 +1,6 @@
 // `harness bench [--quick] --out FILE`: time per step of the voxel model, its references and
 // the memory-bandwidth limits, on generated contact scenes of 10^3 .. 10^6 nodes per body, with
-// one and with two threads; one CSV from one process (README.md, "Performance").
+// one and with two threads; one CSV from one process (docs/usage.md).
 //
 // Scene of size N (make_bench_scene): host = a box lattice layer of about N nodes, a cells wide
 // in x and y and a/4 thick (1 mm spacing, pinned at -z); guest = a surface of about N nodes (the

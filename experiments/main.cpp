@@ -1,5 +1,6 @@
-// The command-line program `harness` (README.md, "Usage").
+// The command-line program `harness` (docs/usage.md).
 #include "core/parallel.hpp"
+#include "core/run/columns.hpp"
 #include "core/run/run_scene.hpp"
 #include "core/scene/bundled.hpp"
 #include "core/scene/scene.hpp"
@@ -116,6 +117,7 @@ struct RunCommand {
   std::string device;
   bool check_cpu = false;
   std::string node_order = node_order_name(kDefaultNodeOrder);
+  int ensemble = 1;
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
@@ -151,6 +153,10 @@ struct RunCommand {
     cmd->add_option("--node-order", node_order, "the nodes' layout in memory: scene (the shape's own numbering), rcm "
                                                 "(reverse Cuthill-McKee) or morton; outputs keep the scene's numbering")
         ->capture_default_str();
+    cmd->add_option("--ensemble", ensemble, "K members differing only in the node order and a jitter far below the "
+                                            "mesh's precision (DIR/members/k/); summary.json `ensemble` gives each "
+                                            "figure's median and range and the classes (docs/usage.md)")
+        ->capture_default_str();
   }
   int exec() {
     NodeOrder order = kDefaultNodeOrder;
@@ -159,6 +165,7 @@ struct RunCommand {
       if (engine != "harness" || !compare.empty() || !compare_also.empty())
         throw InputError("--device", "not with --engine or --compare");
       if (order != NodeOrder::scene) throw InputError("--node-order", "not with --device (state.csv is in the scene's order)");
+      if (ensemble != 1) throw InputError("--ensemble", "not with --device");
       if (dt_divide < 1) throw InputError("--dt-divide", "must be >= 1");
       const Scene sc = edited_scene(scene, sets, cmd->count("--steps") > 0, steps, dt_divide, cmd->count("--dt") > 0, dt);
       DeviceRunOptions d;
@@ -170,6 +177,8 @@ struct RunCommand {
       return run_on_device(sc, d);
     }
     if (check_cpu) throw InputError("--check-cpu", "only with --device");
+    if (ensemble < 1 || ensemble > 1000) throw InputError("--ensemble", "expected 1 to 1000 members");
+    if (ensemble > 1 && engine != "harness") throw InputError("--ensemble", "not with --engine");
     if (engine != "harness" && engine != "bullet") throw InputError("--engine " + engine, "expected harness or bullet");
     // Bullet's solver visits the springs one after another: another layout is another solver order.
     if (engine == "bullet" && order != NodeOrder::scene) throw InputError("--node-order", "not with --engine bullet");
@@ -196,7 +205,8 @@ struct RunCommand {
       throw InputError("--engine bullet", "this harness was built without Bullet (libbullet-dev)");
 #endif
     }
-    return run_scene(sc, opt);
+    opt.ensemble = ensemble;
+    return ensemble > 1 ? run_ensemble(sc, opt) : run_scene(sc, opt);
   }
 };
 
@@ -353,6 +363,8 @@ int main(int argc, char** argv) {
   run.setup(app);
   CLI::App* list = app.add_subcommand("list", "list the bundled scenes");
   CLI::App* schema = app.add_subcommand("schema", "print the scene format's JSON Schema (draft 2020-12)");
+  CLI::App* outputs = app.add_subcommand("outputs", "print docs/outputs.md: the columns of steps.csv and timing.csv, "
+                                         "the stability verdicts and summary.json's keys");
   SweepCommand sweep;
   sweep.setup(app);
   BenchCommand bench;
@@ -375,6 +387,7 @@ int main(int argc, char** argv) {
     check_threads_env();
     if (list->parsed()) return cmd_list();
     if (schema->parsed()) return std::fputs(scene_schema_text().c_str(), stdout) < 0 ? 1 : 0;
+    if (outputs->parsed()) return std::fputs(outputs_markdown().c_str(), stdout) < 0 ? 1 : 0;
     if (bench.cmd->parsed()) return bench.exec();
     if (sweep.cmd->parsed()) return sweep.exec(argv[0]);
     if (reference.cmd->parsed()) return reference.exec();

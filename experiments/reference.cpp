@@ -88,7 +88,7 @@ void add_change(json& row, const json& levels, int level, double change) {
 
 // The last level's run is the reference: its files copied to DIR.
 void copy_last_level(const fs::path& dir, const fs::path& src) {
-  for (const char* f : {"steps.csv", "surfaces.csv", "penetration_episodes.csv"})
+  for (const char* f : {"steps.csv", "timing.csv", "surfaces.csv", "penetration_episodes.csv"})
     if (fs::exists(src / f)) fs::copy_file(src / f, dir / f, fs::copy_options::overwrite_existing);
   if (fs::exists(src / "frames")) {
     fs::remove_all(dir / "frames");

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The cylinder's references with a layer that resists inversion (docs/architecture.md, "Why the
+"""The cylinder's references with a layer that resists inversion (docs/findings.md, "Why the
 cylinder's two-sided reference does not converge"): results/cylinder_bulk/ (made by its run.sh:
 effect bulk, bulk modulus 1e4 Pa; the layer's surface quads split along aligned or alternating
 diagonals; alternating with a cylinder of 48 segments; both kinds of reference) beside the scene's own references (results/references/,
@@ -25,10 +25,12 @@ import sys
 
 import numpy as np
 
+from harness_results import reader
+
 
 def load(path):
     bodies = {}
-    with open(path) as f:
+    with reader.open_text(path) as f:  # plain or gzipped (results/README.md)
         for r in csv.DictReader(f):
             bodies.setdefault(r["body"], []).append([float(r[k]) for k in ("x", "y", "z", "x0", "y0", "z0")])
     return {k: np.array(v) for k, v in bodies.items()}

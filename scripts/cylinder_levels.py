@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Why the cylinder's two-sided reference does not converge (docs/architecture.md): the settled
+"""Why the cylinder's two-sided reference does not converge (docs/findings.md): the settled
 surfaces of its levels 2 and 3 made again (results/cylinder_levels/run.sh: at the scene's settling
 tolerance and at 1e-6), the final level (results/references/cylinder_press) and the one-sided
 reference compared -> results/cylinder_levels.csv.
@@ -17,10 +17,12 @@ import sys
 
 import numpy as np
 
+from harness_results import reader
+
 
 def load(path):
     bodies = {}
-    with open(os.path.join(path, "surfaces.csv")) as f:
+    with reader.open_text(os.path.join(path, "surfaces.csv")) as f:  # plain or gzipped
         for r in csv.DictReader(f):
             bodies.setdefault(r["body"], []).append([float(r[k]) for k in ("x", "y", "z", "x0", "y0", "z0")])
     return {k: np.array(v) for k, v in bodies.items()}

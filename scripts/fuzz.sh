@@ -3,7 +3,8 @@
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]
 #   SECONDS  run time of each target (default 60); targets run one after another
 #   TARGET   scene, off, obj (default all three)
-# Installs clang if missing, configures build-fuzz/ (CMake option HARNESS_FUZZ=ON, clang),
+# Installs clang if missing, configures build-fuzz/ (CMake option HARNESS_FUZZ=ON, clang, and
+# HARNESS_CUDA=off: the fuzzing flags would reach nvcc's host compiler where a CUDA toolkit is installed),
 # builds fuzz_scene, fuzz_off, fuzz_obj (JOBS build jobs, default 2) and runs each on a copy of
 # its seed corpus tests/fuzz/corpus/<target>/ with the dictionary tests/fuzz/<target>.dict: the
 # committed corpus is never changed. After the
@@ -47,7 +48,7 @@ if [[ ! -f "$dir/CMakeCache.txt" ]]; then
   gen=()
   command -v ninja >/dev/null && gen=(-G Ninja)
   CC=clang CXX=clang++ cmake -S . -B "$dir" "${gen[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DHARNESS_FUZZ=ON -DHARNESS_BUILD_TESTS=OFF -DHARNESS_BUILD_REFERENCE=OFF
+    -DHARNESS_FUZZ=ON -DHARNESS_BUILD_TESTS=OFF -DHARNESS_BUILD_REFERENCE=OFF -DHARNESS_CUDA=off
 fi
 bins=()
 for t in "${targets[@]}"; do bins+=("fuzz_$t"); done

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Scaling figure and ratio table of `harness bench` (its columns: README.md, "harness bench").
+"""Scaling figure and ratio table of `harness bench` (its columns: docs/usage.md, "Performance").
 
 Usage: plot_bench.py [BENCH_CSV] [RESULTS_DIR]
        (defaults: results/bench.csv, results; run with /usr/bin/python3 or $PYTHON)

@@ -1,7 +1,7 @@
 // Effect "bulk": a box lattice's resistance to a change of each cell's volume (material key
 // "bulk_modulus", K in Pa). A mass-spring lattice has no force against a cell turned inside out: a
 // spring's force depends on its length alone, so a node can pass through its neighbour and the
-// lattice settles inverted (docs/architecture.md: the cylinder's layer). This effect adds, per
+// lattice settles inverted (docs/findings.md: the cylinder's layer). This effect adds, per
 // cell, the bulk energy of linear elasticity on each of the cell's 8 corner tetrahedra (a corner
 // and its three neighbours along the cell's edges, rest volume V0 = cell volume / 6, signed):
 //   E_t = (3 K / 4) |V0| (J - 1)^2 / 2,   J = V / V0,

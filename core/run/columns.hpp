@@ -1,7 +1,10 @@
-// steps.csv: one column table (name and formatter) writes both the header and every row, so a
-// new column is one line in steps_columns() (columns.cpp) and header and rows cannot drift.
-// The leading columns are fixed by the project's contract (docs/architecture.md, "Outputs");
-// a column is empty on rows where its quantity was not measured or does not apply.
+// steps.csv and timing.csv: one column table (name, description, formatter, whether it is a
+// wall time) writes both files' headers and every row, and docs/outputs.md (`harness outputs`),
+// so a new column is one line in steps_columns() (columns.cpp) and header, rows and docs cannot
+// drift. steps.csv holds what a reproduced state reproduces (the columns that are not wall
+// times, in the table's order); timing.csv holds the wall times (t_*_us), keyed by step and pair,
+// so a rerun that reproduces the state changes timing.csv only. A column is empty on rows where
+// its quantity was not measured or does not apply.
 #pragma once
 
 #include "core/measure.hpp"
@@ -39,23 +42,37 @@ class CsvField {
 
 struct Column {
   const char* name;
+  const char* doc;  // one line: what it is, with its unit
   void (*write)(const CsvField& out, const StepRow& row);  // writes nothing for an empty field
+  bool timing = false;  // a wall time: timing.csv, not steps.csv
 };
 
+// Every column, in order (steps.csv's, then timing.csv's, each keeps this order).
 const std::vector<Column>& steps_columns();
+// The keys timing.csv repeats from steps.csv so its rows can be joined to them.
+inline constexpr const char* kTimingKeys[] = {"step", "pair"};
 
+// docs/outputs.md: the columns of steps.csv and timing.csv, the stability verdicts and the key
+// paths of summary.json, as the code has them (`harness outputs`; a test keeps the committed page
+// equal to it).
+std::string outputs_markdown();
+
+// DIR/steps.csv and DIR/timing.csv, written row by row.
 class StepsWriter {
  public:
-  explicit StepsWriter(const std::string& path);  // writes the header
+  StepsWriter(const std::string& steps_path, const std::string& timing_path);  // writes the headers
   ~StepsWriter();
   StepsWriter(const StepsWriter&) = delete;
   StepsWriter& operator=(const StepsWriter&) = delete;
   void row(const StepRow& r);
-  void close();  // throws std::runtime_error when the file could not be written
+  void close();  // throws std::runtime_error when a file could not be written
 
  private:
-  std::string path_;
-  std::FILE* f_ = nullptr;
+  struct File {
+    std::string path;
+    std::FILE* f = nullptr;
+  };
+  File steps_, timing_;
 };
 
 }  // namespace harness

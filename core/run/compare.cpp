@@ -70,6 +70,8 @@ Comparison::Comparison(const std::string& dir, const Simulation& sim, const std:
   if (sum.contains(reference) && sum[reference].is_object()) {
     is_reference_ = true;
     converged_ = sum.value(nlohmann::json::json_pointer(summary_key::kReferenceConverged), false);
+    const nlohmann::json::json_pointer floor(summary_key::kReferenceFloor);
+    if (sum.contains(floor) && sum[floor].is_number() && sum[floor].get<double>() > 0.0) floor_ = sum[floor].get<double>();
   }
   const World& w = sim.world();
   const SurfaceState fin = read_surfaces((d / "surfaces.csv").string());

@@ -60,6 +60,9 @@ class Comparison {
   bool is_reference() const { return is_reference_; }
   // The reference's own verdict (`converged` of harness reference); nullopt for a plain run.
   std::optional<bool> converged() const { return converged_; }
+  // The reference's floor (m: how far its answer may be from the converged one), where its summary
+  // records one (`reference.floor`, harness reference); nullopt otherwise.
+  std::optional<double> floor() const { return floor_; }
   // The reference state at `step`, when the trajectory has it and the runs share dt.
   const SurfaceState* at_step(int step) const;
   // The state step `step` is compared with: at_step(step), else the final state.
@@ -76,6 +79,7 @@ class Comparison {
   std::string dir_;
   bool is_reference_ = false;
   std::optional<bool> converged_;
+  std::optional<double> floor_;
   SurfaceState final_;
   std::vector<SurfaceState> steps_;  // trajectory, when the runs share dt
 };

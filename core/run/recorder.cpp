@@ -33,6 +33,60 @@ Recorder::Recorder(const Simulation& sim, const RecorderOptions& options) : opt_
   energy_.reserve(static_cast<std::size_t>(sc.steps));
   timings_.step.reserve(static_cast<std::size_t>(sc.steps));
   timings_.physics.reserve(static_cast<std::size_t>(sc.steps));
+  // The window the run will be judged on if it does not settle first (run_scene.cpp: it runs
+  // time.steps, then up to time.settle.max_steps more).
+  const int planned_last = sc.steps + (sc.settle.present ? sc.settle.max_steps : 0);
+  motion_from_ = window_span(sc, planned_last).from;
+  // The time scale: an elastic wave's crossing time of the largest body (window.hpp); the stated
+  // length's fallback: a share of the mean rest spring length of the bodies in contact (of all
+  // bodies without contact).
+  const double dt_crit = sim.stats().stability.dt_crit;
+  std::vector<int> contact_bodies;
+  for (const Pair& p : pairs) contact_bodies.push_back(p.spec.host), contact_bodies.push_back(p.spec.guest);
+  if (contact_bodies.empty())
+    for (int b = 0; b < static_cast<int>(w.bodies.size()); ++b) contact_bodies.push_back(b);
+  double edge_sum = 0.0;
+  for (int b : contact_bodies) edge_sum += rest_spring_length(w, b);
+  edge_length_ = contact_bodies.empty() ? 0.0 : edge_sum / static_cast<double>(contact_bodies.size());
+  for (int b = 0; b < static_cast<int>(w.bodies.size()); ++b) {
+    const Body& body = w.bodies[b];
+    Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+    for (int i = body.begin; i < body.end; ++i) lo = lo.cwiseMin(w.x0[i]), hi = hi.cwiseMax(w.x0[i]);
+    const double edge = rest_spring_length(w, b);
+    if (std::isfinite(dt_crit) && dt_crit > 0.0 && edge > 0.0 && body.size() > 0)
+      time_scale_ = std::max(time_scale_, (hi - lo).maxCoeff() / edge * 0.5 * dt_crit);
+  }
+  for (int i = 0; i < w.num_nodes(); ++i)
+    if (w.is_free(i)) free_mass_ += w.m[i];
+}
+
+StabilityInputs Recorder::stability_inputs(const Simulation& sim) const {
+  const World& w = sim.world();
+  StabilityInputs in;
+  in.free_mass = free_mass_;
+  in.time_scale = time_scale_ > 0.0 ? time_scale_ : std::numeric_limits<double>::quiet_NaN();
+  // The stated length: the contact's voxel or the reference's floor, the larger; else the edge share.
+  double L = 0.0;
+  for (const Pair& p : sim.pairs())
+    if (p.collision && p.collision->voxel_size() > L) L = p.collision->voxel_size(), in.chatter_length_from = "voxel";
+  for (const Comparison* c : {opt_.compare, opt_.compare_also})
+    if (c && c->floor() && *c->floor() > L) L = *c->floor(), in.chatter_length_from = "reference floor";
+  if (L <= 0.0) L = kEdgeShare * edge_length_, in.chatter_length_from = "edge share";
+  in.chatter_length = L;
+  // The chatter: the largest motion of a node about its mean over the window.
+  const int to = sim.step_index();
+  const WindowSpan span = window_span(sim.scene(), to);
+  if (motion_n_ > 0 && span.from == motion_from_ && !motion_sum_.empty()) {
+    double amp = 0.0;
+    for (int i = 0; i < w.num_nodes(); ++i) {
+      if (!w.is_free(i)) continue;
+      const Vec3 mean = motion_sum_[i] / static_cast<double>(motion_n_);
+      const Vec3 a = (motion_max_[i] - mean).cwiseMax(mean - motion_min_[i]);
+      amp = std::max(amp, a.norm());
+    }
+    in.chatter_amplitude = amp;
+  }
+  return in;
 }
 
 void Recorder::track(std::size_t p, int role, const std::vector<std::uint8_t>& flags,
@@ -87,6 +141,34 @@ void Recorder::record(const Simulation& sim, bool last) {
                      energy_now ? e.elastic : nan, sim.residual()});
   timings_.step.push_back(sim.last().step_us);
   timings_.physics.push_back(sim.last().physics_us);
+  if (s >= motion_from_ && motion_from_ > 0) {  // the nodes' motion over the planned window
+    const World& w = sim.world();
+    const auto n = static_cast<std::size_t>(w.num_nodes());
+    if (motion_sum_.size() != n) {
+      motion_sum_.assign(n, Vec3::Zero());
+      motion_min_.assign(n, Vec3::Zero());
+      motion_max_.assign(n, Vec3::Zero());
+      motion_n_ = 0;
+    }
+    // Each node relative to its body's mean position (its free nodes'): a body that moves as a
+    // whole (in flight after a kick, or through the other body) does not chatter.
+    for (const Body& b : w.bodies) {
+      Vec3 c = Vec3::Zero();
+      int m = 0;
+      for (int i = b.begin; i < b.end; ++i)
+        if (w.is_free(i)) c += w.x[i], ++m;
+      if (m) c /= static_cast<double>(m);
+      for (int i = b.begin; i < b.end; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const Vec3 r = w.x[k] - c;
+        if (motion_n_ == 0) motion_min_[k] = motion_max_[k] = r;
+        motion_sum_[k] += r;
+        motion_min_[k] = motion_min_[k].cwiseMin(r);
+        motion_max_[k] = motion_max_[k].cwiseMax(r);
+      }
+    }
+    ++motion_n_;
+  }
   if (!sim.pairs().empty() && sc.has(kContact)) {
     timings_.detect.push_back(sim.last().detect_us);
     timings_.eliminate.push_back(sim.last().eliminate_us);
@@ -173,7 +255,7 @@ TunnelCount Recorder::tunnel_count(std::size_t p) const {
 }
 
 StabilityJudgement Recorder::judge(const Simulation& sim, bool settled) const {
-  return judge_stability(sim.scene(), energy_, initial_energy_, settled);
+  return judge_stability(sim.scene(), energy_, initial_energy_, settled, stability_inputs(sim));
 }
 
 namespace {

@@ -137,6 +137,9 @@ class Recorder {
   const std::vector<PairSeries>& series() const { return series_; }
   // The run's stability verdict over its final window (run/window.hpp).
   StabilityJudgement judge(const Simulation& sim, bool settled) const;
+  // What the class reads beyond the energy record: the nodes' chatter over the window, its stated
+  // length and the time scale (window.hpp).
+  StabilityInputs stability_inputs(const Simulation& sim) const;
   const std::vector<PairTotals>& totals() const { return totals_; }
   const std::vector<Episode>& episodes() const { return episodes_; }
   const RunTimings& timings() const { return timings_; }
@@ -184,6 +187,12 @@ class Recorder {
   std::vector<PairSeries> series_;
   std::vector<StepEnergy> energy_;  // after every step
   double initial_energy_ = 0.0;
+  // Each free node's motion from motion_from_ on (the final window the run will have if it does
+  // not settle first): per coordinate sum, min and max of its position over motion_n_ steps.
+  int motion_from_ = 0;
+  int motion_n_ = 0;
+  std::vector<Vec3> motion_sum_, motion_min_, motion_max_;
+  double time_scale_ = 0.0, free_mass_ = 0.0, edge_length_ = 0.0;
 };
 
 

@@ -36,23 +36,24 @@ std::vector<std::string> end_warnings(const RunOutcome& o) {
   }
   const StabilityJudgement& j = o.judged;
   char b[320];
-  if (o.verdict == "injects" && j.kicked) {
+  if (o.verdict == verdict_name(Verdict::injects)) {
     std::snprintf(b, sizeof b,
-                  "contacts: contact injected energy that the bodies still move with over the final window (steps "
-                  "%d-%d): its net work %.3g J and their mean kinetic energy %.3g J against %.3g J put in or held (limit %g of it)",
-                  j.span.from, j.span.to, j.net_contact_work, j.kinetic.mean, j.energy_scale, kKickShare);
+                  "contacts: contact keeps putting energy in over the final window (steps %d-%d): per time scale "
+                  "(%.3g s) %.3g of the energy the bodies store (limit %g)",
+                  j.span.from, j.span.to, j.time_scale, j.contact_input_share, kContactInputShare);
     out.push_back(b);
-  } else if (o.verdict == "injects") {
-    std::snprintf(b, sizeof b,
-                  "contacts: contact keeps injecting energy over the final window (steps %d-%d): its mean power is %.3g "
-                  "of the power the scene put in (limit %g)",
-                  j.span.from, j.span.to, j.ratio, kInjectionRatio);
-    out.push_back(b);
-  } else if (o.verdict == "grows") {
+  } else if (o.verdict == verdict_name(Verdict::grows)) {
     std::snprintf(b, sizeof b,
                   "time: the state grows over the final window (steps %d-%d): its largest kinetic energy rose %.3g times "
                   "from the first half to the second",
                   j.span.from, j.span.to, j.growth);
+    out.push_back(b);
+  } else if (o.verdict == verdict_name(Verdict::chatters)) {
+    std::snprintf(b, sizeof b,
+                  "contacts: nodes chatter over the final window (steps %d-%d): %.3g mm about their mean, above %.3g mm "
+                  "(%s)",
+                  j.span.from, j.span.to, 1e3 * j.inputs.chatter_amplitude, 1e3 * j.inputs.chatter_length,
+                  j.inputs.chatter_length_from.c_str());
     out.push_back(b);
   }
   return out;
@@ -83,9 +84,10 @@ void print_end_line(const Simulation& sim, const RunOutcome& o, const std::strin
   // A run whose nodes went through the other body is not a working contact, however stable: said
   // beside its stability (harness sweep --baseline also says "no better than no force").
   std::string verdict = ", " + o.verdict + (tunnelled > 0 ? " but tunnels" : "");
-  if (std::isfinite(o.judged.ratio)) {
-    char b[80];
-    std::snprintf(b, sizeof b, " (contact power %.3g of the input)", o.judged.ratio);
+  if (std::isfinite(o.judged.inputs.chatter_amplitude)) {
+    char b[120];
+    std::snprintf(b, sizeof b, " (chatter %.3g of %.3g mm)", 1e3 * o.judged.inputs.chatter_amplitude,
+                  1e3 * o.judged.inputs.chatter_length);
     verdict += b;
   }
   std::fprintf(stderr, "harness: %s: %s, %d steps%s%s%s%s, %.1f s, %s\n", sim.scene().name.c_str(),

@@ -135,13 +135,13 @@ struct RunEnd {
   }
 };
 
-// What a run writes as it steps: steps.csv, the frames, trajectory.bin.
+// What a run writes as it steps: steps.csv and timing.csv, the frames, trajectory.bin.
 struct RunWriters {
   StepsWriter steps;
   FrameWriter frames;
   std::unique_ptr<TrajectoryWriter> trajectory;
   RunWriters(const fs::path& dir, const Simulation& sim, const Recorder& rec)
-      : steps((dir / "steps.csv").string()), frames(dir, sim) {
+      : steps((dir / "steps.csv").string(), (dir / "timing.csv").string()), frames(dir, sim) {
     frames.write(sim, rec, 0);
     if (sim.scene().trajectory)
       trajectory = std::make_unique<TrajectoryWriter>((dir / "trajectory.bin").string(), sim.world());
@@ -213,6 +213,8 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
   so.exact_detectors = opt.exact_detectors;
   so.engine = opt.engine;
   so.layout.order = opt.node_order;
+  so.jitter = opt.jitter;
+  so.jitter_seed = opt.jitter_seed;
   Simulation sim(scene, so);  // may throw InputError: nothing written yet
   if (!opt.compare_also_dir.empty() && opt.compare_dir.empty())
     throw InputError("--compare-also " + opt.compare_also_dir, "needs --compare");

@@ -12,6 +12,7 @@
 #include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -29,7 +30,25 @@ struct RunOptions {
   std::string compare_also_dir;                 // --compare-also: a second one (needs compare_dir)
   bool strict = false;                          // --strict: a warning is an error (exit 2)
   NodeOrder node_order = kDefaultNodeOrder;     // --node-order: the world's layout (node_order.hpp)
+  // --ensemble K (run_ensemble): K members; a member's initial jitter and its seed (SimulationOptions).
+  int ensemble = 1;
+  double jitter = 0.0;
+  std::uint64_t jitter_seed = 0;
 };
+
+// The jitter of an ensemble's members: far below the mesh's precision (a file's coordinates carry 9
+// significant digits), as a share of the body's rest spring length.
+constexpr double kEnsembleJitter = 1e-9;
+
+// `harness run --ensemble K`: K members that differ only in what a user cannot control. Member 0
+// is the run as asked (DIR, as without --ensemble); member k >= 1 (DIR/members/k/) takes the next
+// node order after the asked one (scene, rcm, morton, cycling) and an initial jitter of
+// kEnsembleJitter with seed k. DIR/summary.json gains `ensemble`: the members' node orders, seeds,
+// state hashes and classes (counts per class), and each figure's median and range over the members
+// (the numbers of `window` and `pairs`, the final kinetic energy and residual); its
+// `stability_verdict` is the class every member shares, or "flips". Exit status: member 0's, or the
+// first other member's that is not 0.
+int run_ensemble(const Scene& scene, const RunOptions& options);
 
 // Exit status: 0 done, 3 the state became non-finite (last good state and summary written),
 // 130 / 143 stopped by SIGINT / SIGTERM (outputs written, summary status "interrupted"),

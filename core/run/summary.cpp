@@ -61,6 +61,12 @@ json stat_json(const WindowStat& w) {
           {"amplitude", num_or_null(w.amplitude())}, {"measured_steps", w.n}};
 }
 
+json thresholds_json() {
+  json t = json::object();
+  for (const ThresholdDoc& d : kStabilityThresholds) t[d.name] = d.value;
+  return t;
+}
+
 json window_json(const StabilityJudgement& j) {
   const WindowSpan& w = j.span;
   return {{"from_step", w.from},
@@ -80,6 +86,15 @@ json window_json(const StabilityJudgement& j) {
           {"kick_share_limit", kKickShare},
           {"kicked", j.kicked},
           {"growth_limit", kGrowthFactor},
+          // The class's own figures (window.hpp) and its thresholds, one table.
+          {"time_scale_s", num_or_null(j.time_scale)},
+          {"chatter_amplitude_m", num_or_null(j.inputs.chatter_amplitude)},
+          {"chatter_length_m", num_or_null(j.inputs.chatter_length)},
+          {"chatter_length_from", j.inputs.chatter_length_from},
+          {"stored_energy_J", num_or_null(j.stored_energy)},
+          {"contact_input_share", num_or_null(j.contact_input_share)},
+          {"growth_floor_J", num_or_null(j.growth_floor)},
+          {"thresholds", thresholds_json()},
           {"kinetic_energy", stat_json(j.kinetic)},
           {"residual", stat_json(j.residual)}};
 }
@@ -96,6 +111,11 @@ json stability_json(const Simulation& sim) {
             {"substeps", st.stability.substeps}};
   if (sc.integrator == Integrator::implicit_euler)
     j["implicit"] = {{"cg_max_iterations", st.implicit_max_iterations},
+                     {"cg_mean_iterations", st.implicit_solves ? json(static_cast<double>(st.implicit_iterations) /
+                                                                       static_cast<double>(st.implicit_solves))
+                                                                : json(nullptr)},
+                     {"cg_solves", st.implicit_solves},
+                     {"cg_tolerance", sim.implicit_tolerance()},
                      {"cg_unconverged_solves", st.implicit_unconverged}};
   return j;
 }

@@ -1,4 +1,4 @@
-// summary.json of a run (docs/architecture.md, "Outputs"): written last, atomically, so that a
+// summary.json of a run (docs/outputs.md): written last, atomically, so that a
 // folder without it is an interrupted run.
 #pragma once
 

@@ -3,7 +3,7 @@
 // (experiments/sweep.cpp), --compare reads a reference's dt and convergence (compare.cpp) and
 // `harness reference` adds its record under kReference. Per pair keys are relative to
 // kPairs + "/N". The other keys of summary.json are written once, in summary.cpp; the whole file
-// is described in the README ("Outputs of a run") and docs/architecture.md ("Outputs").
+// is described in docs/outputs.md (generated: `harness outputs`, core/run/outputs_doc.cpp).
 #pragma once
 
 #include <string>
@@ -31,6 +31,7 @@ inline constexpr const char* kCompare = "/compare";
 inline constexpr const char* kCompareConverged = "/compare/converged";
 inline constexpr const char* kReference = "/reference";
 inline constexpr const char* kReferenceConverged = "/reference/converged";
+inline constexpr const char* kReferenceFloor = "/reference/floor";
 inline constexpr const char* kStabilityVerdict = "/stability_verdict";
 inline constexpr const char* kWindow = "/window";
 // Under kWindow: the contact's mean power over the window against the power the scene put in.

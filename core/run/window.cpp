@@ -56,12 +56,13 @@ double Series::peak() const {
 }
 
 StabilityJudgement judge_stability(const Scene& sc, const std::vector<StepEnergy>& energy, double initial_energy,
-                                   bool settled) {
+                                   bool settled, const StabilityInputs& in) {
   StabilityJudgement j;
+  j.inputs = in;
   const int last = static_cast<int>(energy.size());
   j.span = window_span(sc, last);
   if (last == 0) {
-    j.verdict = settled ? "settled" : "chatters";
+    j.verdict = verdict_name(settled ? Verdict::settled : Verdict::steady);
     return j;
   }
   const int from = j.span.from, to = j.span.to;
@@ -97,12 +98,24 @@ StabilityJudgement judge_stability(const Scene& sc, const std::vector<StepEnergy
   for (int s = from; s < mid; ++s) first = std::max(first, energy[s - 1].kinetic);
   for (int s = mid; s <= to; ++s) second = std::max(second, energy[s - 1].kinetic);
   j.growth = first > 0.0 ? second / first : (second > 0.0 ? INFINITY : 1.0);
-  const double negligible = 1e-9 * std::max(scale, 1e-300);
-  if (settled) j.verdict = "settled";
-  else if (!j.span.after_forcing) j.verdict = "forced";  // still loaded: nothing to judge yet
-  else if (j.ratio > kInjectionRatio || j.kicked) j.verdict = "injects";
-  else if (j.growth > kGrowthFactor && second > negligible && to - from >= 10) j.verdict = "grows";
-  else j.verdict = "chatters";
+  // The class (window.hpp): time scale, stored energy, the contact's input per time scale, growth
+  // above its floor, the chatter against its length.
+  j.time_scale = std::isfinite(in.time_scale) && in.time_scale > 0.0 ? in.time_scale : T;
+  double ke_mean = j.kinetic.n ? j.kinetic.mean : 0.0;
+  const double elastic_end = std::isfinite(energy[to - 1].elastic) ? energy[to - 1].elastic : 0.0;
+  j.stored_energy = elastic_end + ke_mean;
+  const double dw = std::max(0.0, energy[to - 1].work_contact - before.work_contact);
+  const double per_scale = dw * j.time_scale / T;
+  j.contact_input_share = j.stored_energy > 0.0 ? per_scale / j.stored_energy : (per_scale > 0.0 ? INFINITY : 0.0);
+  const double L = in.chatter_length;
+  j.growth_floor = std::isfinite(L) ? 0.5 * in.free_mass * (L / j.time_scale) * (L / j.time_scale) : 0.0;
+  const double negligible = std::max(j.growth_floor, 1e-9 * std::max(scale, 1e-300));
+  if (settled) j.verdict = verdict_name(Verdict::settled);
+  else if (!j.span.after_forcing) j.verdict = verdict_name(Verdict::forced);  // still loaded: nothing to judge yet
+  else if (j.contact_input_share > kContactInputShare) j.verdict = verdict_name(Verdict::injects);
+  else if (j.growth > kGrowthFactor && second > negligible && to - from >= 10) j.verdict = verdict_name(Verdict::grows);
+  else if (in.chatter_amplitude > L) j.verdict = verdict_name(Verdict::chatters);
+  else j.verdict = verdict_name(Verdict::steady);
   return j;
 }
 

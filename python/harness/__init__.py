@@ -10,6 +10,7 @@
 Bad input raises SceneError, whose message is the command line's exit-2 line (file and key path).
 """
 import csv
+import gzip
 import json
 import operator
 import os
@@ -29,11 +30,30 @@ __all__ = ["Scene", "SceneError", "Simulation", "SimulationError", "Result", "ru
 TEXT_COLUMNS = ("pair", "detector")
 
 
+def _read_rows(path):
+    """The rows of a CSV file stored plain or gzipped (PATH or PATH.gz); None when neither is there."""
+    for p in (path, path + ".gz"):
+        if os.path.isfile(p):
+            with (gzip.open(p, "rt", newline="") if p.endswith(".gz") else open(p, newline="")) as f:
+                return list(csv.reader(f))
+    return None
+
+
 def read_steps(path):
-    """steps.csv as a dict of column name -> numpy array (float where every value is a number,
-    else str; an empty field in a numeric column is NaN; `pair` and `detector` always str)."""
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+    """steps.csv (or steps.csv.gz) as a dict of column name -> numpy array (float where every value
+    is a number, else str; an empty field in a numeric column is NaN; `pair` and `detector` always
+    str), with the wall times of timing.csv beside it (keyed by step and pair, row for row) joined."""
+    rows = _read_rows(path)
+    if rows is None:
+        raise FileNotFoundError(f"{path}: no such file (nor {path}.gz)")
+    timing = _read_rows(os.path.join(os.path.dirname(path), "timing.csv"))
+    if timing and len(timing) == len(rows) and rows:
+        keys = [rows[0].index(k) for k in ("step", "pair") if k in rows[0]]
+        extra = [j for j, name in enumerate(timing[0]) if name not in ("step", "pair")]
+        for i, (r, t) in enumerate(zip(rows, timing)):
+            if i and [r[k] for k in keys] != t[:len(keys)]:
+                raise ValueError(f"{path}: timing.csv row {i} does not match steps.csv's")
+            r.extend(t[j] for j in extra)
     if not rows:
         return {}
     header, body = rows[0], rows[1:]

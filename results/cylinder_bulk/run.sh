@@ -56,3 +56,5 @@ inv48 true & inv48 false & wait
   for t in true false; do tail -n +2 "$D/inv48_$t.csv" | sed "s/^/$t,/"; done
 } > "$D/inversion48.csv"
 rm -f "$D"/inv48_*.csv
+# Committed form (results/README.md): steps.csv.gz, level and run surfaces gzipped.
+${PYTHON:-/usr/bin/python3} scripts/store_results.py results/cylinder_bulk

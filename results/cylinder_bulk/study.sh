@@ -28,3 +28,5 @@ run() {  # folder eliminator force
 ( run cylinder_press_line line '"auto"'; run cylinder_press_f0003_line line 0.003 ) & p1=$!
 ( run cylinder_press_plane plane '"auto"'; run cylinder_press_f0003_plane plane 0.003 ) & p2=$!
 wait $p1; wait $p2
+# Committed form (results/README.md): steps.csv.gz, level and run surfaces gzipped.
+${PYTHON:-/usr/bin/python3} scripts/store_results.py results/cylinder_bulk

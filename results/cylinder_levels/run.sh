@@ -14,3 +14,5 @@ lvl() {  # level tolerance folder
 ( lvl 2 1e-5 l2_5; lvl 3 1e-5 l3_5 ) &
 ( lvl 2 1e-6 l2_6; lvl 3 1e-6 l3_6 ) &
 wait
+# Committed form (results/README.md): steps.csv.gz, level and run surfaces gzipped.
+${PYTHON:-/usr/bin/python3} scripts/store_results.py results/cylinder_levels

@@ -18,5 +18,5 @@ parses its arguments and calls a module here).
   counts.py    the counts the report quotes (tables/counts.tex)
   studies/     one module per study (study.py NAME; run_all runs them in turn)
   claims/      one module per claim of the paper, and report.py writing them (claims.py)
-docs/architecture.md ("The Python pipeline") says how to add a study and a claim.
+docs/architecture.md ("How to add") says how to add a study and a claim.
 """

@@ -1,5 +1,5 @@
 """harness bench's scaling figure and tables (scripts/plot_bench.py is the command line), from
-bench.csv (its columns: README.md, "harness bench"):
+bench.csv (its columns: docs/usage.md, "Performance"):
 
   figures/bench_scaling.{pdf,png}  time per step against nodes per body, log-log: every method with one
                                    thread (solid) and two (dashed); the memory-bandwidth limits in grey

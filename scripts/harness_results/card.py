@@ -40,8 +40,9 @@ def sweep(a, scene, out, ref):
     time on one thread (their times are read)."""
     runs = os.path.join(out, "runs")
     folders = ["contacts.0.detector-%s" % m for m in a.methods] + ["no_force"]
-    # Cached only where every run's steps.csv is there (a clone holds the summaries alone).
-    if not all(os.path.exists(os.path.join(runs, f, "steps.csv")) for f in folders):
+    # Cached only where every run's steps.csv and timing.csv are there (a clone holds the summaries
+    # alone).
+    if not all(reader.stored(os.path.join(runs, f, n)) for f in folders for n in ("steps.csv", "timing.csv")):
         sets = ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=%d" % EVERY] + a.card_sets
         cmd = [a.harness, "sweep", scene, "--grid", "contacts.0.detector=" + ",".join(a.methods), "--baseline",
                "--compare", ref, "--out", runs, "-j", "1"] + sum((["--set", s] for s in sets), [])

@@ -487,7 +487,7 @@ def episodes_figure(root, scenes):
 
 def draw_all(root):
     """Every figure of the runs under root, by run setting (runs.SCENES' order), then episodes; False
-    (nothing drawn) when there are none."""
+    (nothing drawn) when there are none. The snapshots and sections need the runs' frames."""
     found = runs.existing_runs(root)
     if not found:
         return False
@@ -496,8 +496,14 @@ def draw_all(root):
         if key not in scenes:
             continue
         info = scenes[key]
-        snapshot_figure(root, key, info)
-        section_figure(root, key, info)
+        # The frames are not committed (results/README.md): where a run has none, its committed
+        # snapshot and section figures stay as they are.
+        if all(runs.frames_available(p) for p in info["runs"].values()):
+            snapshot_figure(root, key, info)
+            section_figure(root, key, info)
+        else:
+            print("figures: %s: no frames (made by scripts/reproduce.sh); snapshots_%s and section_%s kept as "
+                  "committed" % (key, key, key))
         timeseries_figure(root, key, info)
     episodes_figure(root, scenes)
     return True

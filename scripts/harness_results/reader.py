@@ -2,7 +2,9 @@
 summary.json's key paths (core/run/summary.cpp writes them).
 
 CSV files (steps.csv, penetration_episodes.csv, surfaces.csv, the studies' CSV files, bench.csv):
-`read_csv` is the only reader. Its one convention: a column of numbers reads as floats with NaN
+`read_csv` is the only reader. Any of them may be stored gzipped (NAME.csv.gz beside or instead of
+NAME.csv: `stored` finds the one there, `open_text` reads either); a run's wall times may live in
+timing.csv beside steps.csv (keyed by step and pair), which `load_steps` joins back. Its one convention: a column of numbers reads as floats with NaN
 where a cell is empty (a written "nan" is NaN too); a column of text (one holding any cell that is
 not a number, or one the caller names: STUDY_TEXT for the studies' files) reads as strings, "" where
 empty. `present(v)` tells a value from a missing one.
@@ -13,6 +15,7 @@ A script that needs a figure of a summary asks an accessor; a new key path is ad
 """
 
 import csv
+import gzip
 import json
 import math
 import os
@@ -53,13 +56,40 @@ def _number(cell):
         return False, None
 
 
+def stored(path):
+    """The file `path` as stored: `path` itself, else `path`.gz (committed copies are gzipped); None
+    when neither exists."""
+    for p in (path, path + ".gz"):
+        if os.path.isfile(p):
+            return p
+    return None
+
+
+def open_text(path):
+    """`path` (or its stored .gz form, see `stored`) opened for reading text; OSError when neither is
+    there."""
+    p = stored(path)
+    if p is None:
+        raise FileNotFoundError("%s: no such file (nor %s.gz)" % (path, path))
+    return gzip.open(p, "rt", newline="") if p.endswith(".gz") else open(p, newline="")
+
+
+def write_gz(path, text):
+    """`text` into `path` (ending in .gz) gzipped so that the same text gives the same bytes (no
+    name, no time in the header)."""
+    with open(path, "wb") as raw:
+        with gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0, compresslevel=9) as g:
+            g.write(text.encode())
+
+
 def read_csv(path, numbers=(), text=(), missing=None):
     """The rows of a CSV file as dicts (the file's column order), typed by the module's convention.
     `text`: columns read as text whatever they hold; `numbers`: columns that must be there as numbers
-    (NaN in every row when the file lacks them). A file that does not exist gives `missing`."""
-    if not os.path.isfile(path):
+    (NaN in every row when the file lacks them). A file that does not exist (nor its .gz form)
+    gives `missing`."""
+    if stored(path) is None:
         return missing
-    with open(path, newline="") as f:
+    with open_text(path) as f:
         rows = list(csv.DictReader(f))
     if not rows:
         return rows
@@ -83,9 +113,33 @@ def columns(rows):
 
 # ---------------------------------------------------------------------------------------------
 # The outputs of one run folder
+TIMING_KEYS = ("step", "pair")
+
+
+def join_timing(rows, timing):
+    """steps.csv's rows with timing.csv's columns added (rows matched on step and pair, in order:
+    the harness writes both files row by row); ValueError when the two do not match."""
+    if not timing:
+        return rows
+    if len(timing) != len(rows):
+        raise ValueError("timing.csv has %d rows, steps.csv %d" % (len(timing), len(rows)))
+    for r, t in zip(rows, timing):
+        if any(str(r.get(k)) != str(t.get(k)) for k in TIMING_KEYS):
+            raise ValueError("timing.csv row (%s) does not match steps.csv's (%s)"
+                             % (",".join(str(t.get(k)) for k in TIMING_KEYS), ",".join(str(r.get(k)) for k in TIMING_KEYS)))
+        for k, v in t.items():
+            if k not in TIMING_KEYS:
+                r[k] = v
+    return rows
+
+
 def load_steps(path):
-    """steps.csv of a single-pair run as {column: list} (floats, NaN where not measured)."""
-    return columns(read_csv(os.path.join(path, "steps.csv")))
+    """steps.csv of a single-pair run (stored plain or gzipped), with timing.csv's wall times joined
+    where it is there, as {column: list} (floats, NaN where not measured)."""
+    rows = read_csv(os.path.join(path, "steps.csv"))
+    if rows is None:
+        raise FileNotFoundError("%s: no steps.csv (nor steps.csv.gz)" % path)
+    return columns(join_timing(rows, read_csv(os.path.join(path, "timing.csv"), text=("pair",))))
 
 
 def measured(cols, key):

@@ -51,7 +51,7 @@ Definitions:
                 last level's change, or the largest of its last two when the loop is not asymptotic).
                 The relative tie, argued: every run is deterministic (the same binary gives the same
                 state hash), but not robust in its last digits: a rounding perturbation (the node
-                order, docs/architecture.md) moves a chattering run's rho from 0.016 to 0.028 and a
+                order, docs/findings.md) moves a chattering run's rho from 0.016 to 0.028 and a
                 tunnelling run's count from 1 to 3 nodes, and the harness has not measured that
                 spread per configuration (no ensemble over node orders), nor what it does to the
                 position error the tie is applied to; the tie stands in for it, an argument by

@@ -91,7 +91,7 @@ def measure(a, defaults):
             for kind, label, sets in methods_of(scene, defaults, doc):
                 s = run(a, scene, sets, os.path.join(tmp, "%s_%s" % (scene, kind)))
                 m = measured(s)
-                if m["stability_verdict"] not in ("settled", "chatters"):
+                if m["stability_verdict"] not in ("settled", "steady"):
                     print("thresholds: %s, %s: verdict %s; thresholds kept from its figures all the same" % (
                         scene, label, m["stability_verdict"]), file=sys.stderr)
                 doc["checks"].append(dict(scene=scene, method=kind, label=label, sets=sets, measured=m,

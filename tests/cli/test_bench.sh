@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `harness bench` on a tiny size: the CSV has the README's columns and one row per method and
+# `harness bench` on a tiny size: the CSV has the columns docs/usage.md names and one row per method and
 # thread count (fcl and cgal when the build has the references). Times are not checked.
 # Also `harness run --threads`: results do not depend on the thread count.
 # Usage: test_bench.sh HARNESS SOURCE_DIR

@@ -50,7 +50,9 @@ for n in ["sphere_collision", "cylinder_press"]:
     check(s["energy"]["work_contact"] is None and s["energy"]["energy_kinetic"] > 0, n + ": energies without booked work")
     rows = list(csv.DictReader(open(os.path.join(d, "steps.csv"))))
     check(len(rows) == 300 and all(r["detector"] == "bullet_vf_ss" for r in rows), n + ": steps.csv detector column")
-    check(all(r["contacts"] != "" and r["t_detect_us"] != "" for r in rows), n + ": contacts and detection time each step")
+    timing = list(csv.DictReader(open(os.path.join(d, "timing.csv"))))
+    check(all(r["contacts"] != "" for r in rows) and len(timing) == len(rows) and all(t["t_detect_us"] != "" for t in timing),
+          n + ": contacts and detection time (timing.csv) each step")
     check(sum(r["true_pen_guest"] != "" for r in rows) >= 3, n + ": the references measured the engine's states")
     frames = sorted(f for f in os.listdir(os.path.join(d, "frames")) if f.endswith(".vtp"))
     check(len(frames) == 4, n + ": frames %s" % frames)

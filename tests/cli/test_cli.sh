@@ -17,9 +17,14 @@ bad() { echo "FAIL: $*"; fail=$((fail+1)); }
 "$H" run cylinder_press --out "$T/run" --steps 20 --set output.frames_every=10 --quiet 2>"$T/err" \
   && ok || { bad "run cylinder_press"; cat "$T/err"; }
 [[ -f "$T/run/steps.csv" && -f "$T/run/summary.json" ]] && ok || bad "outputs written"
-head -1 "$T/run/steps.csv" | grep -q '^step,time,pair,detector,contacts,t_step_us,t_physics_us,t_detect_us,t_eliminate_us,kinetic_energy,true_pen_guest,true_pen_host,tp,fp,fn,max_depth,mean_depth,surfaces_intersect,fcl_pairs,t_cgal_us,t_fcl_us' \
+# The contract's columns in order, the wall times (t_*_us) in timing.csv keyed by step and pair.
+head -1 "$T/run/steps.csv" | grep -q '^step,time,pair,detector,contacts,kinetic_energy,true_pen_guest,true_pen_host,tp,fp,fn,max_depth,mean_depth,surfaces_intersect,fcl_pairs' \
   && ok || bad "steps.csv columns"
+head -1 "$T/run/timing.csv" | grep -q '^step,pair,t_step_us,t_physics_us,t_detect_us,t_eliminate_us,t_cgal_us,t_fcl_us' \
+  && ok || bad "timing.csv columns"
+head -1 "$T/run/steps.csv" | grep -q '_us\b' && bad "a wall time in steps.csv" || ok
 [[ $(($(wc -l < "$T/run/steps.csv") - 1)) -eq 20 ]] && ok || bad "one row per step and pair"
+[[ $(wc -l < "$T/run/timing.csv") -eq $(wc -l < "$T/run/steps.csv") ]] && ok || bad "timing.csv: a row per steps.csv row"
 ls "$T/run/frames/" | grep -q '_000000.vtp' && ls "$T/run/frames/" | grep -q '_000020.vtp' && ok || bad "frames at 0 and last step"
 [[ -f "$T/run/frames/layer.pvd" && $(grep -c "<DataSet" "$T/run/frames/layer.pvd") -eq 3 ]] && ok || bad "layer.pvd lists 3 frames"
 grep -q '"status": "ok"' "$T/run/summary.json" && ok || bad "summary status ok"

@@ -99,8 +99,11 @@ def test_run_out_writes_what_the_cli_writes(harness_bin, small, tmp_path):
     res = harness.run(small, steps=50, out=tmp_path / "py")
     assert res.out == str(tmp_path / "py")
     assert sorted(os.listdir(tmp_path / "py")) == sorted(os.listdir(tmp_path / "cli"))
-    assert (tmp_path / "py" / "steps.csv").read_text().splitlines()[0] == \
-        (tmp_path / "cli" / "steps.csv").read_text().splitlines()[0]
+    for f in ("steps.csv", "timing.csv"):
+        assert (tmp_path / "py" / f).read_text().splitlines()[0] == (tmp_path / "cli" / f).read_text().splitlines()[0]
+    # the deterministic columns are the same bits; the wall times are in timing.csv, joined by read_steps
+    assert (tmp_path / "py" / "steps.csv").read_text() == (tmp_path / "cli" / "steps.csv").read_text()
+    assert "t_step_us" in res.steps and len(res.steps["t_step_us"]) == 50
 
 
 def test_run_accepts_names_and_dicts(small):

@@ -34,7 +34,9 @@ struct SceneRun {
   bool settled = false;        // time.settle reached (false without time.settle)
   double residual = 0.0;       // at the end
   std::string verdict;         // the stability verdict over the final window (core/run/window.hpp)
-  double contact_power_ratio = 0.0;
+  double contact_power_ratio = 0.0;  // the earlier rule's rate (recorded, decides nothing)
+  double chatter_amplitude = 0.0, chatter_length = 0.0;  // m, the class's figures (window.hpp)
+  double contact_input_share = 0.0;
 };
 
 inline std::string bundled(const std::string& name) {
@@ -66,6 +68,9 @@ inline SceneRun run_scene_measured(const std::string& name,
   const StabilityJudgement j = rec.judge(sim, sim.scene().settle.present && o.settled);
   r.verdict = j.verdict;
   r.contact_power_ratio = j.ratio;
+  r.chatter_amplitude = j.inputs.chatter_amplitude;
+  r.chatter_length = j.inputs.chatter_length;
+  r.contact_input_share = j.contact_input_share;
   r.ke_peak = rec.kinetic_energy_peak();
   const EnergyLedger& e = sim.energy();
   r.contact_injection = e.work_contact_peak / std::max(1e-300, e.initial + std::max(0.0, e.work_external));

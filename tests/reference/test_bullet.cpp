@@ -118,7 +118,7 @@ TEST_CASE("Bullet's links sag a pinned layer as much as the harness's springs", 
 // after it then move its face nodes without changing their velocity (btDefaultSoftBodySolver
 // solves the bodies one after the other). The drift is reported, not bounded: it is Bullet's
 // (measured 2026-11-23 in this collision: at most 75 % of sphere a's momentum with the lumped
-// masses, 45 % with every node given one mass; docs/architecture.md).
+// masses, 45 % with every node given one mass; docs/findings.md).
 TEST_CASE("Bullet's links conserve momentum; its contact separates two free spheres", "[bullet]") {
   Simulation sim(scene_of(kSpheres), bullet_options());
   const World& w = sim.world();

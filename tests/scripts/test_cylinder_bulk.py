@@ -62,7 +62,7 @@ def test_twist_by_hand():
 
 
 def test_what_the_report_and_the_docs_say_holds():
-    """docs/architecture.md and paper/main.tex read these outcomes (the report's figures through
+    """docs/findings.md and paper/main.tex read these outcomes (the report's figures through
     counts.py's RefCylVol* macros): each statement checked against the CSV."""
     r = rows(os.path.join(RESULTS, "cylinder_bulk.csv"))
     inv = {(x["variant"], x["kind"]): int(x["inverted_rows"]) for x in r if x["kind"].startswith("inversion")}

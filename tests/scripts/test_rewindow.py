@@ -11,7 +11,7 @@ import pytest
 from harness_results import reader, rewindow
 
 ROOT = os.path.join(os.path.dirname(__file__), "..", "..", "results", "runs")
-RUNS = sorted(d for d in os.listdir(ROOT) if os.path.isfile(os.path.join(ROOT, d, "steps.csv"))) \
+RUNS = sorted(d for d in os.listdir(ROOT) if reader.stored(os.path.join(ROOT, d, "steps.csv"))) \
     if os.path.isdir(ROOT) else []
 
 

@@ -77,7 +77,11 @@ def test_fragile_names_the_choices_that_flip_it():
 def test_the_committed_table_is_what_the_claims_give():
     from harness_results import claims
     from harness_results.claims.common import Context
-    with open(os.path.join(RESULTS, "robustness.csv")) as f:
+    path = os.path.join(RESULTS, "robustness.csv")
+    if not os.path.isfile(path):  # made by scripts/claims.py, not committed (results/README.md)
+        import pytest
+        pytest.skip("results/robustness.csv is not there: run scripts/claims.py results first")
+    with open(path) as f:
         committed = list(csv.DictReader(f))
     some = robustness.VARIANTS[:1] + [v for v in robustness.VARIANTS if v.rho_scale == 0.5][:2]
     for v, got in robustness.judge_variants(RESULTS, claims.judge_all, Context, some):

@@ -2,7 +2,7 @@
 inversion: a sensitivity of the verdicts to the scene, not a variant of the rule.
 
 The bundled cylinder's two-sided reference does not converge: the layer's top cells invert under
-the cylinder (docs/architecture.md, "Why the cylinder's two-sided reference does not converge").
+the cylinder (docs/findings.md, "Why the cylinder's two-sided reference does not converge").
 experiments/scenes/claims/cylinder_press_bulk.json is the same scene with the fix that converges both
 references (effect `bulk`, bulk modulus 1e4 Pa, alternating diagonals, a cylinder of 48 segments;
 results/cylinder_bulk.csv). results/cylinder_bulk/study.sh makes its accuracy study and its report

@@ -2,7 +2,7 @@
 
 Per scene and detector (the paper's grid at the pair's voxel size, and CGAL): the penalty force (k =
 500 N/m along the line), the restriction with its practical bound (the `volume` eliminator: the
-layered depth images' shared volume and gradient, one mass-weighted Newton step; docs/architecture.md),
+layered depth images' shared volume and gradient, one mass-weighted Newton step; docs/findings.md),
 projection without a bound, and projection with the exact bound (CGAL's corefinement of the two
 surfaces on the same states, references.volume, timed apart as t_bound_us); and the scene with no
 contact force, the run a useful setting must beat. Each configuration: one error run (settled,
