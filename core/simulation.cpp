@@ -11,6 +11,7 @@
 namespace harness {
 
 Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : scene_(scene) {
+  implicit_.tolerance = scene_.cg_tolerance;
   world_ = build_world(scene_, options.layout);
   kinematics_ = resolve_kinematics(scene_, world_);
   if (options.jitter > 0.0) jitter_positions(world_, options.jitter, options.jitter_seed);

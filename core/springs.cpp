@@ -72,6 +72,19 @@ double spring_tangent(const SpringLaw& law, double L0, double l) {
   return 0.0;
 }
 
+void spring_tension_tangent(const SpringLaw& law, double L0, double l, double& tension, double& tangent) {
+  if (law.kind != SpringLawKind::exponential) {
+    tension = spring_tension(law, L0, l);
+    tangent = spring_tangent(law, L0, l);
+    return;
+  }
+  const double eps = (l - L0) / L0;
+  const double x = law.beta * eps;
+  const double em1 = spring_expm1(x);  // once for both
+  tension = law.k * L0 * eps * (std::fabs(x) < 1e-8 ? 1.0 + 0.5 * x : em1 / x);
+  tangent = law.k * (1.0 + em1);
+}
+
 const char* to_string(SpringLawKind kind) {
   switch (kind) {
     case SpringLawKind::linear: return "linear";

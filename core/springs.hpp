@@ -124,6 +124,9 @@ HARNESS_HD inline T exp_energy_direct(const T& x, const T& em1) {
 }
 // Tangent stiffness df/dl (N/m) at length l.
 double spring_tangent(const SpringLaw& law, double L0, double l);
+// Both at once, one exponential for the exponential law (the implicit step's Jacobian), equal to
+// spring_tension and spring_tangent.
+void spring_tension_tangent(const SpringLaw& law, double L0, double l, double& tension, double& tangent);
 
 const char* to_string(SpringLawKind kind);
 

@@ -107,6 +107,26 @@ bool ContactEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) 
   return any;
 }
 
+void ContactEffect::add_jacobian(const World&, LinearSystem& sys) const {
+  for (const Pair& p : pairs_) {
+    if (p.spec.force_rule != ForceRule::penalty || !(p.spec.stiffness > 0.0)) continue;
+    if (!p.collision || !p.collision->stepped()) continue;
+    const auto& pushes = p.collision->pushes();
+    const auto& mag = p.collision->magnitudes();
+    for (std::size_t i = 0; i < pushes.size(); ++i) {
+      const Push& q = pushes[i];
+      if (q.count == 0 || !(mag[i] > 0.0)) continue;
+      ContactBlock b;
+      b.node[0] = q.guest, b.c[0] = 1.0;
+      for (int h = 0; h < q.count && h < 3; ++h) b.node[h + 1] = q.hosts[h], b.c[h + 1] = -q.weight[h];
+      b.count = 1 + std::min(q.count, 3);
+      b.n = q.n;
+      b.k = p.spec.stiffness;
+      sys.contacts.push_back(b);
+    }
+  }
+}
+
 std::unique_ptr<Effect> make_contact_effect(EffectBuild& b) {
   for (std::size_t i = 0; i < b.pairs.size(); ++i) {
     Pair& p = b.pairs[i];

@@ -29,6 +29,9 @@ class ContactEffect final : public Effect {
   // then the last step's pushes do, each host node with its weight.
   bool has_stiffness() const override;
   bool add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const override;
+  // The same stiffness for the implicit step: one ContactBlock per push of the last step with a
+  // force (effect.hpp, LinearSystem).
+  void add_jacobian(const World& w, LinearSystem& sys) const override;
 
  private:
   std::vector<Pair>& pairs_;

@@ -40,22 +40,43 @@ struct StepContext {
 };
 
 // The linearised backward-Euler system (implicit.hpp) as the effects describe it:
-//   per spring k  a stiffness block K_k = df_i/dx_j (3x3, coupling its two ends with
-//                 f_i = +K_k (x_j - x_i), f_j = -f_i) and a dashpot coefficient c_k along the
-//                 spring (N s/m);
-//   per node i    a mass-proportional damping coefficient d_i (kg/s: force -d_i v_i).
+//   per spring k  its stiffness along and across it: K_k = df_i/dx_j = a_k u u^T + t_k (I - u u^T)
+//                 (u the unit vector from i to j; a_k the tangent stiffness dT/dl, t_k = max(T/l, 0)
+//                 the tension's geometric part, kept non-negative so the block is positive
+//                 semi-definite), coupling its two ends with f_i = +K_k (x_j - x_i), f_j = -f_i; and
+//                 a dashpot coefficient c_k along the spring (N s/m);
+//   per node i    a mass-proportional damping coefficient d_i (kg/s: force -d_i v_i);
+//   per contact   (the contact's rules that have a stiffness: the linear penalty) a guest node and
+//                 up to three host nodes with coefficients c = (1, -w_1, -w_2, -w_3), the push's
+//                 direction n and the stiffness k: the block k (c c^T) (x) (n n^T), positive
+//                 semi-definite (the penalty's tangent along n; its part across n, F/d (I - n n^T)
+//                 for a rule that turns with the surface, is left out: it is not definite).
+//                 Constant-force rules (the paper's, `auto`) have no stiffness: nothing is added,
+//                 and at a large step their contact stays explicit.
 // The slots start at zero and effects add to them; spring_used says whether any spring slot was
 // written (otherwise the integrator skips the springs entirely).
+struct ContactBlock {
+  int node[4] = {-1, -1, -1, -1};
+  double c[4] = {0.0, 0.0, 0.0, 0.0};
+  int count = 0;  // nodes used
+  Vec3 n = Vec3::Zero();
+  double k = 0.0;  // N/m
+};
+
 struct LinearSystem {
-  std::vector<Eigen::Matrix3d> spring_stiffness;
+  std::vector<double> spring_axial;       // a_k, N/m
+  std::vector<double> spring_transverse;  // t_k, N/m
   std::vector<double> spring_dashpot;
   std::vector<double> node_damping;
+  std::vector<ContactBlock> contacts;
   bool spring_used = false;
 
   void reset(const World& w) {
-    spring_stiffness.assign(w.springs.size(), Eigen::Matrix3d::Zero());
+    spring_axial.assign(w.springs.size(), 0.0);
+    spring_transverse.assign(w.springs.size(), 0.0);
     spring_dashpot.assign(w.springs.size(), 0.0);
     node_damping.assign(static_cast<std::size_t>(w.num_nodes()), 0.0);
+    contacts.clear();
     spring_used = false;
   }
 };

@@ -15,12 +15,11 @@ void SpringsEffect::add_jacobian(const World& w, LinearSystem& sys) const {
     const Vec3 d = w.x[j] - w.x[i];
     const double l = d.norm();
     if (l <= 0.0) continue;
-    const Vec3 u = d / l;
-    const Eigen::Matrix3d uu = u * u.transpose();
     const SpringLaw law = w.body_law[w.springs.body[k]].with(w.springs.k[k]);
-    const double kt = spring_tangent(law, w.springs.rest[k], l);
-    const double t = spring_tension(law, w.springs.rest[k], l);
-    sys.spring_stiffness[k] = kt * uu + std::max(t / l, 0.0) * (Eigen::Matrix3d::Identity() - uu);
+    double t = 0.0, kt = 0.0;
+    spring_tension_tangent(law, w.springs.rest[k], l, t, kt);
+    sys.spring_axial[k] = kt;
+    sys.spring_transverse[k] = std::max(t / l, 0.0);
   }
 }
 

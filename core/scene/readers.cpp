@@ -228,6 +228,7 @@ void read_time(const Ctx& c, Obj& top, Scene& s) {
   s.steps = static_cast<int>(t.integer("steps"));
   s.integrator = t.word<Integrator>("integrator");
   s.guard = t.word<Guard>("guard");
+  s.cg_tolerance = t.number("cg_tolerance");
   s.window = static_cast<int>(t.integer("window"));
   if (const json* st = t.get("settle"); st && !st->is_null()) {  // null: no settling (--steps)
     Obj o(c, *st, t.at("settle"), t.out()["settle"], "settle");

@@ -129,6 +129,7 @@ struct Scene {
   int steps = 0;
   Integrator integrator{};
   Guard guard{};
+  double cg_tolerance = 1e-6;  // time.cg_tolerance: implicit_euler's CG relative residual
   SettleSpec settle;
   // time.window: the run is judged over its final `window` steps after every driver, load and
   // pressure ramp has finished (run/window.hpp).

@@ -1,5 +1,6 @@
 // Implicit Euler: stable at ten times the explicit dt_crit; without external work its energy
 // does not grow; pinned nodes stay bit-exact.
+#include "core/implicit.hpp"
 #include "core/simulation.hpp"
 
 #include <catch2/catch.hpp>
@@ -70,4 +71,48 @@ TEST_CASE("implicit Euler agrees with symplectic Euler at small dt", "[implicit]
   }
   INFO("max position difference " << worst << " m");
   CHECK(worst < 0.05 * (0.02 + sag));  // both integrators first order: close, not equal
+}
+
+TEST_CASE("implicit Euler: a contact's stiffness in the system gives backward Euler's closed form", "[implicit][contact]") {
+  // One free node (m) held by a penalty contact k along n to a pinned node: backward Euler along n
+  // is (m + h^2 k) dv = h (f - h k v0.n); across n, m dv = h f. Hand computed, not a rerun.
+  World w;
+  w.x = {Vec3(0, 0, 0.001), Vec3(0, 0, 0)};
+  w.x0 = w.x;
+  w.v = {Vec3(0.1, 0.0, -0.3), Vec3::Zero()};
+  w.f = {Vec3(0.2, 0.0, 1.5), Vec3::Zero()};
+  w.m = {0.01, 0.01};
+  w.inv_m = {100.0, 100.0};
+  w.kinematic = {Kinematic::free, Kinematic::pinned};
+  w.kin_v = {Vec3::Zero(), Vec3::Zero()};
+  LinearSystem sys;
+  sys.reset(w);
+  ContactBlock cb;
+  cb.node[0] = 0, cb.c[0] = 1.0, cb.node[1] = 1, cb.c[1] = -1.0, cb.count = 2;
+  cb.n = Vec3(0, 0, 1);
+  cb.k = 500.0;
+  sys.contacts.push_back(cb);
+  const double h = 1e-3, m = 0.01, k = 500.0;
+  const Vec3 v0 = w.v[0], x0 = w.x[0];
+  ImplicitEuler ie;
+  ie.tolerance = 1e-14;
+  const ImplicitStats st = ie.step(w, h, sys);
+  CHECK(st.converged);
+  const double dvz = h * (1.5 - h * k * v0.z()) / (m + h * h * k);
+  const double dvx = h * 0.2 / m;
+  CHECK(w.v[0].z() == Approx(v0.z() + dvz).epsilon(1e-12));
+  CHECK(w.v[0].x() == Approx(v0.x() + dvx).epsilon(1e-12));
+  CHECK(w.v[0].y() == 0.0);
+  CHECK(w.x[0].z() == Approx(x0.z() + h * w.v[0].z()).epsilon(1e-12));
+  CHECK(w.x[1] == Vec3::Zero());  // the pinned node stays
+  // Without the contact's block the same step is the explicit force alone: a different answer.
+  World w2 = w;
+  w2.x[0] = x0, w2.v[0] = v0;
+  LinearSystem none;
+  none.reset(w2);
+  ImplicitEuler ie2;
+  ie2.tolerance = 1e-14;
+  ie2.step(w2, h, none);
+  CHECK(w2.v[0].z() == Approx(v0.z() + h * 1.5 / m).epsilon(1e-12));
+  CHECK(std::fabs(w2.v[0].z() - w.v[0].z()) > 1e-3);
 }
