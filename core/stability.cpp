@@ -1,5 +1,7 @@
 #include "core/stability.hpp"
 
+#include <stdexcept>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -44,7 +46,8 @@ double critical_dt(const World& w, const Effects& effects, std::vector<Vec3>& ro
 }
 
 StabilityGuard::StabilityGuard(const Scene& sc, const World& w, const Effects& effects)
-    : dt_(sc.dt), explicit_(sc.integrator == Integrator::symplectic_euler), substep_(sc.guard == Guard::substep) {
+    : dt_(sc.dt), explicit_(sc.integrator == Integrator::symplectic_euler), substep_(sc.guard == Guard::substep),
+      max_substeps_(sc.max_substeps) {
   for (const auto& e : effects) active_ = active_ || e->has_stiffness();
   const CriticalDt c = critical_dts(w, effects, rows_);
   const double d = c.all;
@@ -60,7 +63,12 @@ StabilityGuard::StabilityGuard(const Scene& sc, const World& w, const Effects& e
       throw InputError(sc.file + ": time.dt", buf);
     }
     const double ratio = dt_ / (kGuardFraction * d);
-    if (ratio > 1e6) throw InputError(sc.file + ": time.dt", "dt needs more than 1e6 substeps");
+    if (ratio > max_substeps_) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "dt needs %.3g substeps at rest, above time.max_substeps = %d (lower dt, or raise the cap)",
+                    std::ceil(ratio), max_substeps_);
+      throw InputError(sc.file + ": time.max_substeps", buf);
+    }
     stats_.substeps = static_cast<int>(std::ceil(ratio));
   }
   stats_.max_substeps = stats_.substeps;
@@ -96,7 +104,15 @@ void StabilityGuard::adapt(const CriticalDt& c) {
   if (!explicit_ || !std::isfinite(d)) return;
   const double ratio = dt_ / (kGuardFraction * d);
   if (substep_) {
-    stats_.substeps = std::max(1, static_cast<int>(std::ceil(std::min(ratio, 1e6))));
+    if (!(ratio <= max_substeps_)) {  // NaN too
+      char buf[240];
+      std::snprintf(buf, sizeof buf,
+                    "time.max_substeps: the step needs %.3g substeps (dt_crit fell to %.3g s), above the cap of %d: "
+                    "the state stiffened far beyond the scene's (a blow-up, or a contact far stiffer than its bodies)",
+                    std::ceil(ratio), d, max_substeps_);
+      throw std::runtime_error(buf);
+    }
+    stats_.substeps = std::max(1, static_cast<int>(std::ceil(ratio)));
     stats_.max_substeps = std::max(stats_.max_substeps, stats_.substeps);
   } else if (ratio > 1.0) {
     ++stats_.guard_violations;

@@ -64,6 +64,7 @@ class StabilityGuard {
 
   double dt_;
   bool explicit_, substep_;
+  int max_substeps_;  // time.max_substeps: above it the step fails (std::runtime_error)
   bool active_ = false;       // some built effect has stiffness
   double dt_crit_last_ = 0.0;  // at the last check
   double elastic_last_ = 0.0;  // without contact, at the last check

@@ -118,6 +118,7 @@ struct RunCommand {
   bool check_cpu = false;
   std::string node_order = node_order_name(kDefaultNodeOrder);
   int ensemble = 1;
+  double max_wall = 0.0;
 
   void setup(CLI::App& app) {
     cmd = app.add_subcommand("run", "simulate a scene and write steps.csv, summary.json, frames/");
@@ -152,6 +153,9 @@ struct RunCommand {
                                             "node distance between the two states");
     cmd->add_option("--node-order", node_order, "the nodes' layout in memory: scene (the shape's own numbering), rcm "
                                                 "(reverse Cuthill-McKee) or morton; outputs keep the scene's numbering")
+        ->capture_default_str();
+    cmd->add_option("--max-wall", max_wall, "seconds of wall time after which the run stops as failed (exit 3, "
+                                            "outputs written; 0: no limit; harness sweep passes it to every point)")
         ->capture_default_str();
     cmd->add_option("--ensemble", ensemble, "K members differing only in the node order and a jitter far below the "
                                             "mesh's precision (DIR/members/k/); summary.json `ensemble` gives each "
@@ -206,6 +210,8 @@ struct RunCommand {
 #endif
     }
     opt.ensemble = ensemble;
+    if (!(max_wall >= 0.0)) throw InputError("--max-wall", "expected seconds >= 0");
+    opt.max_wall_s = max_wall;
     return ensemble > 1 ? run_ensemble(sc, opt) : run_scene(sc, opt);
   }
 };
@@ -263,6 +269,9 @@ struct SweepCommand {
     cmd->add_option("--set", sw.sets, "a fixed override for every point: KEY=JSON");
     cmd->add_option("--out", sw.out_dir, "output folder")->required();
     cmd->add_option("-j", sw.jobs, "points run at once")->capture_default_str();
+    cmd->add_option("--max-wall", sw.max_wall, "seconds of wall time after which a point's run stops as failed "
+                                               "(harness run --max-wall; 0: no limit)")
+        ->capture_default_str();
     cmd->add_flag("--list", sw.list, "print one `harness run` command per point and exit");
     cmd->add_option("--index", sw.index, "run only point I (0-based), then merge runs.csv");
     cmd->add_flag("--merge", sw.merge, "run nothing; rewrite DIR/runs.csv from the points already complete");

@@ -125,6 +125,11 @@ std::string shell_quote(const std::string& s) {
 
 std::vector<std::string> run_args(const SweepOptions& opt, const SweepJob& job, const std::string& scene) {
   std::vector<std::string> a = {opt.self, "run", scene, "--out", (fs::path(opt.out_dir) / job.name).string()};
+  if (opt.max_wall > 0.0) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", opt.max_wall);
+    a.insert(a.end(), {"--max-wall", b});
+  }
   for (const std::string& s : opt.sets) a.insert(a.end(), {"--set", s});
   for (const auto& [k, v] : job.sets) a.insert(a.end(), {"--set", k + "=" + v});
   if (!opt.compare.empty()) a.insert(a.end(), {"--compare", opt.compare});

@@ -11,6 +11,11 @@
 
 namespace harness {
 
+// The default wall-time cap of a sweep's point (harness run --max-wall): a point that runs longer
+// fails and says so, instead of holding the sweep for hours (a user's sweep point once took 461 s
+// of 268,126 substeps per step before it failed).
+constexpr double kSweepMaxWall = 1800.0;
+
 struct SweepOptions {
   std::string scene;        // path (already resolved)
   std::string scene_arg;    // as the user gave it (used in --list commands)
@@ -24,6 +29,7 @@ struct SweepOptions {
   std::string self;  // path of this executable
   std::string compare;  // --compare DIR passed to every run
   bool baseline = false;  // --baseline: the no-force runs "helps" is judged against (sweep_jobs)
+  double max_wall = kSweepMaxWall;  // --max-wall passed to every run (0: no limit)
 };
 
 // One grid point: its overrides in grid order.

@@ -34,6 +34,24 @@ bool finite_state(const World& w, int& bad) {
 
 }  // namespace
 
+std::string blow_up(const World& w) {
+  for (const Body& b : w.bodies) {
+    Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY), lo0 = lo, hi0 = hi;
+    for (int i = b.begin; i < b.end; ++i) {
+      if (!w.x[i].allFinite() || !w.v[i].allFinite()) return "state not finite (body " + b.name + ")";
+      lo = lo.cwiseMin(w.x[i]), hi = hi.cwiseMax(w.x[i]);
+      lo0 = lo0.cwiseMin(w.x0[i]), hi0 = hi0.cwiseMax(w.x0[i]);
+    }
+    const double rest = (hi0 - lo0).maxCoeff(), now = (hi - lo).maxCoeff();
+    if (b.size() > 0 && rest > 0.0 && now > kBlowUpFactor * rest) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "body %s spans %.3g times its rest size", b.name.c_str(), now / rest);
+      return buf;
+    }
+  }
+  return "";
+}
+
 std::string checked_step(Simulation& sim, Points& good_x, Points& good_v) {
   World& w = sim.world();
   std::copy(w.x.begin(), w.x.end(), good_x.begin());
@@ -43,7 +61,11 @@ std::string checked_step(Simulation& sim, Points& good_x, Points& good_v) {
   try {
     sim.step();
   } catch (const std::runtime_error& e) {
-    failure = e.what();  // the voxel region outgrew its cap during a rebuild
+    // The voxel region outgrew its cap during a rebuild, or the guard's substeps their cap: named
+    // after the blow-up behind them, when there is one.
+    failure = e.what();
+    const std::string blow = blow_up(w);
+    if (!blow.empty()) failure = "blow-up: " + blow + "; then: " + failure;
   }
   int bad = 0;
   if (failure.empty() && !finite_state(w, bad)) {
@@ -57,7 +79,8 @@ std::string checked_step(Simulation& sim, Points& good_x, Points& good_v) {
   return failure;
 }
 
-StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on_step) {
+StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on_step, double max_wall_s) {
+  const auto t_start = Clock::now();
   const Scene& sc = sim.scene();
   const SettleSpec& settle = sc.settle;
   const int n = sim.world().num_nodes();
@@ -67,6 +90,15 @@ StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on
   int below = 0;
   for (int s = 1;; ++s) {
     o.failure = checked_step(sim, good_x, good_v);
+    if (o.failure.empty() && max_wall_s > 0.0 && us_since(t_start) > 1e6 * max_wall_s) {
+      char buf[120];
+      std::snprintf(buf, sizeof buf, "--max-wall: the run took more than %g s of wall time; stopped", max_wall_s);
+      o.failure = buf;
+      o.failed_step = s + 1;  // this step is kept: the failure is the next one's
+      o.wall_limit = true;
+      on_step(true);
+      return o;
+    }
     if (!o.failure.empty()) {
       o.failed_step = s;
       return o;
@@ -122,7 +154,9 @@ struct RunEnd {
   void take(const StepsOutcome& o, const Simulation& sim) {
     status.settled = o.settled;
     status.settle_steps = o.settle_steps;
-    if (!o.failure.empty()) {
+    if (o.wall_limit) {
+      fail("after step " + std::to_string(o.failed_step - 1) + ": " + o.failure + "; outputs hold the state after it");
+    } else if (!o.failure.empty()) {
       fail("step " + std::to_string(o.failed_step) + ": " + o.failure + "; last good state is step " +
            std::to_string(o.failed_step - 1));
       status.finite = false;
@@ -240,7 +274,7 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
       writers.record(sim, rec, last);
       progress.update(sim);
       rec.note_outside_us(us_since(t_record));
-    }), sim);
+    }, opt.max_wall_s), sim);
   } catch (const ComparisonError& e) {  // a non-finite distance: never a dropped value
     end.fail("step " + std::to_string(sim.step_index()) + ": --compare " + opt.compare_dir +
              (opt.compare_also_dir.empty() ? "" : " / --compare-also " + opt.compare_also_dir) + ": " + e.what());

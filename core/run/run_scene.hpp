@@ -31,6 +31,7 @@ struct RunOptions {
   bool strict = false;                          // --strict: a warning is an error (exit 2)
   NodeOrder node_order = kDefaultNodeOrder;     // --node-order: the world's layout (node_order.hpp)
   // --ensemble K (run_ensemble): K members; a member's initial jitter and its seed (SimulationOptions).
+  double max_wall_s = 0.0;  // --max-wall: a run past this wall time fails (0: no limit)
   int ensemble = 1;
   double jitter = 0.0;
   std::uint64_t jitter_seed = 0;
@@ -73,7 +74,15 @@ struct StepsOutcome {
   bool settled = false;
   int settle_steps = 0;  // taken after time.steps
   int signal = 0;        // SIGINT or SIGTERM stopped the run after the last step (run_scene only)
+  bool wall_limit = false;  // stopped by max_wall_s (failure says so; the state is finite)
 };
-StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on_step);
+// max_wall_s > 0: the run stops as failed (StepsOutcome::failure, the last step kept) once it has
+// taken more wall time than that (--max-wall).
+StepsOutcome run_steps(Simulation& sim, const std::function<void(bool last)>& on_step, double max_wall_s = 0.0);
+
+// A step that fails names the blow-up behind it first: a body whose state is not finite, or that
+// spans more than kBlowUpFactor times its rest size (empty when neither).
+constexpr double kBlowUpFactor = 100.0;
+std::string blow_up(const World& w);
 
 }  // namespace harness

@@ -229,6 +229,7 @@ void read_time(const Ctx& c, Obj& top, Scene& s) {
   s.integrator = t.word<Integrator>("integrator");
   s.guard = t.word<Guard>("guard");
   s.cg_tolerance = t.number("cg_tolerance");
+  s.max_substeps = static_cast<int>(t.integer("max_substeps"));
   s.window = static_cast<int>(t.integer("window"));
   if (const json* st = t.get("settle"); st && !st->is_null()) {  // null: no settling (--steps)
     Obj o(c, *st, t.at("settle"), t.out()["settle"], "settle");

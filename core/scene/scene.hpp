@@ -130,6 +130,7 @@ struct Scene {
   Integrator integrator{};
   Guard guard{};
   double cg_tolerance = 1e-6;  // time.cg_tolerance: implicit_euler's CG relative residual
+  int max_substeps = 1000;     // time.max_substeps: the guard's cap (stability.hpp)
   SettleSpec settle;
   // time.window: the run is judged over its final `window` steps after every driver, load and
   // pressure ramp has finished (run/window.hpp).

@@ -11,6 +11,9 @@ import concurrent.futures
 import os
 import shutil
 import subprocess
+import time
+import threading
+import sys
 
 from . import reader
 
@@ -19,6 +22,11 @@ def sets_args(sets):
     """["--set", s, ...] for every `KEY=JSON` in sets; an option of the command line itself
     (`--dt-divide=8`: it starts with "--") is passed as it is."""
     return sum(([s] if s.startswith("--") else ["--set", s] for s in sets), [])
+
+
+# The wall-time cap of a study's run (harness run --max-wall): one that runs longer fails and says
+# so (its summary's error) instead of holding the study.
+MAX_WALL_S = 1800.0
 
 
 def harness(a, args, out, check=False, show_stderr=False, cached=True, threads="1"):
@@ -44,7 +52,8 @@ def run(a, scene, out, sets, compare=True):
     or with the references `compare` names: (first, second), the second measured beside it
     (--compare-also) where it exists; its summary."""
     from .studies import common  # the user's scene (study.py --scene), if any
-    args = ["run", common.scene_arg(a, scene), "--out", out, "--quiet", "--set", "output.frames_every=0"]
+    args = ["run", common.scene_arg(a, scene), "--out", out, "--quiet", "--set", "output.frames_every=0",
+            "--max-wall", "%g" % getattr(a, "max_wall", MAX_WALL_S)]
     if a.quick:
         args += ["--set", "time.settle.max_steps=400"]
     args += sets_args(list(sets) + a.extra_sets)
@@ -57,9 +66,22 @@ def run(a, scene, out, sets, compare=True):
 
 
 def parallel(a, fn, items):
-    """fn(item) for every item, -j at once; the results in order."""
+    """fn(item) for every item, -j at once; the results in order. A line on stderr as each finishes
+    (how many of how many, the time so far), so a long study says it is under way."""
+    items = list(items)
+    done = [0]
+    start = time.monotonic()
+    lock = threading.Lock()
+
+    def one(item):
+        r = fn(item)
+        with lock:
+            done[0] += 1
+            print("study: %d of %d runs done, %.0f s" % (done[0], len(items), time.monotonic() - start),
+                  file=sys.stderr, flush=True)
+        return r
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
-        return list(ex.map(fn, items))
+        return list(ex.map(one, items))
 
 
 def run_all(a, jobs):
