@@ -3,7 +3,7 @@ summary.json's key paths (core/run/summary.cpp writes them).
 
 CSV files (steps.csv, penetration_episodes.csv, surfaces.csv, the studies' CSV files, bench.csv):
 `read_csv` is the only reader. Any of them may be stored gzipped (NAME.csv.gz beside or instead of
-NAME.csv: `stored` finds the one there, `open_text` reads either); a run's wall times may live in
+NAME.csv: `stored` finds the one there, `open_text` reads either: stored.py); a run's wall times may live in
 timing.csv beside steps.csv (keyed by step and pair), which `load_steps` joins back. Its one convention: a column of numbers reads as floats with NaN
 where a cell is empty (a written "nan" is NaN too); a column of text (one holding any cell that is
 not a number, or one the caller names: STUDY_TEXT for the studies' files) reads as strings, "" where
@@ -15,10 +15,11 @@ A script that needs a figure of a summary asks an accessor; a new key path is ad
 """
 
 import csv
-import gzip
 import json
 import math
 import os
+
+from .stored import open_text, stored, write_gz  # noqa: F401 (the readers' names for them)
 
 NAN = float("nan")
 # The columns of the studies' CSV files (scripts/study.py) that are text whatever their cells hold.
@@ -54,32 +55,6 @@ def _number(cell):
         return True, float(cell)
     except ValueError:
         return False, None
-
-
-def stored(path):
-    """The file `path` as stored: `path` itself, else `path`.gz (committed copies are gzipped); None
-    when neither exists."""
-    for p in (path, path + ".gz"):
-        if os.path.isfile(p):
-            return p
-    return None
-
-
-def open_text(path):
-    """`path` (or its stored .gz form, see `stored`) opened for reading text; OSError when neither is
-    there."""
-    p = stored(path)
-    if p is None:
-        raise FileNotFoundError("%s: no such file (nor %s.gz)" % (path, path))
-    return gzip.open(p, "rt", newline="") if p.endswith(".gz") else open(p, newline="")
-
-
-def write_gz(path, text):
-    """`text` into `path` (ending in .gz) gzipped so that the same text gives the same bytes (no
-    name, no time in the header)."""
-    with open(path, "wb") as raw:
-        with gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0, compresslevel=9) as g:
-            g.write(text.encode())
 
 
 def read_csv(path, numbers=(), text=(), missing=None):
