@@ -47,7 +47,9 @@ def read_steps(path):
     if rows is None:
         raise FileNotFoundError(f"{path}: no such file (nor {path}.gz)")
     timing = _read_rows(os.path.join(os.path.dirname(path), "timing.csv"))
-    if timing and len(timing) == len(rows) and rows:
+    if timing and len(timing) != len(rows):
+        raise ValueError(f"{path}: timing.csv has {len(timing) - 1} rows, steps.csv {len(rows) - 1}")
+    if timing and rows:
         keys = [rows[0].index(k) for k in ("step", "pair") if k in rows[0]]
         extra = [j for j, name in enumerate(timing[0]) if name not in ("step", "pair")]
         for i, (r, t) in enumerate(zip(rows, timing)):
