@@ -185,6 +185,9 @@ class Source {
     s.voxel_size = 0.0;
     add(s, "automatic voxel");
     s = pair;
+    s.detector = DetectorKind::box;
+    add(s, "the host's bounding box (the baseline)");
+    s = pair;
     s.detector = DetectorKind::hash;
     s.cell_size = 0.0;
     add(s, "automatic cell");

@@ -130,6 +130,14 @@ std::string outputs_markdown() {
     if (c.timing) table_row(o, c.name, c.doc);
   o << "\n## Stability verdicts\n\n`summary.json` `stability_verdict` is one of:\n\n| verdict | meaning |\n|---|---|\n";
   for (const VerdictDoc& v : kStabilityVerdicts) table_row(o, v.name, v.doc);
+  // The thresholds in one table: summary.json records them (window.thresholds) and the result
+  // scripts read them from here (scripts/harness_results/judge/measure.py) instead of copying.
+  o << "\n## Stability thresholds\n\n| threshold | value | meaning |\n|---|---|---|\n";
+  for (const ThresholdDoc& t : kStabilityThresholds) {
+    std::ostringstream v;
+    v << t.value;
+    o << "| `" << t.name << "` | " << v.str() << " | " << t.doc << " |\n";
+  }
   o << "\n## summary.json\n\n| key | meaning | varies |\n|---|---|---|\n";
   for (const KeyDoc& k : summary_docs())
     o << "| `" << k.key << "` | " << k.doc << " | " << (k.varies ? "yes" : "") << " |\n";

@@ -65,13 +65,14 @@ StabilityInputs Recorder::stability_inputs(const Simulation& sim) const {
   StabilityInputs in;
   in.free_mass = free_mass_;
   in.time_scale = time_scale_ > 0.0 ? time_scale_ : std::numeric_limits<double>::quiet_NaN();
-  // The stated length: the contact's voxel or the reference's floor, the larger; else the edge share.
-  double L = 0.0;
+  // The stated length: the largest of the contact's voxel, the reference's floor and the edge share
+  // (a motion below a quarter of an edge is below what the mesh resolves, whatever the floor).
+  double L = kEdgeShare * edge_length_;
+  in.chatter_length_from = "edge share";
   for (const Pair& p : sim.pairs())
     if (p.collision && p.collision->voxel_size() > L) L = p.collision->voxel_size(), in.chatter_length_from = "voxel";
   for (const Comparison* c : {opt_.compare, opt_.compare_also})
     if (c && c->floor() && *c->floor() > L) L = *c->floor(), in.chatter_length_from = "reference floor";
-  if (L <= 0.0) L = kEdgeShare * edge_length_, in.chatter_length_from = "edge share";
   in.chatter_length = L;
   // The chatter: the largest motion of a node about its mean over the window.
   const int to = sim.step_index();

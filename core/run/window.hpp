@@ -22,9 +22,9 @@
 //                relative to its body's mean position (a body moving as a whole, in flight or
 //                through the other, does not chatter; tunnelling is counted apart), per coordinate
 //                max(max - mean, mean - min), the vector's norm; the amplitude is
-//                the largest over the nodes (m), against a stated length L: the larger of the
-//                contact's voxel (a grid detector's voxel_size_used) and the compared reference's
-//                floor (--compare, where its summary records one), else kEdgeShare of the mean
+//                the largest over the nodes (m), against a stated length L: the largest of the
+//                contact's voxel (a grid detector's voxel_size_used), the compared reference's
+//                floor (--compare, where its summary records one) and kEdgeShare of the mean
 //                rest spring length of the bodies in contact (of all bodies without contact).
 //                Ringing counts: a node still moving beyond L about its mean at the end is
 //                reported as chattering whatever moves it (the reference, where compared, tells
@@ -84,7 +84,7 @@ inline constexpr ThresholdDoc kStabilityThresholds[] = {
     {"contact_input_share", kContactInputShare,
      "injects above this share of the stored energy put in by the contact per time scale"},
     {"growth_factor", kGrowthFactor, "grows when the second half's kinetic energy exceeds this factor times the first half's"},
-    {"edge_share", kEdgeShare, "the chatter length without a voxel or a reference floor, as a share of the mean rest spring length"},
+    {"edge_share", kEdgeShare, "the chatter length's least value, as a share of the mean rest spring length (the larger voxel or reference floor where there is one)"},
 };
 
 // The verdicts judge_stability gives, with one line each (docs/outputs.md is written from this).

@@ -9,6 +9,7 @@ const std::vector<DetectorName>& detector_names() {
       {DetectorKind::hash, "hash", false},
       {DetectorKind::cgal, "cgal", true},
       {DetectorKind::fcl, "fcl", true},
+      {DetectorKind::box, "box", false},
   };
   return names;
 }

@@ -12,7 +12,7 @@ namespace harness {
 enum class Region { half, full, overlap };
 enum class HostNodes { all, surface };
 // Which detection drives elimination. `exact` detectors need the reference library.
-enum class DetectorKind { voxel, hash, cgal, fcl, voxel_exact };
+enum class DetectorKind { voxel, hash, cgal, fcl, voxel_exact, box };
 // The response (responses/): the direction rule of the penalty push (line, plane), position-based
 // projection (a penetrating node moved to the surface), or the restriction with a practical bound
 // (volume: the shared volume's gradient, by layered depth images, moves both surfaces).

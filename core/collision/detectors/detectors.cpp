@@ -1,5 +1,6 @@
 #include "core/collision/detectors/collision_detector.hpp"
 
+#include "core/collision/detectors/box.hpp"
 #include "core/collision/detectors/hash.hpp"
 #include "core/collision/detectors/voxel.hpp"
 #include "core/collision/detectors/voxel_exact.hpp"
@@ -13,6 +14,7 @@ std::unique_ptr<CollisionDetector> make_detector(DetectorKind kind, ExactDetecto
     case DetectorKind::voxel: return std::make_unique<VoxelDetector>();
     case DetectorKind::hash: return std::make_unique<HashDetector>();
     case DetectorKind::voxel_exact: return std::make_unique<VoxelExactDetector>();
+    case DetectorKind::box: return std::make_unique<BoxDetector>();
     case DetectorKind::cgal:
     case DetectorKind::fcl: break;
   }
