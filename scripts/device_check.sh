@@ -14,6 +14,9 @@ if [[ "${1:-}" == "--fetch" ]]; then
   exit $?
 fi
 OUT="${OUT:-out/device}"
+# Only the standard library's json is needed here: any python3 will do where Debian's is missing.
+PYTHON="${PYTHON:-/usr/bin/python3}"
+[[ -x "$PYTHON" ]] || PYTHON=python3
 STEPS="${STEPS:-1000}"
 mkdir -p "$OUT/runs"
 log="$OUT/device.log"
@@ -42,7 +45,7 @@ for s in sphere_collision cylinder_press implant_expansion; do
 done
 # The completed model over the whole of time.steps (no settling), for the real-time factor.
 for s in sphere_collision cylinder_press implant_expansion; do
-  n=$(python3 -c "import json,sys; print(json.load(open('experiments/scenes/$s.json'))['time']['steps'])")
+  n=$("$PYTHON" -c "import json,sys; print(json.load(open('experiments/scenes/$s.json'))['time']['steps'])")
   timeout 120 "$H" run "$s" --device cuda --check-cpu --quiet --steps "$n" --out "$OUT/runs/${s}_voxel_exact_full" \
     --set 'contacts.0.detector="voxel_exact"' --set 'references.solvers=[]' || echo "full $s: exit $?"
 done

@@ -21,7 +21,11 @@ The figures are drawn by scripts/harness_results/figures.py.
 
 import sys
 
-from harness_results import figures, runs
+from harness_results import needs
+
+needs.numpy_and_matplotlib('figures.py')
+
+from harness_results import figures, runs  # noqa: E402
 
 
 def main():

@@ -22,7 +22,11 @@ Deterministic: fixed method order, no dates. Drawn and written by scripts/harnes
 import os
 import sys
 
-from harness_results import bench
+from harness_results import needs
+
+needs.numpy_and_matplotlib('plot_bench.py')
+
+from harness_results import bench  # noqa: E402
 
 
 def main(argv):

@@ -28,7 +28,14 @@
                         card.{png,pdf}, the runs and, unless --reference DIR is given, the reference in DIR);
                         without --scene every bundled scene's into results/cards/<scene>/
                         (harness_results/card.py; --methods D1,D2,... the detectors, --set KEY=JSON for every
-                        run and the reference)
+                        run and the reference, recorded in card.md and card.csv)
+  study.py card|accuracy|ablation --method 'NAME=KEY=JSON,KEY=JSON'   (repeatable)
+                        a method of your own beside the built-in ones: NAME's rows are the runs with those
+                        `harness run --set` overrides (split on the commas outside brackets, braces and
+                        quotes: contacts.0.force={"stiffness":500,"damping":0.1} stays whole); its name and
+                        overrides are in every table, CSV (columns method, overrides) and plot it reaches
+                        (harness_results/methods.py). A run stopped before its forcing ended (--quick,
+                        --steps) is warned about and marked (column forced) in the tables.
 Options: --harness PATH (default build/bin/harness), --results DIR (default results),
          --quick (short runs, fewer points: a smoke test, not results), -j N (runs at once, default 2),
          --repeats N (runs per configuration for the timings, default 5),
@@ -43,8 +50,21 @@ Each study is a module of scripts/harness_results/studies/; the rules below are 
 scripts/harness_results/rules.py, the runs go through harness_results/runner.py.
 """
 import argparse
+import sys
 
-from harness_results import card, rules, studies
+from harness_results import needs
+
+needs.numpy_and_matplotlib("study.py")
+
+from harness_results import card, methods, rules, studies  # noqa: E402
+
+METHOD_STUDIES = ("card", "accuracy", "ablation")
+
+
+def method_error(msg):
+    """A bad --method: one line, exit status 2 (as argparse's errors)."""
+    print("study.py: --method %s" % msg, file=sys.stderr)
+    sys.exit(2)
 
 
 def main():
@@ -72,7 +92,19 @@ def main():
                     "surface edge)")
     ap.add_argument("--methods", default=",".join(card.METHODS), help="card: the detectors (default %(default)s)")
     ap.add_argument("--set", dest="card_sets", action="append", default=[], help="card: KEY=JSON for every run")
+    ap.add_argument("--method", dest="method_specs", action="append", default=[], metavar="NAME=KEY=JSON,...",
+                    help="card, accuracy, ablation: a method of your own, the runs with these --set overrides "
+                         "(repeatable; commas inside [], {} and quotes belong to the value)")
     a = ap.parse_args()
+    try:
+        taken = (card.builtin_names(a) if "card" in a.what else []) + (
+            studies.module("ablation").builtin_names() if "ablation" in a.what else [])
+        a.user_methods = methods.parse_all(a.method_specs, taken=taken)
+    except methods.MethodError as e:
+        method_error(str(e))
+    if a.user_methods and not set(a.what) <= set(METHOD_STUDIES):
+        method_error("is taken by %s only (not %s)" % (", ".join(METHOD_STUDIES),
+                                                      ", ".join(w for w in a.what if w not in METHOD_STUDIES)))
     if a.voxel is not None and (not a.scene or not a.voxel > 0):
         ap.error("--voxel: a size in m above 0, with --scene (got %g%s)" % (a.voxel, "" if a.scene else ", no --scene"))
     if "card" in a.what:

@@ -15,9 +15,14 @@ import json
 import operator
 import os
 import shutil
+import sys
 import tempfile
 
-import numpy as np
+try:
+    import numpy as np
+except ImportError:  # one line, not a traceback (the module's arrays are numpy's)
+    print("harness: needs numpy (Debian's python3-numpy); run it with /usr/bin/python3 or set PYTHON", file=sys.stderr)
+    raise SystemExit(2)
 
 from ._harness import Scene, SceneError, Simulation, SimulationError, have_reference
 from ._harness import _run_scene

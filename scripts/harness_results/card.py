@@ -6,17 +6,39 @@ the no-force run), time per step (mean and 99th percentile of steps.csv's t_step
 time, one thread). Writes OUT/card.md, OUT/card.csv, OUT/card.{png,pdf}; the runs are a
 `harness sweep --baseline` in OUT/runs/ (cached: delete it to rerun), the reference (when none is
 given) a `harness reference` in OUT/reference/.
+
+A user's method (study.py card --method NAME=KEY=JSON,...: methods.py) is a row beside the
+detectors': one `harness run` with its overrides in OUT/runs/method-NAME-HASH/. Every row records
+the overrides it ran with (card.csv and card.md `overrides`: --set's, and the detector's or the
+method's), card.md says the --set ones in words and the figure notes them; a run stopped before its
+forcing ended is warned about on stderr and marked (`forced` yes).
 """
 
+import json
 import math
 import os
 import subprocess
+import sys
 
-from . import reader, rules, style, writers
+from . import methods, reader, rules, runner, style, writers
 from .reader import scene_name
 
 METHODS = ["voxel", "voxel_exact", "cgal"]
 EVERY = 10  # CGAL measures every run every EVERY steps, as in every study (studies/common.py STUDY_EVERY)
+
+
+NO_FORCE = "no contact force"
+
+
+def builtin_names(a):
+    """The names of the card's built-in rows (its detectors, the run without contact force), which a
+    user's method (--method) may not take."""
+    return (a.methods.split(",") if isinstance(a.methods, str) else list(a.methods)) + [NO_FORCE, "no_force"]
+
+
+def protocol_sets():
+    """The --set overrides of every run of the card, before the user's: no frames, CGAL every EVERY steps."""
+    return ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=%d" % EVERY]
 
 
 def find_reference(a, scene, out):
@@ -43,11 +65,28 @@ def sweep(a, scene, out, ref):
     # Cached only where every run's steps.csv and timing.csv are there (a clone holds the summaries
     # alone).
     if not all(reader.stored(os.path.join(runs, f, n)) for f in folders for n in ("steps.csv", "timing.csv")):
-        sets = ["output.frames_every=0", 'references.solvers=["cgal"]', "references.every=%d" % EVERY] + a.card_sets
+        sets = protocol_sets() + a.card_sets
         cmd = [a.harness, "sweep", scene, "--grid", "contacts.0.detector=" + ",".join(a.methods), "--baseline",
                "--compare", ref, "--out", runs, "-j", "1"] + sum((["--set", s] for s in sets), [])
         subprocess.run(cmd, check=True, env=dict(os.environ, HARNESS_THREADS="1"))
     return runs
+
+
+def method_run(a, scene, runs, ref, m):
+    """A user's method (--method): one `harness run` of the scene with the card's overrides, --set's and
+    then the method's, compared with the reference, on one thread, into RUNS/method-NAME-HASH (a hash
+    of --set's and its overrides: cached until they change). Its folder; a run the harness refuses
+    ends the card (exit 2, after the harness's line)."""
+    folder = os.path.join(runs, methods.folder(m, a.card_sets))
+    if not all(reader.stored(os.path.join(folder, n)) for n in ("steps.csv", "timing.csv")):
+        cmd = [a.harness, "run", scene, "--out", folder, "--quiet", "--compare", ref] + runner.sets_args(
+            protocol_sets() + a.card_sets + m.sets)
+        print("card: %s: %s" % (m.name, " ".join(cmd)))
+        p = subprocess.run(cmd, env=dict(os.environ, HARNESS_THREADS="1"))
+        if p.returncode != 0 and not reader.has_summary(folder):  # refused (its line is above): say whose
+            print("card: --method %s: the harness refused its run (exit %d)" % (m.name, p.returncode), file=sys.stderr)
+            sys.exit(2 if p.returncode == 2 else 1)
+    return folder
 
 
 def step_times(folder):
@@ -61,12 +100,17 @@ def step_times(folder):
     return sum(t) / len(t), t[min(len(t) - 1, int(math.ceil(0.99 * len(t))) - 1)], t[-1]
 
 
-def row(folder, method):
+def row(folder, method, overrides=()):
+    """A run's row of the card: its figures, `method` (its name), `overrides` (the --set values it ran
+    with beyond the card's protocol_sets, as KEY=JSON,KEY=JSON) and `forced` (yes: it stopped before its
+    forcing ended, runner.warn_forced says so on stderr)."""
     s = reader.load_summary(folder)
     f = dict(reader.window_figures(s), **rules.stability_fields(s))
     mean, p99, mx = step_times(folder)
+    runner.warn_forced(folder, s)
     return dict(f, method=method, folder=os.path.basename(folder), t_mean_us=mean, t_p99_us=p99, t_max_us=mx,
-                tunnelled_total=reader.tunnelled_both(s))
+                tunnelled_total=reader.tunnelled_both(s), overrides=methods.text(overrides),
+                forced="yes" if runner.forcing_cut(s) else "no")
 
 
 def judge(rows, base, floor_mm=0.0):
@@ -122,22 +166,46 @@ def describe(r):
 
 
 COLUMNS = ["method", "pos_err_max_mm", "pos_err_amp_mm", "depth_max_mm", "stability", "tunnelled_total", "helps",
-           "useless", "t_mean_us", "t_p99_us", "t_max_us", "why_unstable", "folder"]
+           "useless", "t_mean_us", "t_p99_us", "t_max_us", "why_unstable", "forced", "folder", "overrides"]
 HEADS = ["method", "error (mm)", "chatter (mm)", "depth (mm)", "stability", "tunnelled", "helps", "useless",
-         "step mean (µs)", "step p99 (µs)", "step max (µs)", "why unstable", "run"]
+         "step mean (µs)", "step p99 (µs)", "step max (µs)", "why unstable", "still forced", "run", "overrides"]
 
 
-def write(out, name, ref, rows, base, sentence):
+def overrides_text(card_sets, user):
+    """card.md's lines on what the runs were given beyond the scene: --set (every run and the
+    reference) and each user's method's overrides; `user`: [(name, its own overrides)]."""
+    out = ["Overrides (`--set`, every run and the reference): %s." % (
+        ", ".join("`%s`" % x for x in card_sets) if card_sets else "none: the scene as written")]
+    for name, sets in user:
+        out.append("Method `%s` (`--method`): the scene with `%s` (after the `--set` ones)." % (name, methods.text(sets)))
+    return "".join(line + "\n\n" for line in out)
+
+
+def forced_text(rows):
+    """card.md's line on the runs stopped before their forcing ended; "" when none was."""
+    forced = [r["method"] for r in rows if r.get("forced") == "yes"]
+    if not forced:
+        return ""
+    return ("**Still forced when they stopped** (`--steps`, `time.steps` or a settle limit cut them before their "
+            "drivers finished; column `still forced`): %s: their figures are of a body still being loaded, not of "
+            "where it settles.\n\n" % ", ".join(forced))
+
+
+def write(out, name, ref, rows, base, sentence, card_sets=(), user=()):
+    """OUT/card.csv, card.md and card.{png,pdf} from the rows (built-in and the user's methods') and
+    the run without contact force; `card_sets`: --set, `user`: [(name, its own overrides)] of the
+    user's methods, both recorded."""
     floor_m, floor_rule = reader.reference_floor(reader.load_summary(ref))
     conv = reader.reference_converged(reader.load_summary(ref))
     if not conv:
         sentence = ("Judged against a reference that did not converge (floor %.3g mm: differences below it are not "
                     "told apart): " % (1e3 * floor_m)) + sentence
     # The no-force run still detects (its force is 0): its time is not a method's, and is not shown.
-    all_rows = rows + [dict(base, method="no contact force", helps="", useless="", t_mean_us="", t_p99_us="", t_max_us="")]
+    all_rows = rows + [dict(base, method=NO_FORCE, helps="", useless="", t_mean_us="", t_p99_us="", t_max_us="")]
     writers.write_csv(os.path.join(out, "card.csv"), all_rows, COLUMNS)
-    md = ["# %s: the verdict card\n\n" % name, sentence + "\n\n",
-          writers.md_table(all_rows, COLUMNS, HEADS),
+    md = ["# %s: the verdict card\n\n" % name, sentence + "\n\n", overrides_text(list(card_sets), list(user)),
+          forced_text(all_rows),
+          writers.md_table([dict(r, overrides=r["overrides"].replace("|", "\\|")) for r in all_rows], COLUMNS, HEADS),
           "\nError: the largest node distance from the reference's settled surfaces, mean over the final window "
           "(chatter: its max - min there); depth: the deepest true penetration (CGAL) in the window. Reference: `%s`, "
           "%s, floor %.3g mm (%s): errors closer than that are not told apart. Stability and \"helps\" by the studies' "
@@ -146,12 +214,22 @@ def write(out, name, ref, rows, base, sentence):
           "Runs: `%s`. Made by `scripts/study.py card`.\n" % (
               ref, "converged" if conv else "NOT converged", 1e3 * floor_m, floor_rule, os.path.join(out, "runs"))]
     writers.write_text(os.path.join(out, "card.md"), "".join(md))
-    plot(out, name, rows, base, 1e3 * floor_m)
+    plot(out, name, rows, base, 1e3 * floor_m, card_sets, user)
 
 
-def plot(out, name, rows, base, floor_mm):
+def plot_note(card_sets, user):
+    """The figure's note of the overrides (--set, --method), wrapped; "" without any."""
+    import textwrap
+    lines = (["--set (every run): " + methods.text(card_sets)] if card_sets else []) + [
+        "%s (--method): %s" % (n, methods.text(sets)) for n, sets in user]
+    return "\n".join(textwrap.fill(x, 110, break_on_hyphens=False) for x in lines)
+
+
+def plot(out, name, rows, base, floor_mm, card_sets=(), user=()):
     plt = style.pyplot()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(style.TEXT, 0.5 + 0.3 * len(rows)), layout="constrained", sharey=True)
+    note = plot_note(list(card_sets), list(user))
+    height = max(1.3, 0.5 + 0.3 * len(rows)) + (0.25 + 0.13 * note.count("\n") if note else 0.0)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(style.TEXT, height), layout="constrained", sharey=True)
     ys = list(range(len(rows)))
     colour = ["C2" if r["stable"] == "yes" and not r["useless"] else "0.6" for r in rows]
     ax1.barh(ys, [min(r["pos_err_max_mm"], 1e3) for r in rows], color=colour,
@@ -166,9 +244,12 @@ def plot(out, name, rows, base, floor_mm):
     ax2.plot([r["t_p99_us"] for r in rows], ys, "k|", markersize=8, label="p99")
     ax2.set_xlabel("time per step (µs; mean, | p99)")
     for y, r in zip(ys, rows):
-        ax2.annotate(describe(r) if r["useless"] or r["stable"] != "yes" else "stable, helps", (0, y),
+        ax2.annotate((describe(r) if r["useless"] or r["stable"] != "yes" else "stable, helps") +
+                     ("; still forced when it stopped" if r.get("forced") == "yes" else ""), (0, y),
                      xytext=(2, 0), textcoords="offset points", va="center", fontsize=style.SMALL)
     fig.suptitle("%s: green = stable, helps, nothing tunnelled" % name)
+    if note:
+        fig.supxlabel(note, fontsize=style.SMALL, ha="left", x=0.01)
     style.save(fig, os.path.join(out, "card"), width=style.TEXT)
 
 
@@ -176,10 +257,13 @@ def make(a, scene, out):
     os.makedirs(out, exist_ok=True)
     ref = find_reference(a, scene, out)
     runs = sweep(a, scene, out, ref)
-    rows = [row(os.path.join(runs, "contacts.0.detector-%s" % m), m) for m in a.methods]
-    base = row(os.path.join(runs, "no_force"), "no contact force")
+    user = list(getattr(a, "user_methods", None) or [])
+    rows = [row(os.path.join(runs, "contacts.0.detector-%s" % m), m,
+                ["contacts.0.detector=%s" % json.dumps(m)] + a.card_sets) for m in a.methods]
+    rows += [row(method_run(a, scene, runs, ref, m), m.name, a.card_sets + m.sets) for m in user]
+    base = row(os.path.join(runs, "no_force"), NO_FORCE, a.card_sets)
     sentence = judge(rows, base, 1e3 * reader.reference_floor(reader.load_summary(ref))[0])
-    write(out, scene_name(scene), ref, rows, base, sentence)
+    write(out, scene_name(scene), ref, rows, base, sentence, a.card_sets, [(m.name, m.sets) for m in user])
     print("card: %s -> %s: %s" % (scene, os.path.join(out, "card.md"), sentence))
 
 

@@ -117,6 +117,24 @@ def load_steps(path):
     return columns(join_timing(rows, read_csv(os.path.join(path, "timing.csv"), text=("pair",))))
 
 
+def load_columns(path, names):
+    """Some columns of a run's steps.csv (plain or gzipped) as {column: list of floats, NaN where
+    empty}: the fast path for a reader that needs a few of its many columns."""
+    f = os.path.join(path, "steps.csv")
+    if stored(f) is None:
+        raise FileNotFoundError("%s: no steps.csv (nor steps.csv.gz)" % path)
+    with open_text(f) as fh:
+        rd = csv.reader(fh)
+        head = next(rd)
+        idx = [head.index(n) for n in names]
+        out = {n: [] for n in names}
+        for row in rd:
+            for n, i in zip(names, idx):
+                c = row[i] if i < len(row) else ""
+                out[n].append(float(c) if c != "" else NAN)
+    return out
+
+
 def measured(cols, key):
     """(steps, values) of the steps.csv rows where column `key` was measured."""
     st, va = [], []
@@ -329,36 +347,12 @@ def window_stat(d, key, what="mean"):
     return num(v.get(what)) if isinstance(v, dict) else NAN
 
 
-def rho_over(s, norm):
-    """The run's rho with the input power over the loading period ("loading": the harness's rule
-    since the window's input_period_s is recorded) or over the whole time before the window
-    ("before": the rule the committed studies were run under), from the summary's window figures;
-    the recorded rho where they do not give it."""
-    w = window(s)
-    rho = num(w.get("contact_power_ratio"))
-    recorded = "loading" if present(w.get("input_period_s")) else "before"
-    if norm == recorded:
-        return rho
-    dt = num(((s.get("resolved_scene") or {}).get("time") or {}).get("dt"))
-    pc, e_in = num(w.get("contact_power_W")), num(w.get("energy_in_J"))
-    forcing, start, steps = num(w.get("forcing_ends_step")), num(w.get("from_step")), num(w.get("steps"))
-    if not (present(dt) and present(pc) and present(e_in) and e_in > 0 and present(forcing) and present(start)
-            and start > 1 and start > forcing and w.get("after_forcing")):
-        return rho
-    # the loading period: the forcing's steps, or the window's where nothing forces the scene
-    loading = forcing if forcing > 0 else steps
-    if not present(loading):
-        return rho
-    return pc * (loading if norm == "loading" else start - 1) * dt / e_in
-
-
-def stability_inputs(s, norm=None):
-    """What the stability rule (rules.classify) reads from a summary, by name; rho over the input
-    period `norm` (rho_over; None: as recorded)."""
+def stability_inputs(s):
+    """What the studies' stability rule (rules.classify) reads from a summary, by name."""
     w = window(s)
     return {"status": s.get("status"), "error": s.get("error"), "finite": s.get("finite"),
             "verdict": s.get("stability_verdict"),
-            "rho": num(w.get("contact_power_ratio")) if norm is None else rho_over(s, norm),
+            "rho": num(w.get("contact_power_ratio")),
             "growth": num(w.get("kinetic_growth")),
             "kicked": w.get("kicked"), "net_contact_work": num(w.get("net_contact_work_J")),
             "guard_violations": num((s.get("stability") or {}).get("guard_violations"), 0),
@@ -434,7 +428,7 @@ def window_figures(s):
     return {
         "status": status(s), "verdict": s.get("stability_verdict"),
         # rho over the loading period (the harness's rule since it records window.input_period_s) or
-        # over the whole time before the window (runs before it): rules.loading_rho converts only those
+        # over the whole time before the window (runs before it)
         "rho_norm": "loading" if "input_period_s" in w else "before window",
         "contact_power_ratio": num(w.get("contact_power_ratio")),
         "settled": s.get("settled"), "steps": s.get("steps_run"), "window_from": w.get("from_step"),

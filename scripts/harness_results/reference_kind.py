@@ -2,13 +2,14 @@
 method (only the guest's nodes pushed out of the host) against the one-sided reference, the limit
 it converges to, a method both ways against the two-sided one (OF_ITS_KIND, the rule as written);
 the run without contact force's figures on the kind of the row it is compared with; the floors of
-the two references in the noise. rules.py re-exports these names."""
+the two references in the noise; a run's summary judged against its second reference
+(also_reference). rules.py re-exports these names."""
 
-import os
+import copy
 
-from . import reader, rewindow
+from . import reader
 
-# The reference a method is judged against (Variant.reference): its own kind, one-sided methods
+# The reference a method is judged against: its own kind, one-sided methods
 # against the one-sided reference (the limit a one-sided method converges to) and two-sided ones
 # against the two-sided; the other choice judges every method against the two-sided reference.
 OF_ITS_KIND = "of its kind"
@@ -56,36 +57,30 @@ class KindFloor(float):
         return max(vals) if vals else float(self)
 
 
-_VARIANT_CACHE = {}
-
-
-def variant_rows(root, rows, window, reference):
-    """accuracy_time.csv's rows under a choice of `window` (the final window's length over the
-    scene's) and `reference` (OF_ITS_KIND or "both ways"): their window figures, stability and reference kind replaced by those of the
-    same configuration in accuracy_variants.csv (the study's runs judged again: rewindow.py); the rows
-    as they are under the rule as written, or where the file lacks the configuration or the choice
-    (robustness.NOT_VARIED says so)."""
-    if window == 1.0 and reference == OF_ITS_KIND:
-        return rows
-    path = os.path.join(root, "accuracy_variants.csv")
-    if path not in _VARIANT_CACHE:
-        vs = reader.read_csv(path, text=reader.STUDY_TEXT, missing=[])
-        _VARIANT_CACHE[path] = {(v["scene"], v["config"], v["eliminator"], v["force"], float(v["window_factor"]),
-                                 v["reference_rule"]): v for v in vs}
-    table = _VARIANT_CACHE[path]
-    out = []
-    for r in rows:
-        v = table.get((r.get("scene"), r.get("config"), r.get("eliminator"), r.get("force"), float(window),
-                       reference))
-        if v is None:
-            out.append(r)
+def also_reference(s):
+    """A copy of summary `s` judged against its second reference (--compare-also), None when it has
+    none: error_vs_reference's position and gap figures replaced by error_vs_reference_also's."""
+    out = copy.deepcopy(s)
+    any_also = False
+    figs = ("pos_err_max", "pos_err_rms", "gap_max", "gap_mean")
+    for p in out.get("pairs") or []:
+        also = p.get("error_vs_reference_also")
+        if not also:
             continue
-        r = dict(r)
-        for k, x in v.items():
-            if k not in ("scene", "config", "detector", "eliminator", "force", "two_sided", "window_factor",
-                         "reference_rule", "helps", "useless"):
-                r[k] = x
-        out.append(r)
+        any_also = True
+        e = p.setdefault("error_vs_reference", {})
+        first = {f: e.get(f) for f in figs + ("touching_nodes",)}
+        first_w = {f: (e.get("window") or {}).get(f) for f in figs}
+        for fig in figs + ("touching_nodes",):
+            e[fig] = also.get(fig)
+        ew, aw = e.setdefault("window", {}), also.get("window") or {}
+        for fig in figs:
+            ew[fig] = aw.get(fig)
+        p["error_vs_reference_also"] = dict(first, dir=(s.get("compare") or {}).get("dir"), window=first_w)
+    if not any_also:
+        return None
+    out["compare"] = dict(out.get("compare") or {}, dir=(s["pairs"][0].get("error_vs_reference_also") or {}).get("dir"))
+    out["_also_first"] = not s.get("_also_first")
     return out
 
 
@@ -97,7 +92,7 @@ def of_its_kind(s):
     two = [bool((c or {}).get("two_sided")) for c in (reader.resolved(s).get("contacts") or [])]
     also = (reader.pair(s).get("error_vs_reference_also") or {}).get("dir") or ""
     if two and not any(two) and str(also).rstrip("/").endswith("_one_sided"):
-        k = rewindow.also_reference(s)
+        k = also_reference(s)
         if k is not None:
             return k, "one-sided"
     return s, "both ways"

@@ -1,4 +1,4 @@
-"""The written rules of the studies and the claims, stated once (scripts/study.py prints this text
+"""The written rules of the studies, stated once (scripts/study.py prints this text
 in its --help), each implemented below and tested in tests/scripts/.
 
 Definitions:
@@ -20,18 +20,15 @@ Definitions:
                 reference has contact) window mean; depth_max (deepest node inside the other body)
                 window maximum, and its peak over the whole run; tunnelled nodes (through the other
                 body) window maximum.
-  stable        by the run's contact power over the window against the power the scene put in
-                (over its loading period: every committed study file records it so, rho_norm "loading",
-                and so do the report's runs; region.csv does not record its normalisation; robustness
-                judges every verdict with rho over the whole time before the window too, the old
-                normalisation with the limits as they were calibrated for it)
-                (rho, summary.json window.contact_power_ratio; the harness calls a run "injects"
-                above 0.02) with a stated margin of a factor 2 either way: stable when the run
-                settled or chatters with rho <= 0.01; unstable when rho > 0.04, when its kinetic
-                energy grows over the window, when contact kicked the bodies (its net work still
-                held as motion), when dt exceeded the guard or the state went non-finite; marginal
-                in between (0.01 < rho <= 0.04). A verdict that rests on a run that is not stable is
-                "inconclusive". The energy audit must close within 1 % for the figures to count.
+  stable        (the studies' tables, the defaults and the front, as the committed study files
+                record it) by the run's contact power over the window against the power the scene
+                put in over its loading period (rho, summary.json window.contact_power_ratio) with a
+                margin of a factor 2 either way around 0.02: stable when the run settled or chatters
+                with rho <= 0.01; unstable when rho > 0.04, when its kinetic energy grows over the
+                window, when contact kicked the bodies, when dt exceeded the guard or the state went
+                non-finite; marginal in between. The claims do not use it: the judge reads a run's
+                C++ stability class (core/run/window.hpp) or, for rows made before it, the error's
+                motion over the window (scripts/harness_results/judge/measure.py).
   time          microseconds per step of detection plus elimination (t_contact) and of the whole
                 step (t_step): the median over the run's steps, then the median over --repeats runs
                 (the spread is the range over the runs).
@@ -45,68 +42,16 @@ Definitions:
                 a run is off it when another is no worse on both and better beyond the noise (below)
                 on one. Two runs within the noise of each other on both do not put each other off;
                 either can still be put off by a third (the noise is not transitive).
-  noise         (claims) two runs' figures differ only by more than the larger of: 10 % of the larger
-                figure, the sum of the two runs' chatter amplitudes over the window (position error),
-                and the floor of the reference they are measured against (reader.reference_floor: its
-                last level's change, or the largest of its last two when the loop is not asymptotic).
-                The relative tie, argued: every run is deterministic (the same binary gives the same
-                state hash), but not robust in its last digits: a rounding perturbation (the node
-                order, docs/findings.md) moves a chattering run's rho from 0.016 to 0.028 and a
-                tunnelling run's count from 1 to 3 nodes, and the harness has not measured that
-                spread per configuration (no ensemble over node orders), nor what it does to the
-                position error the tie is applied to; the tie stands in for it, an argument by
-                analogy, not a measurement.
-                It is a choice, not a measurement: robustness varies it (0, 5 and 10 %), and so the
-                mesh floor (the sphere's reference on a refined mesh against its own, 1.13 mm, for a
-                claim read as about the method rather than this mesh), and a verdict that either
-                decides is stated fragile.
-                Times differ only when their ranges over the repeats do not overlap.
-  evidence      (claims) a run is evidence only when it is stable, it helps (the defaults' rule
-                `useful`: at least 10 % closer to the reference than the same scene with no contact
-                force, results/accuracy_time.csv's "no contact force" row; or 10 % shallower and no
-                farther) and it tunnels nothing over the window (tunnelled = 0): a run that does
-                nothing, or whose nodes went through, says nothing about how well a method works.
-  comparison    (claims) two runs by a figure, smaller better: "a" or "b" when one is smaller by more
-                than the noise, "within noise" otherwise; not judged when either run is not evidence
-                ("not stable", "tunnels", "no better than no force") or a figure is missing. A
-                comparison between two runs that are evidence is decisive (for, against or within
-                the noise).
-  verdict       (claims) over a claim's decisive comparisons D = for + against + within the noise:
-                "inconclusive" when D < MIN_DECISIVE (3: one comparison, however clear, is one
-                configuration, and the studies' grids are built to give a claim at least three);
-                "mixed" when the comparisons for it and those against it are both more than MIXED_SHARE
-                (20 %) of D (both present beyond the share: the configurations disagree);
-                "supported" when the comparisons for it are at least 1 - MIXED_SHARE (80 %) of D;
-                "not supported" when they are at most MIXED_SHARE (20 %) of D; "inconclusive" in
-                between with nothing against beyond the share (some configurations bear the claim
-                out, the rest find no difference: neither borne out nor contradicted); "not tested"
-                without any comparison. What is not for the claim is against it or within the noise,
-                and both count as not for in the share (a claim that predicts a difference is not
-                borne out by comparisons that find none): 0-3-0 and 0-0-3 are both "not
-                supported", 2-2-1 is "mixed" and 2-0-1 "inconclusive". For and against are treated
-                alike: swapping them swaps "supported" and "not supported" and keeps "mixed";
-                the within-noise comparisons are the one asymmetry (they count as not for: 0-1-2 is
-                "not supported", 1-0-2 "inconclusive"). That reading is a choice: robustness judges
-                every verdict with them on neither side too (noise_reading NEITHER: "not supported"
-                then needs 80 % against, the mirror of "supported"; 0-1-2 and 0-0-3 are inconclusive). Each verdict is printed with its counts (for,
-                against, within noise, not judged). Claims with rules of their own, stated in their
-                modules: (e) is about detection alone (force 0: nothing pushes, so stability,
-                helping and tunnelling do not apply); (c) counts a restriction that is not stable
-                where the penalty is evidence as improper (for the claim); (b) counts a run that
-                tunnelled and fails its criteria against (tunnelling can only make it pass).
-  robustness    (claims, harness_results/robustness.py) every verdict is judged again under every
-                combination of the rule's free choices (VARIANTS: the rho limits halved and doubled,
-                the marginal band counted stable, the relative tie 0 or 5 % instead of 10 %, the
-                reference's floor or its Richardson estimate or twice the floor or the mesh floor beside
-                it, up to 10 nodes
-                tunnelled over the window instead of none, two decisive comparisons sufficing instead
-                of three, a run helping at 80 % of the no-force run's figures instead of 90 %, rho over
-                the whole time before the window (the old normalisation), the final window halved and
-                doubled, every method against the two-sided reference instead of the reference of its
-                kind: the last two from accuracy_time.csv's runs judged again, accuracy_variants.csv); a
-                verdict is stated
-                as it is only when every variant agrees, else "fragile (...)": the variants under
-                which it flips are named (results/robustness.csv).
+  noise         (the front) two runs' figures differ only by more than the larger of: 10 % of the
+                larger figure (TIE), the sum of the two runs' chatter amplitudes over the window
+                (position error), and the floor of the reference they are measured against
+                (reader.reference_floor). Times differ only when their ranges over the repeats do not
+                overlap.
+  evidence      (the front) a run is on the front's footing only when it is stable, it helps (at least
+                10 % closer to the reference than the same scene with no contact force,
+                results/accuracy_time.csv's "no contact force" row; or 10 % shallower and no farther)
+                and it tunnels nothing over the window.
+The claims are judged apart, by scripts/harness_results/judge/ (scripts/claims.py).
 """
 
 import math
@@ -114,9 +59,8 @@ import os
 import re
 
 from . import reader
-from . import reference_kind
 from .reference_kind import OF_ITS_KIND, KindFloor, as_two_sided, same_kind_base  # noqa: F401 (re-exported)
-from .loading_period import forcing_end, forcing_end_of, loading_rho, renormalised_rho, scene_window  # noqa: F401
+from .loading_period import forcing_end, forcing_end_of, scene_window  # noqa: F401
 
 # Stability by the contact's power over the window against the power put in (core/run/window.hpp,
 # whose own limit is INJECTION_LIMIT), with a margin of a factor MARGIN either way.
@@ -132,72 +76,30 @@ INCONCLUSIVE = "inconclusive"
 # The accuracy study's baseline configuration: contact detected, never pushed (the run a setting
 # must beat to help).
 NO_FORCE = "no contact force"
-# The claims' relative tie, decisive comparisons a verdict needs, and the share for that separates
-# the verdicts (verdict above).
+# The front's relative tie (noise above).
 TIE = 0.10
-MIN_DECISIVE = 3
-MIXED_SHARE = 0.2
-# How the within-noise comparisons count in a verdict (Variant.noise_reading).
-NOT_FOR, NEITHER = "not for", "neither"
 
 
 class Variant:
-    """One choice of the rule's free parameters (robustness above): rho_scale multiplies the
-    stability limits (INJECTION_LIMIT with its MARGIN band), marginal says whether the marginal band
-    counts as stable, tie is the relative tie of the noise, floor which floor of the reference the
-    noise takes ("floor": reader.reference_floor, "richardson": the last level's Richardson estimate,
-    "double": twice the floor, "mesh": the larger of the floor and the scene's mesh floor, its
-    reference on a mesh refined once against the reference on its own mesh)."""
+    """One choice of the studies' free parameters: marginal says whether the marginal band counts as
+    stable, tie is the relative tie of the noise, tunnel_limit the nodes a run may tunnel over the
+    window and still be on the front's footing, helps the share of the no-force run's figures at which
+    a run helps (USEFUL)."""
 
-    def __init__(self, rho_scale=1.0, marginal="unstable", tie=TIE, floor="floor", tunnel_limit=0,
-                 min_decisive=MIN_DECISIVE, helps=USEFUL, rho_norm="recorded", window=1.0, reference=OF_ITS_KIND,
-                 noise_reading=NOT_FOR):
-        self.rho_scale, self.marginal, self.tie, self.floor = rho_scale, marginal, tie, floor
-        self.tunnel_limit = tunnel_limit  # nodes a run may tunnel over the window and still be evidence
-        self.min_decisive = min_decisive  # decisive comparisons a verdict needs (MIN_DECISIVE)
-        self.helps = helps                # a run helps at this share of the no-force run's figures (USEFUL)
-        # rho as each run recorded it ("recorded": over the loading period, every committed study file and
-        # the report's runs), over the loading period for all that allow it ("loading") or over the whole
-        # time before the window ("before": the old normalisation; reader.rho_over, renormalised_rho)
-        self.rho_norm = rho_norm
-        # the final window's length over the scene's time.window (accuracy_variants.csv: the runs judged
-        # again over half and twice it) and the reference each method is judged against: OF_ITS_KIND
-        # (one-sided methods against the one-sided reference, both ways against the two-sided) or
-        # "both ways" (every method against the two-sided reference)
-        self.window, self.reference = window, reference
-        # how the within-noise comparisons count in the verdict (claim_verdict): as not for (NOT_FOR, the
-        # rule as written: a predicted difference that is not found does not bear the claim out) or on
-        # neither side (NEITHER: not supported then needs the comparisons against, mirror of supported)
-        self.noise_reading = noise_reading
+    def __init__(self, marginal="unstable", tie=TIE, tunnel_limit=0, helps=USEFUL):
+        self.marginal, self.tie, self.tunnel_limit, self.helps = marginal, tie, tunnel_limit, helps
 
     def name(self):
-        """"rho x0.5, marginal stable, tie 5 %, floor richardson": the choices that differ from the default."""
+        """"marginal counted stable, tie 5 %": the choices that differ from the default."""
         parts = []
-        if self.rho_scale != 1.0:
-            parts.append("rho limits x%g" % self.rho_scale)
         if self.marginal != "unstable":
             parts.append("marginal counted %s" % self.marginal)
         if self.tie != TIE:
             parts.append("tie %g %%" % (100 * self.tie))
-        if self.floor != "floor":
-            parts.append({"richardson": "floor = Richardson estimate", "double": "floor x2",
-                          "mesh": "mesh floor in the noise"}.get(self.floor, self.floor))
         if self.tunnel_limit:
             parts.append("up to %d tunnelled nodes" % self.tunnel_limit)
-        if self.min_decisive != MIN_DECISIVE:
-            parts.append("%d decisive comparisons suffice" % self.min_decisive)
         if self.helps != USEFUL:
             parts.append("helps at %g %% of no force" % (100 * self.helps))
-        if self.rho_norm == "loading":
-            parts.append("rho over the loading period")
-        elif self.rho_norm == "before":
-            parts.append("rho over the time before the window")
-        if self.window != 1.0:
-            parts.append("window x%g" % self.window)
-        if self.reference != OF_ITS_KIND:
-            parts.append("every method against the %s reference" % self.reference)
-        if self.noise_reading != NOT_FOR:
-            parts.append("within-noise comparisons on neither side")
         return ", ".join(parts) or "the rule as written"
 
 
@@ -227,7 +129,7 @@ class using:
 def classify(s):
     """(class, reasons) of one run's summary by the written rule (stable above): "stable",
     "marginal", "unstable" or "failed"."""
-    x = reader.stability_inputs(s, None if CURRENT.rho_norm == "recorded" else CURRENT.rho_norm)
+    x = reader.stability_inputs(s)
     rho, verdict = x["rho"], x["verdict"]
     if x["status"] != "ok":
         if x["status"] == "refused":  # runner.harness: the harness refused the configuration (exit 2)
@@ -250,7 +152,7 @@ def judge_power(rho, settled, reasons):
     the run settled and its other reasons to be unstable (stable above): unstable with any reason or
     rho above the band, marginal within the band unless it settled, stable otherwise."""
     reasons = list(reasons)
-    limit = INJECTION_LIMIT * CURRENT.rho_scale
+    limit = INJECTION_LIMIT
     if not math.isnan(rho) and rho > limit * MARGIN:
         reasons.append("contact power %.3g of the power put in" % rho)
     if reasons:
@@ -290,8 +192,6 @@ def reclassify_row(row):
             m = re.match(r"contact power ([-+0-9.eE]+) of the power put in", x)
             if m:
                 rho = float(m.group(1))
-    if CURRENT.rho_norm in ("loading", "before"):
-        rho = renormalised_rho(row, rho, CURRENT.rho_norm)
     if "settled" in row and str(row.get("settled")) not in ("", "nan"):
         settled = str(row.get("settled")) in ("True", "true", "yes", "1")
     else:  # not recorded: a stable row whose rho lies above the band was settled
@@ -366,17 +266,9 @@ def choose(rows, baseline=None):
 
 def no_force_bases(root):
     """{scene: its run without contact force}: the NO_FORCE rows of accuracy_time.csv in the results
-    folder `root` (under the current window and reference choices: variant_rows), what "helps" is
-    judged against ({} without the file)."""
+    folder `root`, what "helps" is judged against ({} without the file)."""
     rows = reader.read_csv(os.path.join(root, "accuracy_time.csv"), text=reader.STUDY_TEXT, missing=[])
-    rows = variant_rows(root, rows)
     return {r["scene"]: as_two_sided(r) for r in rows if r.get("config") == NO_FORCE}
-
-
-def variant_rows(root, rows):
-    """accuracy_time.csv's rows under the current choice of window and reference (CURRENT.window,
-    CURRENT.reference): reference_kind.variant_rows."""
-    return reference_kind.variant_rows(root, rows, CURRENT.window, CURRENT.reference)
 
 
 def helps_word(row, base):
@@ -469,12 +361,9 @@ def nearest_rank(sorted_vals, q):
 
 
 # ---------------------------------------------------------------------------------------------
-# The claims on equal footing: comparisons beyond the noise, four verdicts
+# Comparisons beyond the noise (the front)
 WITHIN_NOISE, NOT_STABLE, MISSING = "within noise", "not stable", "missing"
 TUNNELS, NO_HELP = "tunnels", "no better than no force"
-NOT_JUDGED = (NOT_STABLE, MISSING, TUNNELS, NO_HELP)
-SUPPORTED, NOT_SUPPORTED, NOT_TESTED, MIXED = "supported", "not supported", "not tested", "mixed"
-VERDICTS = (SUPPORTED, NOT_SUPPORTED, MIXED, INCONCLUSIVE, NOT_TESTED)
 
 
 def noise(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
@@ -507,18 +396,6 @@ def decide(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
     return WITHIN_NOISE
 
 
-def decide_stable_wins(a, b, key="pos_err_max_mm", floor=0.0, tie=None):
-    """decide, but where one row is evidence and the other is not (not stable, tunnels, or no better
-    than no force), the evidence wins ("a" or "b"): a setting that holds against one that does not is
-    a finding whatever the errors (the swap's rule). Neither evidence: as decide (why not judged)."""
-    ga, gb = evidence_gap(a), evidence_gap(b)
-    if ga is None and gb is not None:
-        return "a"
-    if gb is None and ga is not None:
-        return "b"
-    return decide(a, b, key, floor, tie)
-
-
 def time_decide(a, b, key="t_contact", factor=1.0):
     """Two rows by time (`key`_us median, `key`_min_us / `key`_max_us the range over repeats): "a"
     when a is faster by more than `factor` (its median times factor below b's) and a's slowest run is
@@ -533,48 +410,3 @@ def time_decide(a, b, key="t_contact", factor=1.0):
     if tb * factor < ta and bmax < amin:
         return "b"
     return WITHIN_NOISE
-
-
-def claim_verdict(outcomes, expected="a", minimum=None):
-    """A claim's verdict over its comparisons' outcomes (verdict above); `expected` the outcome the
-    claim predicts; `minimum` the decisive comparisons it needs (MIN_DECISIVE unless the claim states
-    and argues its own). Outcomes other than `expected`, WITHIN_NOISE and the not-judged ones go
-    against it."""
-    outcomes = list(outcomes)
-    if not outcomes:
-        return NOT_TESTED
-    t = tally(outcomes, expected)
-    decisive = t["for"] + t["against"] + t["noise"]
-    if decisive < (CURRENT.min_decisive if minimum is None else minimum):
-        return INCONCLUSIVE
-    if t["for"] > MIXED_SHARE * decisive and t["against"] > MIXED_SHARE * decisive:
-        return MIXED
-    if t["for"] >= (1.0 - MIXED_SHARE) * decisive:
-        return SUPPORTED
-    if CURRENT.noise_reading == NEITHER:  # the mirror of supported: the comparisons against decide it
-        return NOT_SUPPORTED if t["against"] >= (1.0 - MIXED_SHARE) * decisive else INCONCLUSIVE
-    if t["for"] <= MIXED_SHARE * decisive:
-        return NOT_SUPPORTED
-    return INCONCLUSIVE  # for in between, nothing against beyond the share: the rest within the noise
-
-
-def tally(outcomes, expected="a"):
-    """{"for", "against", "noise", "not judged"}: the counts a verdict is printed with."""
-    outcomes = list(outcomes)
-    t = {"for": 0, "against": 0, "noise": 0, "not judged": 0}
-    for o in outcomes:
-        if o == expected:
-            t["for"] += 1
-        elif o == WITHIN_NOISE:
-            t["noise"] += 1
-        elif o in NOT_JUDGED:
-            t["not judged"] += 1
-        else:
-            t["against"] += 1
-    return t
-
-
-def tally_text(t):
-    """"2 for, 1 against, 3 within the noise, 4 not judged (a run not evidence or a figure missing)"."""
-    return "%d for, %d against, %d within the noise, %d not judged (a run not evidence or a figure missing)" % (
-        t["for"], t["against"], t["noise"], t["not judged"])

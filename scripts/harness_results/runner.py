@@ -43,7 +43,45 @@ def harness(a, args, out, check=False, show_stderr=False, cached=True, threads="
             # a configuration that cannot run, listed as failed with the harness's one line.
             why = (p.stderr or "").strip().splitlines()
             return {"status": "refused", "error": why[-1] if why else "exit 2"}
-    return reader.load_summary(out)
+    s = reader.load_summary(out)
+    warn_forced(out, s)
+    return s
+
+
+def forcing_cut(s):
+    """(the step the run stopped at, the step its forcing ends at or None: never) when the run ended
+    before its forcing (drivers, loads, pressure ramps) did (summary window.after_forcing false:
+    --quick or --steps cut it short), else None."""
+    w = reader.window(s)
+    if "after_forcing" not in w or w["after_forcing"]:
+        return None
+    end = w.get("forcing_ends_step")
+    return int(reader.num(w.get("to_step"), reader.steps_run_or_none(s) or 0)), (None if end is None else int(end))
+
+
+def forced_text(s):
+    """"yes" for a run stopped before its forcing ended (forcing_cut), "" otherwise: the `forced`
+    column of the studies' and the card's rows."""
+    return "yes" if forcing_cut(s) else ""
+
+
+_warned = set()
+_warned_lock = threading.Lock()
+
+
+def warn_forced(name, s, stream=None):
+    """One line on stderr (once per run folder `name`) for a run stopped before its forcing ended:
+    its figures are of a body still being loaded. Returns whether it warned."""
+    cut = forcing_cut(s)
+    with _warned_lock:
+        if cut is None or name in _warned:
+            return False
+        _warned.add(name)
+    stop, end = cut
+    print("warning: %s stopped at step %d before its forcing ended %s: its figures are of a body still being loaded"
+          % (name, stop, "at step %d" % end if end is not None else "(it never ends: a driver without an end)"),
+          file=stream or sys.stderr, flush=True)
+    return True
 
 
 def run(a, scene, out, sets, compare=True):

@@ -9,16 +9,21 @@ figures/ablation_<scene>.{png,pdf}, tables/ablation.md, tables/ablation_defaults
 import json
 import os
 
-from .. import reader, rules, runner, style, writers
+from .. import methods, reader, rules, runner, style, writers
 from ..rules import USEFUL
 from .accuracy import FOOTING_VOXELS
-from .common import (PARETO_CAP_MM, PENALTY, combine, config_sets, figure_path, figures, footing_voxels, force_label,
-                     mark_useless, no_force_bases, paper_eliminator, read_rows, reference_of_kind, scenes, table_path,
-                     with_both_kinds)
+from .common import (PARETO_CAP_MM, PENALTY, columns_of, combine, config_sets, figure_path, figures, footing_voxels,
+                     force_label, is_user_row, mark_useless, no_force_bases, notes, paper_eliminator, read_rows,
+                     reference_of_kind, scenes, table_path, user_fields, user_methods, with_both_kinds)
 
 ABLATION_VOXELS = [0.004, 0.008, 0.016, 0.032]
 CONSTANT_FORCES = ["0.0005", "0.001", "0.003", "0.01", "0.03", "0.1"]
 ABLATION_FORCES = CONSTANT_FORCES + ["auto", '{"stiffness":125}', PENALTY, '{"stiffness":2000}']
+
+
+def builtin_names():
+    """The grid's force columns' names, which a user's method (--method) may not take."""
+    return [force_label(f) for f in ABLATION_FORCES]
 
 
 def ablation_voxels(a, scene):
@@ -43,6 +48,12 @@ def run(a):
                                      config_sets("voxel", v, elim, f, []), compare=(ref, other))
                 index.append((scene, v, f, kind, len(jobs), len(js)))
                 jobs += js
+            for m in user_methods(a):  # study.py --method: a column of its own, at every voxel
+                mkind, mref, mother = reference_of_kind(a, scene, bool(methods.value(m.sets, "contacts.0.two_sided")))
+                js = runner.repeated(a, scene, "ablation/%s/v%g_%s" % (scene, 1e3 * v, methods.folder(m)),
+                                     user_sets(v, elim, m), compare=(mref, mother))
+                index.append((scene, v, m, mkind, len(jobs), len(js)))
+                jobs += js
     base_at = len(jobs)
     kinds = {}
     for scene in scenes(a):  # the baseline: contact measured, never pushed (force 0); untimed
@@ -54,10 +65,20 @@ def run(a):
     baseline = {scene: with_both_kinds(figures(sums[base_at + k]), sums[base_at + k], kinds[scene][0])
                 for k, scene in enumerate(scenes(a))}
     for scene, v, f, kind, i, n in index:
-        row = dict(combine(sums[i:i + n]), scene=scene, voxel_mm=1e3 * v, force=force_label(f),
+        user = isinstance(f, methods.Method)
+        row = dict(combine(sums[i:i + n]), scene=scene, voxel_mm=1e3 * v, force=f.name if user else force_label(f),
                    eliminator=paper_eliminator(a, scene))
+        if user_methods(a):
+            row.update(user_fields(f) if user else {"method": "", "overrides": ""})
         rows.append(with_both_kinds(row, sums[i], kind))
     write(a, rows, baseline)
+
+
+def user_sets(v, elim, m):
+    """The --set overrides of a user's method at voxel `v`: the grid's (the voxel model, the scene's
+    paper eliminator, one-sided, CGAL every STUDY_EVERY steps, the voxel) but its force, which is the
+    scene's unless the method sets it; then the method's own (which may change any of them)."""
+    return [x for x in config_sets("voxel", v, elim, "auto", []) if not x.startswith("contacts.0.force=")] + list(m.sets)
 
 
 COLUMNS = ["scene", "eliminator", "voxel_mm", "force", "stable", "why_unstable", "settled", "pos_err_max_mm",
@@ -86,8 +107,9 @@ def write(a, rows, baseline):
     chosen = {}
     for scene in scenes(a):
         sr = [r for r in rows if r["scene"] == scene]
+        grid = [r for r in sr if not is_user_row(r)]  # the default is the voxel model's: the user's methods beside it
         footing = min(footing_voxels(a, scene, FOOTING_VOXELS)) * 1e3 - 1e-9  # the default: on equal footing only
-        best = chosen[scene] = rules.choose([r for r in sr if r["voxel_mm"] >= footing], baseline.get(scene))
+        best = chosen[scene] = rules.choose([r for r in grid if r["voxel_mm"] >= footing], baseline.get(scene))
         md.append("\n## %s (%s)\n\n" % (scene, paper_eliminator(a, scene)))
         md.append(writers.md_table(sr, ["voxel_mm", "force", "stable", "useless", "pos_err_max_mm", "gap_max_mm",
                                         "depth_max_mm", "tunnelled", "contact_power_ratio", "t_contact_us",
@@ -95,13 +117,17 @@ def write(a, rows, baseline):
                                    ["voxel (mm)", "force", "stable", "useless", "pos. error max (mm)", "gap max (mm)",
                                     "depth max (mm)", "tunnelled", "contact work / energy in", "detect+elim (µs)",
                                     "why unstable"]))
-        text = default_text(scene, sr, best, baseline.get(scene), footing) + fragility(sr, best, baseline.get(scene),
-                                                                                  footing)
+        text = default_text(scene, grid, best, baseline.get(scene), footing) + fragility(grid, best,
+                                                                                    baseline.get(scene), footing)
         md.append("\n" + text + "\n")
+        if len(grid) < len(sr):
+            md.append("\nThe user's methods (`--method`; their columns are named after them) are judged beside the grid "
+                      "and are not candidates for the default.\n")
+        md.append(notes(sr, "force"))
         reasons.append("\\paragraph{Default of \\code{%s}.} %s\n" % (writers.tex_escape(scene),
                                                                       writers.tex_escape(text)))
         plot_ablation(a, scene, sr)
-    writers.write_csv(os.path.join(a.results, "ablation.csv"), rows, COLUMNS)
+    writers.write_csv(os.path.join(a.results, "ablation.csv"), rows, columns_of(COLUMNS, rows))
     with open(table_path(a, "ablation.md"), "w") as f:
         f.write("".join(md))
     with open(table_path(a, "ablation_defaults.tex"), "w") as f:
@@ -188,6 +214,11 @@ def plot_ablation(a, scene, rows):
     """Two heat maps (position error, gap) by force rule and voxel size; the stable settings
     outlined. Printed at the text width."""
     forces = [force_label(f) for f in ABLATION_FORCES]
+    users = []  # the user's methods (--method): a column each, after the grid's
+    for r in rows:
+        if is_user_row(r) and r["force"] not in forces:
+            forces.append(r["force"])
+            users.append("%s (--method): %s" % (r["method"], r.get("overrides", "")))
     voxels = sorted({r["voxel_mm"] for r in rows}) or [1e3 * v for v in ABLATION_VOXELS]
     panels = [("pos_err_max_mm", "largest position error (mm)"), ("gap_max_mm", "largest gap (mm)")]
     plt = style.pyplot()
@@ -208,6 +239,10 @@ def plot_ablation(a, scene, rows):
             ax.set_ylabel("voxel size (mm)")
     fig.suptitle("%s, %s eliminator; outlined: stable (%d of %d); >1 m: blown up" % (
         scene.replace("_", " "), paper_eliminator(a, scene), sum(r["stable"] == "yes" for r in rows), len(rows)))
+    if users:
+        import textwrap
+        fig.supxlabel("\n".join(textwrap.fill(u, 120, break_on_hyphens=False) for u in users),
+                      fontsize=style.SMALL, ha="left", x=0.01)
     style.save(fig, figure_path(a, "ablation_%s" % scene), width=style.TEXT)
 
 

@@ -11,13 +11,13 @@ tables/accuracy_time_front.tex; the Pareto front (rules.pareto) of the evidence.
 import math
 import os
 
-from .. import reader, rewindow, rules, runner, style, writers
+from .. import methods, reader, rules, runner, style, writers
 from ..rules import INJECTION_LIMIT, MARGIN
 from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
-from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, combine, config_sets, figure_path, figures, folder_name,
-                     footing_voxels, force_label, kind_floor_mm, read_rows, reference_of_kind,
-                     scenes, with_both_kinds,
-                     table_path)
+from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, columns_of, combine, config_sets, figure_path, figures,
+                     folder_name, footing_voxels, force_label, is_user_row, kind_floor_mm, notes, read_rows,
+                     reference_of_kind, resolved_force_label, scenes, table_path, user_fields, user_method_sets,
+                     user_methods, user_two_sided, with_both_kinds)
 
 # The equal-footing comparison: the paper's voxel model with voxels at or above the host's node
 # spacing (host mean surface edge: sphere 3.0 mm, layer 5.7 mm, implant 6.1 mm; the smallest power
@@ -63,11 +63,6 @@ def method_configs(a, scene):
     return out
 
 
-def method_extra(a, scene, label, det, voxel, elim, force):
-    """The extra --set overrides of one configuration of method_configs."""
-    return next(c[5] for c in method_configs(a, scene) if c[:5] == (label, det, voxel, elim, force))
-
-
 def bound_time_us(folder):
     """Median µs of CGAL's corefinement of the two surfaces (the penetration region's bound) over the
     run's measured steps that computed it (steps.csv t_volume_us); NaN when none did."""
@@ -85,81 +80,46 @@ def run(a):
             kind, ref, other = reference_of_kind(a, scene, BOTH_WAYS[0] in extra)
             js = runner.repeated(a, scene, "accuracy/" + folder_name(scene, label, elim, force),
                                  config_sets(det, voxel, elim, force, extra), compare=(ref, other))
-            index.append((scene, label, det, voxel, elim, force, kind, len(jobs), len(js)))
+            index.append((scene, (label, det, voxel, elim, force, extra), None, kind, len(jobs), len(js)))
+            jobs += js
+        for m in user_methods(a):  # study.py --method: the scene as written with the method's overrides
+            kind, ref, other = reference_of_kind(a, scene, user_two_sided(a, scene, m))
+            js = runner.repeated(a, scene, "accuracy/%s/%s" % (scene, methods.folder(m)), user_method_sets(m),
+                                 compare=(ref, other))
+            index.append((scene, None, m, kind, len(jobs), len(js)))
             jobs += js
     sums = runner.run_all(a, jobs)
-    variants = []
-    for scene, label, det, voxel, elim, force, kind, i, n in index:
-        extra = method_extra(a, scene, label, det, voxel, elim, force)
-        row = dict(combine(sums[i:i + n]), scene=scene, config=label, detector=det, eliminator=elim,
-                   force=force_label(force) if elim != "projection" else "positions",
-                   voxel_mm=1e3 * voxel if voxel else float("nan"),
-                   two_sided="yes" if BOTH_WAYS[0] in extra else "no", reference=kind,
-                   t_bound_us=bound_time_us(jobs[i][1]) if BOUND in extra else float("nan"))
-        vs = rule_variants(jobs[i][1], sums[i], row)
+    for scene, config, m, kind, i, n in index:
+        row = dict(combine(sums[i:i + n]), scene=scene, reference=kind)
+        if m is None:
+            label, det, voxel, elim, force, extra = config
+            row.update(config=label, detector=det, eliminator=elim,
+                       force=force_label(force) if elim != "projection" else "positions",
+                       voxel_mm=1e3 * voxel if voxel else float("nan"),
+                       two_sided="yes" if BOTH_WAYS[0] in extra else "no",
+                       t_bound_us=bound_time_us(jobs[i][1]) if BOUND in extra else float("nan"))
+            if user_methods(a):
+                row.update(method="", overrides="")
+        else:
+            row.update(user_row(a, scene, m, sums[i]),
+                       t_bound_us=bound_time_us(jobs[i][1]) if methods.value(m.sets, "references.volume")
+                       else float("nan"))
         with_both_kinds(row, sums[i], kind)  # the other kind, measured on the same steps
         row["one_sided_cost_mm"] = one_sided_cost_mm(a, scene)
         rows.append(row)
-        variants += vs
     write(a, rows)
-    write_variants(a, rows, variants)
 
 
-WINDOW_FACTORS = (1.0, 0.5, 2.0)
-REFERENCE_RULES = ("of its kind", "both ways")
-VARIANT_FIGURES = ["stable", "stability", "verdict", "why_unstable", "settled", "steps", "window_from", "rho_norm",
-                   "contact_power_ratio", "pos_err_max_mm", "pos_err_max_max_mm", "pos_err_amp_mm", "pos_err_rms_mm",
-                   "gap_max_mm", "gap_mean_mm", "depth_max_mm", "tunnelled"]
-VARIANT_COLUMNS = (["scene", "config", "detector", "eliminator", "force", "two_sided", "window_factor",
-                    "reference_rule", "reference"] + VARIANT_FIGURES + ["helps", "useless"])
-
-
-def rule_variants(folder, s, row):
-    """The error run's figures (common.figures) under the rule's choices that need the run itself:
-    the final window WINDOW_FACTORS times the scene's (rewindow.rewindow, from its steps.csv) and the
-    reference of its kind or the two-sided one for every method (rewindow.also_reference: the
-    second reference the run measured); one dict per (window_factor, reference_rule)."""
-    out = []
-    cols = None
-    for rule in REFERENCE_RULES:
-        base, kind = s, row["reference"]
-        if rule == "both ways" and kind != "both ways":
-            base = rewindow.also_reference(s)
-            if base is None:
-                continue  # no two-sided reference was measured beside it
-            kind = "both ways"
-        for f in WINDOW_FACTORS:
-            if f != 1 and cols is None:
-                try:
-                    cols = reader.load_steps(folder)
-                except OSError:
-                    break
-            view = rewindow.rewindow(folder, base, f, cols=cols)
-            fig = figures(view)
-            out.append(dict({k: fig.get(k) for k in VARIANT_FIGURES}, scene=row["scene"], config=row["config"],
-                            detector=row["detector"], eliminator=row["eliminator"], force=row["force"],
-                            two_sided=row["two_sided"], window_factor=f, reference_rule=rule, reference=kind))
-    return out
-
-
-def one_sided_cost_mm(a, scene):
-    """The largest distance between the scene's one-sided and two-sided references (mm; what
-    one-sidedness alone costs a one-sided method), from references_differences.csv; NaN without it."""
-    for r in reader.read_csv(os.path.join(a.results, "references_differences.csv"), missing=[]):
-        if str(r.get("comparison", "")).startswith(scene + ": one way against both ways"):
-            return reader.num(r.get("difference_mm"))
-    return float("nan")
-
-
-def write_variants(a, rows, variants):
-    """accuracy_variants.csv: every configuration under every window and reference rule, marked
-    helps / useless against the scene's run without contact force under the same choices."""
-    for f in WINDOW_FACTORS:
-        for rule in REFERENCE_RULES:
-            vs = [v for v in variants if v["window_factor"] == f and v["reference_rule"] == rule]
-            bases = {v["scene"]: v for v in vs if v["config"] == NO_FORCE}
-            rules.mark_useless(vs, bases)
-    writers.write_csv(os.path.join(a.results, "accuracy_variants.csv"), variants, VARIANT_COLUMNS)
+def user_row(a, scene, m, s):
+    """The columns that name a user's method's row: config (its name), detector, eliminator, force
+    and voxel as its run resolved them (its summary), both ways or not, method and overrides."""
+    c = reader.contact(s, strict=False)
+    elim = c.get("eliminator", "")
+    v = reader.num(reader.window_figures(s).get("voxel_size_used")) if c else float("nan")
+    return dict(user_fields(m), config=m.name, detector=c.get("detector", ""), eliminator=elim,
+                force="positions" if elim == "projection" else resolved_force_label(c),
+                voxel_mm=1e3 * v if c.get("detector", "").startswith("voxel") else float("nan"),
+                two_sided="yes" if user_two_sided(a, scene, m) else "no")
 
 
 COLUMNS = ["scene", "config", "detector", "eliminator", "force", "stable", "why_unstable", "settled", "steps",
@@ -170,6 +130,15 @@ COLUMNS = ["scene", "config", "detector", "eliminator", "force", "stable", "why_
            "t_step_max_us", "t_bound_us", "voxel_mm", "two_sided", "repeats", "helps", "useless", "front",
            "t_step_mean_us", "t_step_p99_us", "t_contact_mean_us", "t_contact_p99_us", "machine", "reference",
            "pos_err_max_one_sided_mm", "pos_err_max_both_ways_mm", "one_sided_cost_mm", "rho_norm"]
+
+
+def one_sided_cost_mm(a, scene):
+    """The largest distance between the scene's one-sided and two-sided references (mm; what
+    one-sidedness alone costs a one-sided method), from references_differences.csv; NaN without it."""
+    for r in reader.read_csv(os.path.join(a.results, "references_differences.csv"), missing=[]):
+        if str(r.get("comparison", "")).startswith(scene + ": one way against both ways"):
+            return reader.num(r.get("difference_mm"))
+    return float("nan")
 
 
 def write(a, rows):
@@ -228,8 +197,9 @@ def write(a, rows):
                                     "pos. error max (mm)", "against one-sided (mm)", "against both ways (mm)",
                                     "chatter (mm)", "gap max (mm)", "depth max (mm)", "tunnelled",
                                     "detect+elim (µs/step)", "range", "front", "why unstable"]))
+        md.append(notes(sr))
         plot_pareto(a, scene, sr, front)
-    writers.write_csv(os.path.join(a.results, "accuracy_time.csv"), rows, COLUMNS)
+    writers.write_csv(os.path.join(a.results, "accuracy_time.csv"), rows, columns_of(COLUMNS, rows))
     with open(table_path(a, "accuracy_time.md"), "w") as f:
         f.write("".join(md))
     order = scenes(a)
@@ -287,9 +257,14 @@ def pareto_marks(ax, shown, front):
         capped = r["pos_err_max_mm"] > PARETO_CAP_MM
         off += capped
         c = DETECTOR_COLOUR.get(r["detector"], "gray")
-        ax.scatter(x, y, marker=ELIMINATOR_MARKER.get(r["eliminator"], "D"), s=26 if r in front else 14,
+        user = is_user_row(r)  # a user's method (--method): a star, named beside it
+        ax.scatter(x, y, marker=USER_MARKER if user else ELIMINATOR_MARKER.get(r["eliminator"], "D"),
+                   s=(60 if r in front else 40) if user else 26 if r in front else 14,
                    facecolor=fill, edgecolor="k" if r in front else c, linewidth=0.7,
                    zorder=4 if r in front else 3, clip_on=False)
+        if user:
+            ax.annotate(r["method"], (x, y), xytext=(4, 3), textcoords="offset points", fontsize=style.SMALL,
+                        zorder=6)
         if ok and r.get("useless"):  # marked apart: never a point of the front
             ax.scatter(x, y, marker="x", s=10, color="k", linewidth=0.6, zorder=5, clip_on=False)
         if capped:
@@ -324,7 +299,10 @@ def pareto_marks_key(key, rows, base, off):
         col1.append(Line2D([], [], ls="none", marker="x", ms=4, mew=0.8, color="k",
                            label="stable but useless"))
     col2 = [Line2D([], [], ls="none", marker=ELIMINATOR_MARKER[e], ms=5, mfc="0.5", mec="none", label=e)
-            for e in ELIMINATOR_MARKER if any(r["eliminator"] == e for r in rows)]
+            for e in ELIMINATOR_MARKER if any(r["eliminator"] == e and not is_user_row(r) for r in rows)]
+    if any(is_user_row(r) for r in rows):  # named beside the point; the overrides under the figure
+        col2.append(Line2D([], [], ls="none", marker=USER_MARKER, ms=7, mfc="0.5", mec="k", mew=0.5,
+                           label="yours (--method)"))
     col2.append(Line2D([], [], color="k", lw=0.7, marker="o", ms=5, mfc="0.5", mec="k", label="front (evidence)"))
     if base:
         col2.append(Line2D([], [], color="0.45", lw=0.7, ls=":", label="no contact force"))
@@ -338,6 +316,22 @@ def pareto_marks_key(key, rows, base, off):
                      handletextpad=0.5, columnspacing=0.8, borderaxespad=0.0, title="marks", alignment="left",
                      title_fontproperties={"weight": "bold", "size": style.SMALL})
     key.add_artist(leg)
+
+
+USER_MARKER = "*"  # a user's method's point (study.py --method)
+
+
+def user_method_note(rows):
+    """The figure's note of the user's methods (--method): each name and its overrides, wrapped; ""
+    without any."""
+    import textwrap
+    out, seen = [], set()
+    for r in rows:
+        if is_user_row(r) and r["method"] not in seen:
+            seen.add(r["method"])
+            out.append(textwrap.fill("%s (--method): %s" % (r["method"], r.get("overrides", "")), 120,
+                                     break_on_hyphens=False))
+    return "\n".join(out)
 
 
 def pareto_front_key(key, fr, labels):
@@ -358,7 +352,9 @@ def plot_pareto(a, scene, rows, front):
     force: drawn apart, never a point of the front); the front of the evidence as a staircase with its points
     numbered 1, 2, ... by time and named in the key beside the axes. Printed at the text width."""
     plt = style.pyplot()
-    fig = plt.figure(figsize=(style.TEXT, 2.9), layout="constrained")
+    note = user_method_note(rows)
+    fig = plt.figure(figsize=(style.TEXT, 2.9 + (0.15 + 0.12 * (note.count("\n") + 1) if note else 0.0)),
+                     layout="constrained")
     gs = fig.add_gridspec(1, 2, width_ratios=[1.3, 1.0])
     ax = fig.add_subplot(gs[0])
     key = fig.add_subplot(gs[1])
@@ -384,6 +380,8 @@ def plot_pareto(a, scene, rows, front):
         stair += [(pareto_xy(r1)[0], pareto_xy(r0)[1]), pareto_xy(r1)]
     style.place_labels(ax, [pareto_xy(r) for r in fr], labels,
                        avoid=[p for p in pts if p not in [pareto_xy(r) for r in fr]], lines=[stair])
+    if note:
+        fig.supxlabel(note, fontsize=style.SMALL, ha="left", x=0.01)
     style.save(fig, figure_path(a, "pareto_%s" % scene), width=style.TEXT)
 
 

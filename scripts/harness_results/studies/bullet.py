@@ -8,6 +8,7 @@ import os
 
 from .. import reader, runner, writers
 from .common import STUDY_EVERY, config_sets, figures, read_rows, table_path
+from .common import columns_of
 
 BULLET_SCENES = ["sphere_collision", "cylinder_press"]
 BULLET_CONFIGS = [
@@ -61,7 +62,7 @@ def run(a):
                          max_depth_peak_mm=reader.pair_figures(s)["max_depth_peak_mm"],
                          reference_converged="yes" if conv is True else "no",
                          machine=reader.step_distribution(s)["machine"], jobs=a.jobs))
-    writers.write_csv(os.path.join(a.results, "bullet.csv"), rows, COLUMNS)
+    writers.write_csv(os.path.join(a.results, "bullet.csv"), rows, columns_of(COLUMNS, rows, ("forced",)))
     tables(a, read_rows(a, "bullet.csv"))
 
 

@@ -7,7 +7,7 @@ import os
 import subprocess
 import tempfile
 
-from .. import reader, rules
+from .. import methods, reader, rules, runner
 
 SCENES = ["sphere_collision", "cylinder_press", "implant_expansion"]
 # The paper's eliminator for each scenario (line for the spheres and the cylinder, plane for the implant).
@@ -122,12 +122,12 @@ def with_both_kinds(row, s, kind):
     """`row` (the error run `s`'s figures against the reference of `kind`) given its kind and its
     largest position error against both kinds of reference (pos_err_max_one_sided_mm,
     pos_err_max_both_ways_mm): the other from the second reference the run measured beside the first
-    (rewindow.also_reference; NaN where none was). Returns row."""
-    from .. import rewindow
+    (reference_kind.also_reference; NaN where none was). Returns row."""
+    from .. import reference_kind
     row["reference"] = kind
     row["pos_err_max_%s_mm" % KIND_KEY[kind]] = row["pos_err_max_mm"]
     other = "one-sided" if kind == "both ways" else "both ways"
-    also = rewindow.also_reference(s)
+    also = reference_kind.also_reference(s)
     row["pos_err_max_%s_mm" % KIND_KEY[other]] = figures(also)["pos_err_max_mm"] if also is not None else float("nan")
     return row
 
@@ -198,8 +198,87 @@ def folder_name(scene, label, elim, force):
 
 
 def figures(s):
-    """A run's row: its window figures (reader.window_figures) and its stability (rules.classify)."""
-    return dict(reader.window_figures(s), **rules.stability_fields(s))
+    """A run's row: its window figures (reader.window_figures), its stability by the studies' rule
+    (rules.classify), its C++ stability class (`stability_class`: summary.json's stability_verdict,
+    what the claims' judge reads; judge/measure.py) and `forced` ("yes" for a run stopped before its
+    forcing ended: runner.forcing_cut)."""
+    return dict(reader.window_figures(s), forced=runner.forced_text(s), stability_class=reader.stability_verdict(s)
+                or "", **rules.stability_fields(s))
+
+
+# ---------------------------------------------------------------------------------------------
+# The user's methods (study.py --method NAME=KEY=JSON,...: harness_results/methods.py) and the runs
+# stopped before their forcing ended, in a study's rows.
+def user_methods(a):
+    """The --method methods of study.py (methods.Method: name, sets); [] without any."""
+    return list(getattr(a, "user_methods", None) or [])
+
+
+def user_method_sets(m):
+    """The --set overrides of a user's method in a study: CGAL every STUDY_EVERY steps (as every
+    study's run), then the method's own (which may change them): the scene as written otherwise."""
+    return ['references.solvers=["cgal"]', "references.every=%d" % STUDY_EVERY] + list(m.sets)
+
+
+def user_two_sided(a, scene, m):
+    """Whether a user's method detects both ways: its contacts.0.two_sided override, else the scene's
+    (its first pair's two_sided, false when it does not say: the scene format's default)."""
+    doc = scene_doc(a, scene) or {}
+    pair = (doc.get("contacts") or [{}])[0]
+    return bool(methods.value(m.sets, "contacts.0.two_sided", pair.get("two_sided", False)))
+
+
+def resolved_force_label(c):
+    """The force of a run's resolved first pair as the tables name it (force_label; an object's other
+    keys beside its stiffness)."""
+    f = c.get("force")
+    if isinstance(f, dict):
+        rest = " ".join("%s=%s" % (k, json.dumps(v)) for k, v in sorted(f.items()) if k != "stiffness")
+        return ("k=%g" % f["stiffness"] if "stiffness" in f else "") + (" " if rest and "stiffness" in f else "") + rest
+    if f is None:
+        return ""
+    return force_label(f if isinstance(f, str) else json.dumps(f))
+
+
+OPTIONAL_COLUMNS = ("method", "overrides", "forced", "stability_class")
+
+
+def is_user_row(r):
+    """Whether a study's row is a user's method's (its `method` names one; a built-in row's is empty)."""
+    return isinstance(r.get("method"), str) and bool(r.get("method"))
+
+
+def user_fields(m):
+    """The columns a user's method's rows carry: method (its name) and overrides (methods.text)."""
+    return {"method": m.name, "overrides": methods.text(m.sets)}
+
+
+def columns_of(cols, rows, optional=OPTIONAL_COLUMNS):
+    """A study's CSV columns: `cols`, then those of `optional` (OPTIONAL_COLUMNS) some row fills (method and
+    overrides, the user's method's name and overrides on its rows and empty on the built-in ones,
+    where a --method added rows; forced where a run was stopped before its forcing
+    ended): the files of runs without them are as they were."""
+    return list(cols) + [c for c in optional if c not in cols and
+                         any(isinstance(r.get(c), str) and r.get(c) for r in rows)]
+
+
+def notes(rows, name="config"):
+    """The lines a study's Markdown adds under its tables: the user's methods with their overrides,
+    and the rows whose runs were stopped before their forcing ended; "" when there are none."""
+    out = []
+    seen = []
+    for r in rows:
+        if is_user_row(r) and r["method"] not in [m for m, _ in seen]:
+            seen.append((r["method"], r.get("overrides")))
+    if seen:
+        out.append("Methods of the user's (`--method`): " + "; ".join("%s: `%s`" % (m, o) for m, o in seen) + ".")
+    forced = [r for r in rows if r.get("forced") == "yes"]
+    if forced:
+        out.append("Stopped before their forcing ended (column `forced`: `--quick` or `--steps` cut them short; their "
+                   "figures are of a body still being loaded): %s." % ", ".join(
+                       sorted({" ".join(str(r.get(k, "")) for k in ("scene", name) if r.get(k) not in (None, ""))
+                               for r in forced})))
+    return "".join("\n" + line + "\n" for line in out)
 
 
 def pooled(timed):

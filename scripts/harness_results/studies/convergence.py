@@ -10,6 +10,7 @@ import os
 from .. import reader, runner, style, writers
 from .common import (PENALTY, config_sets, paper_eliminator, scenes, figure_path, figures, force_label,
                      force_setting, mark_useless, read_rows, reference_of_kind, table_path, with_both_kinds)
+from .common import columns_of
 
 CONVERGENCE_VOXELS = [0.032, 0.016, 0.008, 0.004, 0.002]
 CONVERGENCE_VOXELS_MM = [1e3 * v for v in CONVERGENCE_VOXELS]
@@ -77,7 +78,7 @@ def write(a, rows):
     """convergence.csv, tables/convergence.md and the figure from the study's rows (helps and
     useless: common.mark_useless)."""
     mark_useless(a, rows)
-    writers.write_csv(os.path.join(a.results, "convergence.csv"), rows, COLUMNS)
+    writers.write_csv(os.path.join(a.results, "convergence.csv"), rows, columns_of(COLUMNS, rows, ("forced",)))
     plot_convergence(a, rows)
     cols = [c for c in MD_COLUMNS if c in rows[0]] if rows else MD_COLUMNS
     with open(table_path(a, "convergence.md"), "w") as f:

@@ -9,6 +9,7 @@ import os
 from .. import reader, runner, writers
 from .common import (config_sets, figures, force_label, mark_useless, read_rows, reference_of_kind, table_path,
                      with_both_kinds)
+from .common import columns_of
 
 ORIENT_SCENE = "implant_expansion"
 # The equal-footing grid (accuracy.FOOTING_VOXELS: voxels at and above the host's node spacing).
@@ -42,7 +43,7 @@ COLUMNS = ["scene", "eliminator", "orient", "force", "voxel_mm", "stable", "stab
 def write(a, rows):
     """orient.csv and tables/orient.md from the study's rows (helps and useless: common.mark_useless)."""
     mark_useless(a, rows)
-    writers.write_csv(os.path.join(a.results, "orient.csv"), rows, COLUMNS)
+    writers.write_csv(os.path.join(a.results, "orient.csv"), rows, columns_of(COLUMNS, rows, ("forced",)))
     md = ["# Claim (a) without its confound: line and plane, each oriented both ways\n\n",
           "The voxel model on %s: line and plane with `orient` `guest` (pushed from the host node, or the plane, "
           "toward the guest node: the paper's line) and `outward` (agreeing with the host's outward normals: the "

@@ -22,6 +22,7 @@ import shlex
 from .. import reader, rules, runner, writers
 from .common import (PENALTY, STUDY_EVERY, figures, mark_useless, pooled, reference_dir, scene_arg, scene_doc,
                      scenes, table_path)
+from .common import columns_of
 
 HAPTIC_BUDGET_US = 1000.0
 # (label, kind, --set overrides): kind "exact" (an exact detector), "completed" (voxel_exact), "paper".
@@ -111,7 +112,7 @@ def row_of(scene, label, kind, mode, threads, args, s, timed):
     r = {"scene": scene, "method": label, "kind": kind, "mode": mode, "threads": threads, "dt": st["dt"],
          "integrator": st["integrator"], "substeps_max": st["max_substeps"], "overrides": shell_args(args),
          "pos_err_max_mm": f["pos_err_max_mm"], "tunnelled": f["tunnelled"], "stability": f["stability"],
-         "status": reader.status(s), "steps": reader.steps_run_or_none(s)}
+         "status": reader.status(s), "steps": reader.steps_run_or_none(s), "forced": f["forced"]}
     r.update(timing_of(timed))
     r["contact_budget_share"] = r["t_contact_mean_us"] / r["budget_us"] if r["budget_us"] > 0 else float("nan")
     r["contact_haptic_share"] = r["t_contact_mean_us"] / HAPTIC_BUDGET_US
@@ -247,7 +248,7 @@ def write_outputs(a, rows):
     no better than no force: common.mark_useless against the accuracy study's runs without force)."""
     cols = COLS
     mark_useless(a, rows)
-    writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, cols)
+    writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, columns_of(cols, rows, ("forced",)))
     heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps (error run's max)",
              "step median (µs)",
              "detect+response median (µs)", "detect+response mean / dt", "RTF (median)", "pos. error (mm)", "tunnelled",

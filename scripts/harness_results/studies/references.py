@@ -106,8 +106,8 @@ def run(a):
                 "(2^order - 1) (Richardson). Converged when the change is below 0.05 mm after at least the "
                 "levels asked for (four here; three for the refined mesh). floor: what an error measured against the "
                 "reference cannot resolve (reader.reference_floor: the last change when the last order lies in "
-                "0.5 to 4, else the largest of the last two changes); the claims count it into their noise. `%s_refined`: the scene on a mesh refined once (dt halved). Made by `scripts/study.py "
-                "references`.\n\n" % REFINED_SCENE + writers.md_table(rows, cols, heads) +
+                "0.5 to 4, else the largest of the last two changes); the claims widen an error's interval by it. `%s_refined`: the scene on a mesh refined once (dt halved). Made by `scripts/study.py "
+                "references`.\n\n" % REFINED_SCENE + writers.md_table(rows, COLUMNS, heads) +
                 "\n\n## How far apart the answers are\n\n" +
                 writers.md_table(diffs, ["comparison", "difference_mm", "vertices"],
                                  ["comparison", "largest difference (mm)", "vertices compared"]))

@@ -7,6 +7,7 @@ import os
 
 from .. import reader, runner, writers
 from .common import refine_sets, scene_arg, scene_doc, scenes, table_path
+from .common import columns_of
 
 
 def run(a):
@@ -22,13 +23,13 @@ def run(a):
             for body, d in disp.items():
                 rows.append({"scene": scene, "resolution": "x%d" % r, "nodes": reader.nodes(s), "body": body,
                              "max_displacement_mm": 1e3 * d, "settled": reader.settled(s),
-                             "steps": reader.steps_run(s)})
+                             "steps": reader.steps_run(s), "forced": runner.forced_text(s)})
     for row in rows:
         base = [x for x in rows if x["scene"] == row["scene"] and x["body"] == row["body"] and x["resolution"] == "x1"]
         row["vs_x1"] = row["max_displacement_mm"] / base[0]["max_displacement_mm"] if base and base[0][
             "max_displacement_mm"] > 0 else float("nan")
     cols = ["scene", "resolution", "nodes", "body", "max_displacement_mm", "vs_x1", "settled", "steps"]
-    writers.write_csv(os.path.join(a.results, "refinement.csv"), rows, cols)
+    writers.write_csv(os.path.join(a.results, "refinement.csv"), rows, columns_of(cols, rows, ("forced",)))
     text = ("# Mesh refinement\n\nEach scenario with its default contact at its resolution and twice as fine (box "
             "cells, cylinder segments and rings doubled, one more icosphere subdivision; dt halved, every step "
             "count doubled: the same physical time). Settled shape: the largest displacement of each body's "

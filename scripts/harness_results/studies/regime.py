@@ -23,10 +23,11 @@ each verdict naming the regimes its comparisons come from.
 import os
 
 from .. import rules, runner, writers
-from ..claims import b_episodes
+from .. import episodes as b_episodes
 from .accuracy import FOOTING_VOXELS, NO_FORCE
 from .common import (config_sets, figures, footing_voxels, force_label, pair_bodies, read_rows, reference_dir,
                      reference_of_kind, scenes, table_path, with_both_kinds)
+from .common import columns_of
 from .swap import SWAP_BODIES
 
 # The constant forces searched, per scene (`auto` with each): the implant's from the accuracy study's
@@ -178,7 +179,7 @@ def write(a, rows):
     """regime.csv and tables/regime.md (helps and useless against the study's run without contact force)."""
     bases = {r["scene"]: r for r in rows if r["regime"] == NO_FORCE}
     rules.mark_useless(rows, bases)
-    writers.write_csv(os.path.join(a.results, "regime.csv"), rows, COLUMNS)
+    writers.write_csv(os.path.join(a.results, "regime.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
     rows = read_rows(a, "regime.csv")  # the table from the file as written: --plots-only gives the same
     md = ["# The paper's model at its best: a search over regimes\n\n",
           "The paper's voxel model (line and plane; constant forces and `auto`: %s; the footing voxels) in each regime: "

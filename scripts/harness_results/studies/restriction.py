@@ -18,6 +18,7 @@ from .. import reader, rules, runner, writers
 from .accuracy import BOUND, FOOTING_VOXELS, NO_FORCE, bound_time_us
 from .common import (PENALTY, STUDY_EVERY, combine, config_sets, timing_runs, folder_name, footing_voxels, force_label, read_rows,
                      scenes, table_path)
+from .common import columns_of
 
 # The responses compared, (eliminator, force, extra sets): the force rule is not used by projection
 # and volume (their force column reads "positions" and "volume").
@@ -95,7 +96,7 @@ def write(a, rows):
     study's own run with no contact force)."""
     bases = {r["scene"]: r for r in rows if r["config"] == NO_FORCE}
     rules.mark_useless(rows, bases)
-    writers.write_csv(os.path.join(a.results, "restriction.csv"), rows, COLUMNS)
+    writers.write_csv(os.path.join(a.results, "restriction.csv"), rows, columns_of(COLUMNS, rows, ("forced",)))
     rows = read_rows(a, "restriction.csv")  # the table from the file as written: --plots-only gives the same
     for r in rows:
         r["steps"] = "%d" % r["steps"] if reader.present(r.get("steps")) else ""

@@ -12,6 +12,7 @@ import os
 from .. import reader, runner, writers
 from .common import (STUDY_EVERY, config_sets, pair_bodies, paper_eliminator, scene_voxel, scenes, figures, force_label,
                      force_setting, mark_useless, read_rows, table_path)
+from .common import columns_of
 
 SWAP_BODIES = {"sphere_collision": ("left", "right"), "cylinder_press": ("layer", "cylinder"),
                "implant_expansion": ("implant", "tissue")}
@@ -57,7 +58,7 @@ COLUMNS = ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "swapped
 def write(a, rows):
     """swap.csv and tables/swap.md from the study's rows (helps and useless: common.mark_useless)."""
     mark_useless(a, rows)
-    writers.write_csv(os.path.join(a.results, "swap.csv"), rows, COLUMNS)
+    writers.write_csv(os.path.join(a.results, "swap.csv"), rows, columns_of(COLUMNS, rows, ("forced",)))
     md = ["# Which body carries the grid\n\n",
           "The voxel model with host and guest as the scene has them and swapped (the grid on the other body), "
           "against the scene's two-sided reference, which both placements share (references.csv says whether it "

@@ -1,0 +1,356 @@
+"""State what the judge found: results/SUMMARY.md (the answer first), results/claims.md (the detail),
+results/specifications.csv (each claim under every distinct specification of the remaining
+choices), and for the report tables/claims_verdicts.tex and tables/claims_macros.tex."""
+
+import csv
+import itertools
+import json
+import math
+import os
+
+from .. import reader, runs, writers
+from . import choices
+from .claims import AGAINST, FOR, NOT_SUPPORTED, ORDER, SCENES, SUPPORTED, Data, g
+from .measure import is_constant, measure
+
+MADE_BY = "scripts/claims.py"
+# The choices each claim's comparisons can depend on (judge/measure.py and the claim's own).
+MEASURE = ["chatter_scale", "floor", "tunnel_limit", "unstable_fails"]
+REACHES = {
+    "a": MEASURE + ["auto_force"],
+    "b": ["chatter_scale", "tunnel_limit", "unstable_fails", "auto_force", "b_reading", "p90_steps", "peak_share",
+          "open_share"],
+    "c": ["chatter_scale", "tunnel_limit", "unstable_fails", "restriction_bound", "much"],
+    "d": ["exact_set"],
+    "e": ["e_miss"],
+    "rt": MEASURE + ["auto_force", "rt_statistic"],
+    "sim": ["tunnel_limit"],
+    "completed": MEASURE,
+}
+LETTER = {"a": "A", "b": "B", "c": "C", "d": "D", "e": "E", "rt": "RT", "sim": "Sim", "completed": "VE"}
+
+
+def rounded(v):
+    return None if v is None or v != v else round(v, 4)
+
+
+def signature(res):
+    """What a specification gives a claim: its verdict and every effect with its interval."""
+    return (res.verdict,) + tuple((e.where, e.outcome, rounded(e.value), rounded(e.lo), rounded(e.hi))
+                                  for e in res.effects)
+
+
+def specifications(data, claim):
+    """(judged, [(spec, Result)]): how many specifications of the choices that reach `claim` were
+    judged, and those that give distinct results (signature), the one as written first."""
+    key = claim(data, choices.DEFAULT).key
+    names = REACHES[key]
+    combos = itertools.product(*(choices.BY_NAME[n].values() for n in names))
+    specs = sorted((choices.Spec(**dict(zip(names, c))) for c in combos), key=lambda s: len(s.changed()))
+    seen, out = set(), []
+    for spec in specs:
+        res = claim(data, spec)
+        sig = signature(res)
+        if sig not in seen:
+            seen.add(sig)
+            out.append((spec, res))
+    return len(specs), out
+
+
+def reversals(specs):
+    """[(spec, what)] of the distinct specifications that reverse the claim: its verdict between
+    supported and not supported, or an effect's outcome between for and against at the same place."""
+    base = specs[0][1]
+    outcome = {e.where: e.outcome for e in base.effects}
+    out = []
+    for spec, res in specs[1:]:
+        if {base.verdict, res.verdict} == {SUPPORTED, NOT_SUPPORTED}:
+            out.append((spec, "the verdict (%s)" % res.verdict))
+            continue
+        flips = [e.where for e in res.effects if {outcome.get(e.where), e.outcome} == {FOR, AGAINST}]
+        if flips:
+            out.append((spec, ", ".join(flips)))
+    return out
+
+
+def stated(res, revs):
+    if revs and res.verdict in (SUPPORTED, NOT_SUPPORTED):
+        return "%s (fragile)" % res.verdict
+    return res.verdict
+
+
+def effect_cell(res):
+    """The claim's effect in a few words: one effect's interval, or over several places the range of
+    the effects and of their intervals' ends."""
+    es = [e for e in res.effects if e.value == e.value]
+    if not es:
+        return "; ".join(e.note for e in res.effects)[:120] or "-"
+    if len(es) == 1:
+        return es[0].interval()
+    lo = min(e.lo for e in es)
+    hi = max(e.hi for e in es)
+    rng = "%s to %s" % (g(min(e.value for e in es)), g(max(e.value for e in es)))
+    if lo == min(e.value for e in es) and hi == max(e.value for e in es):
+        return "%s (%d places)" % (rng, len(es))
+    return "%s (%d places; interval ends %s to %s)" % (rng, len(es), g(lo), g(hi))
+
+
+def places(effects, most=3):
+    """The places of `effects` in words (their count past `most`)."""
+    if len(effects) > most:
+        return "%d places (%s, ...)" % (len(effects), effects[0].where)
+    return ", ".join(e.where for e in effects) or "nowhere"
+
+
+# ----------------------------------------------------------------------------------------------
+# What accuracy costs: per scene, each method's best, on equal footing
+
+def fastest_within(runs):
+    """Among the runs that do not fail, the fastest whose error interval overlaps the most accurate
+    one's (a tie by the intervals goes to time); None when all fail."""
+    ok = [r for r in runs if not r.failed and r.err == r.err]
+    if not ok:
+        return None
+    top = min(ok, key=lambda r: r.err)
+    tied = [r for r in ok if r.err_lo <= top.err_hi and top.err_lo <= r.err_hi and r.t == r.t]
+    return min(tied, key=lambda r: r.t) if tied else top
+
+
+COST_GROUPS = [
+    ("paper's model", lambda r: r.get("detector") == "voxel" and r.get("eliminator") in ("line", "plane")
+     and is_constant(r.get("force"))),
+    ("grid, auto force", lambda r: r.get("detector") == "voxel" and r.get("force") == "auto"),
+    ("grid, penalty", lambda r: r.get("detector") == "voxel" and r.get("force") == "k=500"),
+    ("voxel_exact", lambda r: r.get("detector") == "voxel_exact"),
+    ("hashing", lambda r: r.get("detector") == "hash"),
+    ("CGAL", lambda r: r.get("detector") == "cgal"),
+    ("FCL", lambda r: r.get("detector") == "fcl"),
+]
+
+
+def cost_lines(data, spec):
+    """Per scene: (scene, [(label, best Run or None, runs, failing)], no-force error, constant-force
+    figures). One-sided rows only (the paper's model's kind; every method against the one-sided
+    reference), so that every method is on the same footing."""
+    rows = data.csv("accuracy_time.csv")
+    out = []
+    for scene in SCENES:
+        one = [r for r in rows if r.get("scene") == scene and r.get("reference") == "one-sided"]
+        items = []
+        for label, pred in COST_GROUPS:
+            rs = [measure(r, spec, data.scenes, label=label) for r in one if pred(r)]
+            items.append((label, fastest_within(rs), len(rs), sum(1 for r in rs if r.failed)))
+        base = next((r for r in one if r.get("config") == "no contact force"), None)
+        b0 = reader.num(base.get("pos_err_max_mm")) if base else math.nan
+        const = [measure(r, spec, data.scenes) for r in one if COST_GROUPS[0][1](r)]
+        const_fig = (len(const), sum(1 for r in const if "through" in r.failed),
+                     sum(1 for r in const if r.err == r.err and r.err >= b0))
+        out.append((scene, items, b0, const_fig))
+    return out
+
+
+def summary_md(results, cost, counted):
+    judged, distinct = counted
+    lines = ["# What the data say", "",
+             "<!-- generated by %s from the committed results; do not edit -->" % MADE_BY, "",
+             "Each claim is a declared comparison; intervals: the window's range and the reference's floor; a "
+             "failing run loses. Detail: [claims.md](claims.md).", "",
+             "| claim | verdict | effect [interval] | holds | fails or straddles |", "|---|---|---|---|---|"]
+    for res, revs in results:
+        lines.append("| (%s) %s | %s | %s | %s | %s |" % (
+            res.key, res.title, stated(res, revs), effect_cell(res), places(res.holds()),
+            places(res.fails() + res.straddles())))
+    by = {r.key: r for r, _ in results}
+    d, e = by["d"], by["e"]
+    dv = [x.value for x in d.effects if x.value == x.value]
+    rec = [x.recall for x in d.effects if getattr(x, "recall", None) == getattr(x, "recall", None)]
+    ev = [x.value for x in e.effects]
+    lines += ["", "## The paper's model", ""]
+    if dv:
+        lines.append("- **Detection.** The grid takes 1/%s to 1/%s of the fastest exact detector's time on the same "
+                     "states, at a recall of %s to %s (claim (d)). Over the host's whole box it detects %s to %s of "
+                     "the penetrating guest nodes under %d deformations (claim (e))." % (
+                         g(min(dv), 2), g(max(dv), 3), g(min(rec)), g(max(rec)), g(min(ev)), g(max(ev)), len(ev)))
+    parts = ["%s: %d of %d let nodes through, %d end no closer than no force (%s mm)" % (
+        scene, through, n, farther, g(base)) for scene, _i, base, (n, through, farther) in cost]
+    lines.append("- **Constant forces** (line and plane): %s." % "; ".join(parts))
+    lines.append("- **Stability.** The committed studies predate the C++ stability class: their rows are judged "
+                 "by the error's chatter alone, which no grid run exceeds; runs made again (ensembles.csv) get "
+                 "the full class.")
+    lines += ["", "## What accuracy costs", "",
+              "Per scene and method, the fastest setting tied with its most accurate (one-sided, none "
+              "failing): error [interval] mm, then µs per step of the collision unit.", ""]
+    for scene, items, base, _const in cost:
+        parts = []
+        for label, run, n, nf in items:
+            if run is None:
+                parts.append("%s: all %d fail" % (label, n) if n else "%s: not run" % label)
+            else:
+                parts.append("%s %s [%s, %s], %s" % (label, g(run.err), g(run.err_lo, 2), g(run.err_hi, 2), g(run.t)))
+        lines.append("- **%s** (no force %s): %s." % (scene, g(base), "; ".join(parts)))
+    lines += ["", "Specifications judged: %d, of which %d give distinct results "
+              "([specifications.csv](specifications.csv)); fragile: reversed by one." % (judged, distinct), ""]
+    return "\n".join(lines)
+
+
+def claim_md(res, judged, specs, revs):
+    out = ["## (%s) %s: %s" % (res.key, res.title, stated(res, revs)), "",
+           "- Paper: %s." % res.paper,
+           "- Declared: %s." % res.declared, "",
+           "| where | effect [interval] | outcome | what |", "|---|---|---|---|"]
+    for e in res.effects:
+        out.append("| %s | %s | %s | %s |" % (e.where, e.interval(), e.outcome, e.note))
+    if not res.effects:
+        out.append("| - | - | not tested | nothing to compare |")
+    out.append("")
+    if res.extra.get("pairs") is not None:
+        out.append("Setting by setting (the same voxel, force and regime with both rules): %s. Runs that fail: "
+                   "line %d of %d, plane %d of %d." % (pairs_text(res), res.extra["fails"]["line"],
+                                                      res.extra["counts"]["line"], res.extra["fails"]["plane"],
+                                                      res.extra["counts"]["plane"]))
+        out.append("")
+    if res.extra.get("dropped"):
+        out.append("Not compared (a failing run's time is no cost): %s." % "; ".join(res.extra["dropped"]))
+        out.append("")
+    if res.runs:
+        why = {}
+        for _grp, r in res.runs:
+            k = r.failed.split(" (")[0] if r.failed else "does not fail"
+            k = "nodes through" if k.endswith("nodes through") else k
+            why[k] = why.get(k, 0) + 1
+        out.append("Runs read: %d; %s. Stability class from %s." % (
+            len(res.runs), ", ".join("%s %d" % kv for kv in sorted(why.items())),
+            " and ".join(sorted({r.cls_from for _g, r in res.runs}))))
+        out.append("")
+    names = REACHES[res.key]
+    if names:
+        vs = {}
+        for _s, r in specs:
+            vs[r.verdict] = vs.get(r.verdict, 0) + 1
+        out.append("Specifications: %d judged over %s; %d distinct, their verdicts %s." % (
+            judged, ", ".join(names), len(specs), ", ".join("%s %d" % kv for kv in sorted(vs.items()))))
+        if revs:
+            out.append("Reversed under: %s." % "; ".join("%s (%s)" % (s.name(), w) for s, w in revs[:3]) +
+                       (" And %d more." % (len(revs) - 3) if len(revs) > 3 else ""))
+    else:
+        out.append("Specifications: no remaining choice reaches this claim's comparisons.")
+    out.append("")
+    return out
+
+
+def pairs_text(res):
+    """(a)'s settings in words: won by the other rule's failure, by the errors, or both failing."""
+    ps = res.extra["pairs"]
+    by_fail = [e for e in ps if e.value != e.value]
+    by_err = [e for e in ps if e.value == e.value]
+    n = lambda es, o: sum(1 for e in es if e.outcome == o)  # noqa: E731
+    return ("the other rule fails in %d (the plane wins %d, the line %d); both hold in %d (the plane's error "
+            "smaller in %d, the line's in %d, neither beyond the intervals in %d); both fail in %d" % (
+                len(by_fail), n(by_fail, FOR), n(by_fail, AGAINST), len(by_err), n(by_err, FOR), n(by_err, AGAINST),
+                n(by_err, "straddles"), res.extra["both_fail"]))
+
+
+def claims_md(results_specs, counted):
+    out = ["# The paper's claims, tested", "",
+           "<!-- generated by %s; do not edit. The answer first: SUMMARY.md -->" % MADE_BY, "",
+           "How to read it. Each claim declares its comparisons before the data (scripts/harness_results/"
+           "judge/claims.py). An effect is for the claim when its interval lies beyond the threshold on the "
+           "claimed side, against when on the other, straddles when it contains it. A claim is supported "
+           "when every effect is for it, not supported when every one is against (a claim about every case, "
+           "as (e), when one is), inconclusive otherwise.", "",
+           "A run fails when it blows up, lets a node through or is unstable, and a failing run loses to "
+           "one that does not. An error's interval is its range over the final window widened by the "
+           "reference's floor; a time's is the range over the repeats. The choices left and their "
+           "alternatives are in judge/choices.py: %d specifications judged, %d distinct." % counted, "",
+           "Limits. The committed studies were run before the C++ stability class, so their class is read "
+           "from the error's motion over the window (the energy criteria apply to the runs made again, "
+           "results/ensembles.csv). Only those runs carry an ensemble's spread over node orders.", ""]
+    for res, judged, specs, revs in results_specs:
+        out += claim_md(res, judged, specs, revs)
+    return "\n".join(out)
+
+
+def shortened(root):
+    """The report's runs (results/runs/) that ran fewer steps than their scene file asks for (a
+    --quick reproduction): their figures describe those runs only."""
+    out = []
+    for key, _scene, _title, _force, elim, path in runs.existing_runs(root):
+        s = reader.load_summary(path)
+        try:
+            with open(reader.scene_file(s)) as fh:
+                want = int(json.load(fh)["time"]["steps"])
+        except (OSError, ValueError, KeyError, TypeError):
+            continue
+        if int(reader.steps_run(s)) < want:
+            out.append(runs.run_name(key, elim))
+    return out
+
+
+def macros(results, short=()):
+    m = [("RunsNote", "\\textbf{Warning: shortened runs (%s, reproduce.sh --quick): their figures are not "
+                      "results.}" % writers.tex_escape(", ".join(short)) if short else "")]
+    for res, revs in results:
+        L = LETTER[res.key]
+        m.append(("Claim%sVerdict" % L, stated(res, revs)))
+        m.append(("Claim%sEffect" % L, effect_cell(res)))
+        m.append(("Claim%sHolds" % L, places(res.holds())))
+        m.append(("Claim%sFails" % L, places(res.fails() + res.straddles())))
+        if res.extra.get("pairs") is not None:
+            m.append(("Claim%sPairs" % L, pairs_text(res)))
+    return m
+
+
+def tex_macros(pairs):
+    return "%% generated by %s; do not edit\n" % MADE_BY + "".join(
+        "\\newcommand{\\%s}{%s}\n" % (k, v if v.startswith("\\") else writers.tex_escape(v)) for k, v in pairs)
+
+
+def verdicts_tex(results):
+    rows = ["\\begin{tabular}{p{0.30\\textwidth}p{0.14\\textwidth}p{0.22\\textwidth}p{0.24\\textwidth}}",
+            "\\toprule", "claim & verdict & effect [interval] & fails or straddles \\\\", "\\midrule"]
+    for res, revs in results:
+        rows.append(" & ".join(writers.tex_escape(c) for c in (
+            "(%s) %s" % (res.key, res.title), stated(res, revs), effect_cell(res),
+            places(res.fails() + res.straddles()))) + " \\\\")
+    rows += ["\\bottomrule", "\\end{tabular}", ""]
+    return "\n".join(rows)
+
+
+def write_specifications(path, all_specs):
+    """One row per claim and distinct specification: the choices that reach the claim, its verdict
+    and its effects."""
+    cols = ["claim"] + [c.name for c in choices.CHOICES] + ["verdict", "effects"]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(cols)
+        for key, specs in all_specs:
+            for spec, res in specs:
+                w.writerow([key] + [spec.values[c.name] if c.name in REACHES[key] else "" for c in choices.CHOICES] +
+                           [res.verdict, "; ".join("%s %s %s" % (e.where, e.interval(), e.outcome) for e in res.effects)])
+
+
+def write_all(root):
+    data = Data(root)
+    results_specs, all_specs = [], []
+    judged_total = 0
+    for claim in ORDER:
+        judged, specs = specifications(data, claim)
+        revs = reversals(specs)
+        results_specs.append((specs[0][1], judged, specs, revs))
+        all_specs.append((specs[0][1].key, specs))
+        judged_total += judged
+    counted = (judged_total, sum(len(s) for _k, s in all_specs))
+    results = [(r, revs) for r, _j, _s, revs in results_specs]
+    cost = cost_lines(data, choices.DEFAULT)
+    writers.write_text(os.path.join(root, "SUMMARY.md"), summary_md(results, cost, counted))
+    short = shortened(root)
+    text = claims_md(results_specs, counted)
+    if short:
+        text = text.replace("\n\n", "\n\n**Shortened runs** (%s): their figures are not results.\n\n" % ", ".join(short), 1)
+    writers.write_text(os.path.join(root, "claims.md"), text)
+    write_specifications(os.path.join(root, "specifications.csv"), all_specs)
+    tables = os.path.join(root, "tables")
+    os.makedirs(tables, exist_ok=True)
+    writers.write_text(os.path.join(tables, "claims_macros.tex"), tex_macros(macros(results, short)))
+    writers.write_text(os.path.join(tables, "claims_verdicts.tex"), verdicts_tex(results))
+    return results

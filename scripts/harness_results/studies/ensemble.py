@@ -1,0 +1,111 @@
+"""The ensemble study: the runs each claim's error effects rest on (the judge's decisive runs: the
+best settings its comparisons name), run again as ensembles (`harness run --ensemble K`: K members
+that differ only by node order and an initial jitter far below the mesh's precision, what a user
+cannot control) so that the claims' intervals include that spread and a class that flips between
+members is seen. The members are spent where they decide something: on the runs a verdict's effect
+compares, not on the whole grid.
+
+  -> results/ensembles.csv: per run, its configuration (the study file and row it stands for), the
+     members, the class every member shares or `flips` with the counts, the window's position error
+     (median over the members of its window mean; the smallest window minimum and the largest window
+     maximum over the members), the most nodes through over the members, member 0's figure beside
+     the committed row's (the binary that ran the ensemble against the one that made the row), and
+     the wall time.
+
+Untimed runs, -j at once. The judge (scripts/claims.py) reads the file: a row it names is measured
+from its members (judge/measure.py).
+"""
+
+import json
+import os
+import time
+
+from .. import reader, runner, writers
+from ..judge import choices, claims
+from . import accuracy, regime
+from .common import STUDY_EVERY, config_sets, force_setting, reference_of_kind  # noqa: F401
+
+MEMBERS = 5
+COLUMNS = ["file", "scene", "config", "detector", "eliminator", "force", "voxel_mm", "two_sided", "regime", "members",
+           "stability_verdict", "classes", "failed_members", "pos_err_max_mm", "pos_err_max_min_mm", "pos_err_max_max_mm",
+           "tunnelled_max", "committed_pos_err_max_mm", "member0_pos_err_max_mm", "member0_state_hash", "wall_s"]
+FIG = "/pairs/0/error_vs_reference/window/pos_err_max/"
+TUNNEL = "/pairs/0/error_vs_reference/window/tunnelled/max"
+
+
+def decisive_rows(root):
+    """The study rows the judge's error effects compare (as written), each once."""
+    data = claims.Data(root)
+    out, seen = [], set()
+    for res in claims.judge_all(data, choices.DEFAULT):
+        for e in res.effects:
+            for run in e.runs:
+                r = run.row
+                if r.get("_file") not in ("accuracy_time.csv", "regime.csv") or not reader.present(r.get("pos_err_max_mm")):
+                    continue
+                key = tuple(sorted((k, str(v)) for k, v in r.items()))
+                if key not in seen:
+                    seen.add(key)
+                    out.append(r)
+    return out
+
+
+def sets_of(a, r):
+    """The --set overrides that make the row's run again (its study's own configuration)."""
+    voxel = reader.num(r.get("voxel_mm")) / 1e3
+    voxel = None if voxel != voxel else voxel
+    if r["_file"] == "regime.csv":
+        extra = dict(regime.REGIMES)[r["regime"]]
+        return regime.sets_of(r["eliminator"], force_setting(r["force"]), voxel, extra)
+    force = "auto" if r["force"] == "positions" else force_setting(r["force"])
+    for label, det, v, elim, f, extra in accuracy.method_configs(a, r["scene"]):
+        if (label, det, elim, f) == (r["config"], r["detector"], r["eliminator"], force) and (
+                v is None or voxel is None or abs(v - voxel) < 1e-12):
+            return config_sets(det, v, elim, f, extra)
+    raise KeyError("no configuration of the accuracy study makes %s %s" % (r["scene"], r["config"]))
+
+
+def folder_of(r):
+    name = "%s_%s_%s_%s_%s_%s" % (r["_file"].split(".")[0], r.get("config", ""), r["eliminator"], r["force"],
+                                  r.get("voxel_mm", ""), r.get("regime", "") or r.get("two_sided", ""))
+    return "ensemble/%s/%s" % (r["scene"], "".join(c if c.isalnum() or c in "._-" else "_" for c in name))
+
+
+def row_of(r, s, members, wall):
+    ens = (s or {}).get("ensemble") or {}
+    figs = ens.get("figures") or {}
+    classes = ens.get("classes") or {}
+    fig = lambda k, what: reader.num((figs.get(FIG + k) or {}).get(what)) * 1e3  # noqa: E731
+    member_runs = ens.get("member_runs") or []
+    return {"file": r["_file"], "scene": r["scene"], "config": r.get("config", ""), "detector": r.get("detector", "voxel"),
+            "eliminator": r["eliminator"], "force": r["force"], "voxel_mm": r.get("voxel_mm", ""),
+            "two_sided": r.get("two_sided", ""), "regime": r.get("regime", ""), "members": members,
+            "stability_verdict": ens.get("stability_verdict", (s or {}).get("status", "failed")),
+            "classes": ";".join("%s:%d" % kv for kv in sorted(classes.items())),
+            "failed_members": sum(1 for m in member_runs if m.get("status") not in (None, "ok")) if member_runs else members,
+            "pos_err_max_mm": fig("mean", "median"), "pos_err_max_min_mm": fig("min", "min"),
+            "pos_err_max_max_mm": fig("max", "max"),
+            "tunnelled_max": reader.num((figs.get(TUNNEL) or {}).get("max")),
+            "committed_pos_err_max_mm": r.get("pos_err_max_mm"),
+            "member0_pos_err_max_mm": reader.num(reader.window_figures(s).get("pos_err_max_mm")) if s else float("nan"),
+            "member0_state_hash": (s or {}).get("state_hash", ""), "wall_s": "%.1f" % wall}
+
+
+def run(a):
+    members = getattr(a, "ensemble", None) or MEMBERS
+    rows = decisive_rows(a.results)
+    print("study: ensemble: %d runs the claims' effects compare, %d members each" % (len(rows), members))
+    out = []
+    t0 = time.monotonic()
+
+    def one(r):
+        kind, ref, other = reference_of_kind(a, r["scene"], r.get("two_sided") == "yes")
+        start = time.monotonic()
+        s = runner.run(a, r["scene"], os.path.join(a.results, "sweeps", folder_of(r)),
+                       sets_of(a, r) + ["--ensemble=%d" % members], compare=(ref, other))
+        return row_of(r, s, members, time.monotonic() - start)
+    out = runner.parallel(a, one, rows)
+    writers.write_csv(os.path.join(a.results, "ensembles.csv"), out, COLUMNS)
+    print("study: ensemble: %d runs in %.0f s -> %s" % (len(out), time.monotonic() - t0,
+                                                       os.path.join(a.results, "ensembles.csv")))
+    return json.dumps(len(out))
