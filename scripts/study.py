@@ -18,6 +18,9 @@
   study.py bullet       bullet.csv, tables/bullet.{md,tex}: Bullet's soft bodies beside the harness
   study.py detection    detection.csv, tables/detection.md: claim (d) as stated, detection alone, every
                         detector timed and scored against CGAL's exact sets on the same states
+  study.py ensemble     ensembles.csv: the runs the claims' effects compare (scripts/claims.py's judge), each
+                        run again as an ensemble (harness run --ensemble K, --members K, default 5: node
+                        orders and a jitter far below the mesh's precision); the judge reads it
   study.py all          every one of them, in this order (or name several: study.py accuracy realtime)
   study.py all --scene FILE --out DIR   (or name some of accuracy ablation convergence refinement realtime swap detection)
                         the same studies on a scene of your own: the same tables, figures and CSV files in DIR
@@ -76,6 +79,8 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("-j", dest="jobs", type=int, default=2)
     ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--members", dest="ensemble", type=int, default=None,
+                    help="ensemble: members per run (default 5)")
     ap.add_argument("--cached-only", action="store_true",
                     help="run nothing: write the study's files from the runs already in results/sweeps/, a "
                          "configuration not run yet listed with status 'not run' (stability: failed)")

@@ -358,6 +358,9 @@ def claim_d(data, spec):
         effects.append(Effect("%s (%d nodes)" % (src, reader.num(nodes)), val, lo, hi, 1.0, "above", note,
                               runs=()))
         effects[-1].recall = reader.num(v.get("recall"))
+        effects[-1].precision = reader.num(v.get("precision"))
+        effects[-1].box = None if box is None else (reader.num(box["detect_us"]) / reader.num(v["detect_us"]),
+                                                    reader.num(box.get("precision")))
     return Result("d", "Voxelization is one of the fastest searches",
                   "'Collision search using space voxelization is one of the most fast'",
                   "per scene and bench size, detection alone on the same states: the fastest exact detector's time "

@@ -16,14 +16,13 @@ Untimed runs, -j at once. The judge (scripts/claims.py) reads the file: a row it
 from its members (judge/measure.py).
 """
 
-import json
 import os
 import time
 
 from .. import reader, runner, writers
 from ..judge import choices, claims
 from . import accuracy, regime
-from .common import STUDY_EVERY, config_sets, force_setting, reference_of_kind  # noqa: F401
+from .common import config_sets, force_label, force_setting, reference_of_kind
 
 MEMBERS = 5
 COLUMNS = ["file", "scene", "config", "detector", "eliminator", "force", "voxel_mm", "two_sided", "regime", "members",
@@ -57,9 +56,9 @@ def sets_of(a, r):
     if r["_file"] == "regime.csv":
         extra = dict(regime.REGIMES)[r["regime"]]
         return regime.sets_of(r["eliminator"], force_setting(r["force"]), voxel, extra)
-    force = "auto" if r["force"] == "positions" else force_setting(r["force"])
     for label, det, v, elim, f, extra in accuracy.method_configs(a, r["scene"]):
-        if (label, det, elim, f) == (r["config"], r["detector"], r["eliminator"], force) and (
+        shown = "positions" if elim == "projection" else force_label(f)
+        if (label, det, elim, shown) == (r["config"], r["detector"], r["eliminator"], r["force"]) and (
                 v is None or voxel is None or abs(v - voxel) < 1e-12):
             return config_sets(det, v, elim, f, extra)
     raise KeyError("no configuration of the accuracy study makes %s %s" % (r["scene"], r["config"]))
@@ -77,7 +76,7 @@ def row_of(r, s, members, wall):
     classes = ens.get("classes") or {}
     fig = lambda k, what: reader.num((figs.get(FIG + k) or {}).get(what)) * 1e3  # noqa: E731
     member_runs = ens.get("member_runs") or []
-    return {"file": r["_file"], "scene": r["scene"], "config": r.get("config", ""), "detector": r.get("detector", "voxel"),
+    return {"file": r["_file"], "scene": r["scene"], "config": r.get("config", ""), "detector": r.get("detector", ""),
             "eliminator": r["eliminator"], "force": r["force"], "voxel_mm": r.get("voxel_mm", ""),
             "two_sided": r.get("two_sided", ""), "regime": r.get("regime", ""), "members": members,
             "stability_verdict": ens.get("stability_verdict", (s or {}).get("status", "failed")),
@@ -91,21 +90,30 @@ def row_of(r, s, members, wall):
             "member0_state_hash": (s or {}).get("state_hash", ""), "wall_s": "%.1f" % wall}
 
 
-def run(a):
+def run(a, rounds=3):
+    """Rounds of: the decisive rows under the judge as it reads results/ensembles.csv so far, each
+    missing one run as an ensemble, the file written again; until a round adds none (a run that an
+    ensemble shows failing hands the comparison to the next best setting, which is then run too),
+    at most `rounds` rounds. Runs already made are cached (results/sweeps/ensemble/)."""
     members = getattr(a, "ensemble", None) or MEMBERS
-    rows = decisive_rows(a.results)
-    print("study: ensemble: %d runs the claims' effects compare, %d members each" % (len(rows), members))
-    out = []
     t0 = time.monotonic()
+    path = os.path.join(a.results, "ensembles.csv")
+    done = {}
+    for k in range(rounds):
+        rows = decisive_rows(a.results)
+        todo = [r for r in rows if folder_of(r) not in done]
+        print("study: ensemble, round %d: %d runs the claims' effects compare, %d not yet run as ensembles of %d" % (
+            k + 1, len(rows), len(todo), members))
+        if not todo:
+            break
 
-    def one(r):
-        kind, ref, other = reference_of_kind(a, r["scene"], r.get("two_sided") == "yes")
-        start = time.monotonic()
-        s = runner.run(a, r["scene"], os.path.join(a.results, "sweeps", folder_of(r)),
-                       sets_of(a, r) + ["--ensemble=%d" % members], compare=(ref, other))
-        return row_of(r, s, members, time.monotonic() - start)
-    out = runner.parallel(a, one, rows)
-    writers.write_csv(os.path.join(a.results, "ensembles.csv"), out, COLUMNS)
-    print("study: ensemble: %d runs in %.0f s -> %s" % (len(out), time.monotonic() - t0,
-                                                       os.path.join(a.results, "ensembles.csv")))
-    return json.dumps(len(out))
+        def one(r):
+            kind, ref, other = reference_of_kind(a, r["scene"], r.get("two_sided") == "yes")
+            start = time.monotonic()
+            s = runner.run(a, r["scene"], os.path.join(a.results, "sweeps", folder_of(r)),
+                           sets_of(a, r) + ["--ensemble=%d" % members], compare=(ref, other))
+            return row_of(r, s, members, time.monotonic() - start)
+        for r, out in zip(todo, runner.parallel(a, one, todo)):
+            done[folder_of(r)] = out
+        writers.write_csv(path, list(done.values()), COLUMNS)
+    print("study: ensemble: %d runs in %.0f s -> %s" % (len(done), time.monotonic() - t0, path))
