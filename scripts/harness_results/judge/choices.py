@@ -74,6 +74,13 @@ CHOICES = [
     Choice("open_share", 0.05,
            "(b): 'eliminated' is at most 5 % of the episodes left open at the end or gone through",
            {0.2: "eliminated read loosely: most episodes end outside"}),
+    Choice("e_reading", "recall",
+           "(e): 'collisions are detected' read end to end: the share of penetrating guest nodes the grid "
+           "detects when it covers the host's whole box (a miss inside the region counts: the paper promises "
+           "detection)",
+           {"region": "only the misses the region causes: penetrating guest nodes outside the paper's "
+                      "half-box region made large (its widest margin); the grid's inside test is not the "
+                      "region's"}),
     Choice("e_miss", 0.0,
            "(e): 'collisions are detected' is every penetrating guest node detected (recall 1) when the "
            "grid covers the host's whole box",

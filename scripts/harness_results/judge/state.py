@@ -22,7 +22,7 @@ REACHES = {
           "open_share"],
     "c": ["chatter_scale", "tunnel_limit", "unstable_fails", "restriction_bound", "much"],
     "d": ["exact_set"],
-    "e": ["e_miss"],
+    "e": ["e_reading", "e_miss"],
     "rt": MEASURE + ["auto_force", "rt_statistic"],
     "sim": ["tunnel_limit"],
     "completed": MEASURE,
@@ -367,6 +367,10 @@ def write_all(root):
     write_specifications(os.path.join(root, "specifications.csv"), all_specs)
     tables = os.path.join(root, "tables")
     os.makedirs(tables, exist_ok=True)
-    writers.write_text(os.path.join(tables, "claims_macros.tex"), tex_macros(macros(results, short)))
+    from .claims import claim_c
+    by = {r.key: r for r, _ in results}
+    extra = [("ClaimCNoBound", effect_cell(claim_c(data, choices.Spec(restriction_bound="not required")))),
+             ("ClaimBWhy", "; ".join("%s %s" % (e.where, getattr(e, "why", "") or "meets it") for e in by["b"].effects))]
+    writers.write_text(os.path.join(tables, "claims_macros.tex"), tex_macros(macros(results, short) + extra))
     writers.write_text(os.path.join(tables, "claims_verdicts.tex"), verdicts_tex(results))
     return results
