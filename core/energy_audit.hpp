@@ -71,6 +71,12 @@ class EnergyAudit {
   // new state (the residual's scales).
   void engine_step(const World& w, const Points& v_prev, double dt, double kinetic, double elastic, double potential);
 
+  // The state's kinetic energy changed by dE (J) from outside the step (velocities set by hand):
+  // booked as external work.
+  void book_external(double dE) {
+    ledger_.kinetic += dE;
+    ledger_.work_external += dE;
+  }
   // Restarts the ledger from a state of the given energies (J).
   void reset(double kinetic, double elastic, double potential);
 

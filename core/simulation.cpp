@@ -17,6 +17,7 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : s
   if (options.jitter > 0.0) jitter_positions(world_, options.jitter, options.jitter_seed);
   build_pairs();
   build_effects(options);
+  attach_responses(options);
   guard_ = std::make_unique<StabilityGuard>(scene_, world_, effects_);
   if (options.engine) {
     engine_ = options.engine(scene_, world_);  // may throw InputError: nothing written yet
@@ -33,7 +34,8 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : s
   }
   if (contact && contact->ahead_tasks() > 0 && options.overlap != SimulationOptions::Overlap::never) ahead_ = contact;
   overlap_ = options.overlap;
-  if (external_) f_ext_.assign(world_.x.size(), Vec3::Zero());  // sized once: no allocation per step
+  user_forces_ = options.user_forces;
+  if (external_ || user_forces_) f_ext_.assign(world_.x.size(), Vec3::Zero());  // sized once: no allocation per step
   if (options.audit) {
     AuditSetup a;
     a.springs = scene_.has(kSprings) || scene_.has(kBulk);  // the elastic forces and energy per node
@@ -41,7 +43,7 @@ Simulation::Simulation(const Scene& scene, const SimulationOptions& options) : s
     a.gravity = scene_.has(kGravity);
     a.gravity_acceleration = scene_.gravity;
     a.drivers = scene_.has(kDrivers) && !kinematics_.drivers.empty();
-    a.f_ext = external_ ? &f_ext_ : nullptr;
+    a.f_ext = external_ || user_forces_ ? &f_ext_ : nullptr;
     a.contact = contact;
     audit_ = std::make_unique<EnergyAudit>(world_, a);
     reset_energy();
@@ -72,6 +74,28 @@ void jitter_positions(World& w, double share, std::uint64_t seed) {
 void Simulation::build_pairs() {
   pairs_.reserve(scene_.contacts.size());
   for (const ContactPairSpec& cp : scene_.contacts) pairs_.emplace_back(cp.spec, cp.label);
+}
+
+void Simulation::attach_responses(const SimulationOptions& options) {
+  for (std::size_t i = 0; i < options.responses.size(); ++i) {
+    if (!options.responses[i].force) continue;
+    if (i >= pairs_.size())
+      throw InputError(scene_.file + ": contacts", "a response for pair " + std::to_string(i) + ", but the scene has " +
+                                                       std::to_string(pairs_.size()) + " contact pairs");
+    const std::string at = scene_.file + ": " + scene_.contacts[i].path;
+    if (!pairs_[i].collision)
+      throw InputError(scene_.file + ": effects", "a response for pair " + pairs_[i].label +
+                                                      " needs the \"contact\" effect, which the scene does not list");
+    if (scene_.integrator != Integrator::symplectic_euler)
+      throw InputError(scene_.file + ": time.integrator",
+                       "a response of its own reports no stiffness, which the implicit step needs: use "
+                       "\"symplectic_euler\"");
+    try {
+      pairs_[i].collision->set_response(options.responses[i]);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(at + ".eliminator", e.what());
+    }
+  }
 }
 
 void Simulation::build_effects(const SimulationOptions& options) {
@@ -143,6 +167,7 @@ void Simulation::step() {
   }
   for (const auto& e : effects_) e->end_step(w, ctx);
   if (audit_) audit_->end_step();
+  next_forces_.clear();
   last_.detect_us = last_.eliminate_us = 0.0;
   for (const Pair& p : pairs_) last_.detect_us += p.last.detect_us, last_.eliminate_us += p.last.eliminate_us;
   last_.physics_us = total - last_.detect_us - last_.eliminate_us;
@@ -196,8 +221,10 @@ void Simulation::add_forces(StepContext& s) {
     s.substeps = guard_->substeps();
     s.h = s.dt / s.substeps;
   };
-  if (external_) std::fill(f_ext_.begin(), f_ext_.end(), Vec3::Zero());
-  bool joined = !external_;
+  const bool external = external_ || !next_forces_.empty();
+  if (external_ || user_forces_) std::fill(f_ext_.begin(), f_ext_.end(), Vec3::Zero());
+  for (const auto& [i, f] : next_forces_) f_ext_[i] += f;
+  bool joined = !external;
   auto join = [&] {
     const int n = w.num_nodes();
     const int T = threads_for(static_cast<std::size_t>(n));
@@ -269,6 +296,16 @@ double Simulation::potential_energy() const {
   double e = 0.0;
   for (const auto& f : effects_) e += f->energy(world_);
   return e;
+}
+
+void Simulation::book_kinetic_change(double dE) {
+  if (audit_) audit_->book_external(dE);
+}
+
+void Simulation::add_next_force(int i, const Vec3& f) {
+  if (!user_forces_) throw std::logic_error("add_next_force: the simulation was built without SimulationOptions::user_forces");
+  if (i < 0 || i >= world_.num_nodes()) throw std::out_of_range("add_next_force: node out of range");
+  next_forces_.emplace_back(i, f);
 }
 
 void Simulation::reset_energy() {

@@ -47,6 +47,14 @@ struct SimulationOptions {
   // from jitter_seed and the node's scene index (the same displacement in every node order). 0: none.
   double jitter = 0.0;
   std::uint64_t jitter_seed = 0;
+  // Contact responses of the program's own, by pair index (ContactResponse, collision.hpp; an empty
+  // one or a pair past the end: the scene's force rule). The scene must list "contact", the pair
+  // must eliminate with forces (line, plane) and the integrator be explicit: they report no
+  // stiffness (InputError otherwise, naming the key).
+  std::vector<OwnResponse> responses;
+  // Forces added by hand (Simulation::add_next_force) are accepted and booked by the audit as
+  // external work.
+  bool user_forces = false;
 };
 
 // Wall time of the last step, microseconds (steady_clock). physics: everything but the contact
@@ -111,6 +119,12 @@ class Simulation {
   bool energy_current() const { return !audit_ || !audit_->elastic_pending(); }
   // Restarts the audit from the current state (after a caller changed it by hand).
   void reset_energy();
+  // A caller changed velocities by hand and the kinetic energy by dE (J): booked as external work,
+  // the audit goes on (O(1); a change of positions needs reset_energy()).
+  void book_kinetic_change(double dE);
+  // A force (N) on world node i in every substep of the next step only (SimulationOptions::
+  // user_forces; std::logic_error without it); booked as external work.
+  void add_next_force(int i, const Vec3& f);
   // |net force on the free nodes| / |applied forces on them| (gravity, pressure, loads), or,
   // where nothing is applied, over the largest |spring forces| of the run so far, at the start
   // of the last substep; 0 without either, NaN with the audit off.
@@ -120,6 +134,7 @@ class Simulation {
 
  private:
   void build_pairs();
+  void attach_responses(const SimulationOptions& options);
   void build_effects(const SimulationOptions& options);
   void integrate(const StepContext& s);
   void add_forces(StepContext& s);
@@ -145,6 +160,8 @@ class Simulation {
   bool external_ = false;   // some external effect (gravity, pressure, loads) is built
   bool corrects_ = false;   // some effect corrects positions after integration (projection)
   Points f_ext_;            // this substep's external forces: those effects add here (then into f)
+  bool user_forces_ = false;                       // SimulationOptions::user_forces
+  std::vector<std::pair<int, Vec3>> next_forces_;  // add_next_force: for the next step
   std::unique_ptr<EnergyAudit> audit_;  // null: the audit is off
   StepTimes last_;
   SimulationStats stats_;

@@ -31,7 +31,7 @@ namespace {
 // `harness run` on a scene into out_dir: the same options as the command line's, no progress
 // line. Returns its exit status (0 done, 3 non-finite, 130/143 interrupted: harness.run raises).
 int run_scene_into(const PyScene& s, const std::string& out_dir, int threads, const std::string& compare,
-                   const std::string& compare_also) {
+                   const std::string& compare_also, const pybind11::object& response) {
   if (threads < 1) throw pyb::value_error("threads: must be >= 1");
 #ifdef HARNESS_HAVE_REFERENCE
   RunOptions opt = with_references();
@@ -42,6 +42,8 @@ int run_scene_into(const PyScene& s, const std::string& out_dir, int threads, co
   opt.progress = false;
   opt.compare_dir = compare;
   opt.compare_also_dir = compare_also;
+  PyResponses responses = python_responses(response, s.scene);
+  opt.responses = responses.list;
   const int before = harness::threads();
   set_threads(threads);
   int rc = 0;
@@ -53,6 +55,7 @@ int run_scene_into(const PyScene& s, const std::string& out_dir, int threads, co
     throw;
   }
   set_threads(before);
+  responses.raise_if_any();  // a response's own exception, once the run's outputs are written
   return rc;
 }
 
@@ -80,6 +83,6 @@ PYBIND11_MODULE(_harness, m) {
   bind_scene(m);
   bind_simulation(m);
   m.def("_run_scene", &run_scene_into, pybind11::arg("scene"), pybind11::arg("out_dir"), pybind11::arg("threads") = 1,
-        pybind11::arg("compare") = "", pybind11::arg("compare_also") = "");
+        pybind11::arg("compare") = "", pybind11::arg("compare_also") = "", pybind11::arg("response") = pybind11::none());
   m.def("have_reference", &have_reference, "Whether this build links FCL and CGAL (references, measure()).");
 }

@@ -3,10 +3,14 @@
 // (python/harness/__init__.py) wraps these into the public API.
 #pragma once
 
+#include "core/collision/collision.hpp"
 #include "core/collision/detectors/collision_detector.hpp"
 #include "core/scene/scene.hpp"
 
 #include <pybind11/pybind11.h>
+
+#include <memory>
+#include <vector>
 
 namespace harness::py {
 
@@ -36,6 +40,20 @@ bool have_reference();
 // Raises KeyboardInterrupt (or whatever Python's signal handlers raise) when a signal arrived:
 // PyErr_CheckSignals with the GIL taken. Call with the GIL released.
 void check_signals();
+
+// Python callables as contact responses (module_response.cpp): `response` is None, a callable (for
+// every pair) or a dict of pair label or index -> callable; each is called with (contacts, guest,
+// host) and returns (forces on the guest, forces on the host). A callable's first exception is kept
+// in `error` (the step then fails) and raised by raise_if_any() once the GIL is held again.
+struct PyResponses {
+  struct Error {
+    std::shared_ptr<pybind11::error_already_set> value;  // null: none
+  };
+  std::vector<OwnResponse> list;
+  std::shared_ptr<Error> error;
+  void raise_if_any();
+};
+PyResponses python_responses(const pyb::object& response, const Scene& scene);
 
 void bind_scene(pyb::module_& m);
 void bind_simulation(pyb::module_& m);

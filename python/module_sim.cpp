@@ -51,13 +51,17 @@ bool as_index(const pyb::handle& o, long long& out) {
 
 class PySim {
  public:
-  PySim(const pyb::object& scene, int threads, const std::string& node_order) : threads_(threads) {
+  PySim(const pyb::object& scene, int threads, const std::string& node_order, const pyb::object& response)
+      : threads_(threads) {
     if (threads < 1) throw pyb::value_error("threads: must be >= 1");
     SimulationOptions so;
     if (!parse_node_order(node_order, so.layout.order))
       throw pyb::value_error("node_order: expected scene, rcm or morton, not '" + node_order + "'");
     const PyScene s = as_scene(scene);
     so.exact_detectors = exact_detector_maker();
+    so.user_forces = true;  // add_forces()
+    responses_ = python_responses(response, s.scene);
+    so.responses = responses_.list;
     sim_ = std::make_unique<Simulation>(s.scene, so);
     good_x_.resize(sim_->world().num_nodes());
     good_v_.resize(sim_->world().num_nodes());
@@ -84,6 +88,7 @@ class PySim {
       }
     }
     if (!failure.empty()) {
+      responses_.raise_if_any();  // a response's own exception, as it was raised
       const std::string msg = "step " + std::to_string(failed) + ": " + failure +
                               "; the simulation holds the last good state (step " + std::to_string(failed - 1) + ")";
       PyErr_SetString(simulation_error().ptr(), msg.c_str());
@@ -181,9 +186,66 @@ class PySim {
     for (std::size_t k = 0; k < idx.size(); ++k)
       if (!std::isfinite(r(k, 0)) || !std::isfinite(r(k, 1)) || !std::isfinite(r(k, 2)))
         throw pyb::value_error("row " + std::to_string(k) + " is not finite");
-    Points& p = velocities ? sim_->world().v : sim_->world().x;
-    for (std::size_t k = 0; k < idx.size(); ++k) p[b.begin + b.local_of_scene(idx[k])] = Vec3(r(k, 0), r(k, 1), r(k, 2));
-    sim_->reset_energy();
+    World& w = sim_->world();
+    Points& p = velocities ? w.v : w.x;
+    double dE = 0.0;  // the kinetic energy's change (velocities)
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+      const int i = b.begin + b.local_of_scene(idx[k]);
+      const Vec3 now(r(k, 0), r(k, 1), r(k, 2));
+      if (velocities) dE += 0.5 * w.m[i] * (now.squaredNorm() - p[i].squaredNorm());
+      p[i] = now;
+    }
+    // Velocities: the kinetic energy's change is booked as external work (in proportion to the
+    // nodes set); positions change the springs' energy: the audit restarts (a pass over them).
+    if (velocities) sim_->book_kinetic_change(dE);
+    else sim_->reset_energy();
+  }
+
+  // The body-local node indices `nodes` (None: all) in the scene's numbering, checked.
+  std::vector<int> node_list(const Body& b, const pyb::object& nodes) const {
+    std::vector<int> idx;
+    if (nodes.is_none()) {
+      idx.resize(static_cast<std::size_t>(b.size()));
+      for (int i = 0; i < b.size(); ++i) idx[static_cast<std::size_t>(i)] = i;
+      return idx;
+    }
+    if (!pyb::isinstance<pyb::iterable>(nodes) || pyb::isinstance<pyb::str>(nodes))
+      throw pyb::type_error("nodes: a sequence of body-local node indices");
+    for (const pyb::handle& h : nodes) {
+      long long i = 0;
+      if (!as_index(h, i)) throw pyb::type_error("nodes: a sequence of body-local node indices");
+      if (i < 0 || i >= b.size())
+        throw pyb::index_error("node " + std::to_string(i) + ": body " + b.name + " has " + std::to_string(b.size()));
+      idx.push_back(static_cast<int>(i));
+    }
+    return idx;
+  }
+
+  // Forces (N) on a body's nodes (all, or the body-local `nodes`; a node given twice gets both) in
+  // every substep of the next step only, booked by the energy audit as external work.
+  void add_forces(const pyb::object& which, const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& a,
+                  const pyb::object& nodes) {
+    const Busy busy(*this);
+    const Body& b = body(which);
+    const std::vector<int> idx = node_list(b, nodes);
+    if (a.ndim() != 2 || a.shape(1) != 3 || a.shape(0) != static_cast<pyb::ssize_t>(idx.size()))
+      throw pyb::value_error("expected an array of shape (" + std::to_string(idx.size()) + ", 3)");
+    auto r = a.unchecked<2>();
+    for (std::size_t k = 0; k < idx.size(); ++k)
+      if (!std::isfinite(r(k, 0)) || !std::isfinite(r(k, 1)) || !std::isfinite(r(k, 2)))
+        throw pyb::value_error("row " + std::to_string(k) + " is not finite");
+    for (std::size_t k = 0; k < idx.size(); ++k)
+      sim_->add_next_force(b.begin + b.local_of_scene(idx[k]), Vec3(r(k, 0), r(k, 1), r(k, 2)));
+  }
+
+  // The body's node masses, kg, in the scene's numbering (a copy).
+  pyb::array_t<double> masses(const pyb::object& which) const {
+    const Busy busy(*this);
+    const Body& b = body(which);
+    pyb::array_t<double> m(static_cast<pyb::ssize_t>(b.size()));
+    auto M = m.mutable_unchecked<1>();
+    for (int q = 0; q < b.size(); ++q) M(q) = sim_->world().m[b.begin + b.local_of_scene(q)];
+    return m;
   }
 
   pyb::dict contacts(const pyb::object& which) const;
@@ -197,6 +259,7 @@ class PySim {
   std::unique_ptr<Simulation> sim_;
   Points good_x_, good_v_;
   std::vector<std::unique_ptr<Measurer>> measurers_;  // per pair, made on the first measure()
+  PyResponses responses_;  // the pairs' Python responses (none: the scene's force rules)
   mutable std::atomic<bool> busy_{false};
 };
 
@@ -311,10 +374,14 @@ pyb::object PySim::measure(const pyb::object& which) {
 void bind_simulation(pyb::module_& m) {
   simulation_error() = pyb::exception<std::runtime_error>(m, "SimulationError", PyExc_RuntimeError);
   pyb::class_<PySim>(m, "Simulation", "A scene built and stepped from Python (docs/python.md).")
-      .def(pyb::init<const pyb::object&, int, const std::string&>(), pyb::arg("scene"), pyb::arg("threads") = 1,
-           pyb::arg("node_order") = std::string(node_order_name(kDefaultNodeOrder)),
+      .def(pyb::init<const pyb::object&, int, const std::string&, const pyb::object&>(), pyb::arg("scene"),
+           pyb::arg("threads") = 1, pyb::arg("node_order") = std::string(node_order_name(kDefaultNodeOrder)),
+           pyb::arg("response") = pyb::none(),
            "A simulation of a Scene (or a dict, a scene file, a bundled name), built now (SceneError for bad input); "
-           "node_order: the nodes' layout (scene, rcm, morton; arrays keep the scene's numbering).")
+           "node_order: the nodes' layout (scene, rcm, morton; arrays keep the scene's numbering); response: a "
+           "contact response of your own instead of the scene's force rule (a callable for every pair, or a dict "
+           "of pair label or index -> callable; docs/python.md): response(contacts, guest, host) -> "
+           "(forces on the guest, forces on the host).")
       .def("step", &PySim::step, pyb::arg("n") = 1,
            "n steps of scene.dt (the GIL released; Ctrl-C stops between steps with KeyboardInterrupt).")
       .def_property_readonly("time", [](const PySim& s) { return s.sim().time(); })
@@ -337,10 +404,17 @@ void bind_simulation(pyb::module_& m) {
       .def("set_positions", [](PySim& s, const pyb::object& body, const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& a,
                                const pyb::object& nodes) { s.set_rows(body, a, nodes, false); },
            pyb::arg("body"), pyb::arg("array"), pyb::arg("nodes") = pyb::none(),
-           "Sets the body's positions (all, or those of the body-local `nodes`); the energy audit restarts.")
+           "Sets the body's positions (all, or those of the body-local `nodes`); the energy audit restarts (a pass "
+           "over the springs).")
       .def("set_velocities", [](PySim& s, const pyb::object& body, const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& a,
                                 const pyb::object& nodes) { s.set_rows(body, a, nodes, true); },
-           pyb::arg("body"), pyb::arg("array"), pyb::arg("nodes") = pyb::none())
+           pyb::arg("body"), pyb::arg("array"), pyb::arg("nodes") = pyb::none(),
+           "Sets the body's velocities (all, or those of the body-local `nodes`), in proportion to the nodes set; "
+           "the kinetic energy's change is booked as external work.")
+      .def("add_forces", &PySim::add_forces, pyb::arg("body"), pyb::arg("array"), pyb::arg("nodes") = pyb::none(),
+           "Adds forces (N, shape (len(nodes), 3); nodes None: all the body's) to the next step only, in every "
+           "substep; the energy audit books their work as external.")
+      .def("masses", &PySim::masses, pyb::arg("body"), "The body's node masses, kg (a copy, in the scene's numbering).")
       .def("contacts", &PySim::contacts, pyb::arg("pair") = 0, "The last step's contacts of a pair (index or label).")
       .def("measure", &PySim::measure, pyb::arg("pair") = pyb::none(),
            "The exact references (CGAL, FCL) of the current state: one dict per pair, or the given pair's.")

@@ -107,6 +107,13 @@ PairStep Collision::project(World& w, double h) {
   return finish(s, us_between(t0, t1), t1);
 }
 
+void Collision::set_response(OwnResponse r) {
+  if (r.force && projects())
+    throw std::invalid_argument("a response of its own needs a force eliminator (line, plane), not a projection");
+  response_ = std::move(r.force);
+  response_name_ = response_ ? std::move(r.name) : std::string();
+}
+
 PairStep Collision::step(World& w, double h) {
   PairStep s;
   if (projects()) return s;
@@ -119,6 +126,19 @@ PairStep Collision::step(World& w, double h) {
   ahead_ = false;
   const auto t1 = Clock::now();
   all_pushes(w);
+  if (response_) {  // the program's response: its forces per node; magnitude per contact, the guest's |f|
+    for (Push& p : pushes_) p.n = spec_.invert_push ? -p.normal : p.normal;  // the direction it is given
+    response_f_.assign(w.x.size(), Vec3::Zero());
+    response_(w, pushes_, h, response_f_);
+    if (response_f_.size() != w.x.size()) throw std::runtime_error("contact response: forces for every node expected");
+    magnitude_.resize(pushes_.size());
+    for (std::size_t i = 0; i < pushes_.size(); ++i) {
+      magnitude_[i] = response_f_[pushes_[i].guest].norm();
+      s.force = std::max(s.force, magnitude_[i]);
+    }
+    for (std::size_t i = 0; i < w.x.size(); ++i) w.f[i] += response_f_[i];
+    return finish(s, detect_us, t1);
+  }
   switch (spec_.force_rule) {
     case ForceRule::automatic: {
       const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
@@ -162,6 +182,10 @@ double Collision::work(const World& w, const Points& dx) const {
       for (int k = 0; k < p.count; ++k) s -= p.weight[k] * w.m[p.hosts[k]] * inv(p.hosts[k]) * p.normal.dot(dx[p.hosts[k]]);
       sum += lambda / h2 * s;
     }
+    return sum;
+  }
+  if (response_) {
+    for (std::size_t i = 0; i < response_f_.size() && i < dx.size(); ++i) sum += response_f_[i].dot(dx[i]);
     return sum;
   }
   for (std::size_t i = 0; i < pushes_.size() && i < magnitude_.size(); ++i) {

@@ -13,6 +13,7 @@
 #include "core/collision/responses/volume.hpp"
 #include "core/world.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -37,6 +38,18 @@ struct PairStep {
 // (ContactSpec::made) throws std::logic_error: a bug of the caller's.
 void check_pair(const World& w, const ContactSpec& spec);
 
+// A contact response given by the program instead of the pair's force rule (the Python module's
+// callable, harness.Simulation(response=...)): each (sub)step, after detection and the eliminator's
+// pushes (their directions, depths, hosts and weights), it adds its forces per world node into
+// `f` (zeros on entry, one row per node of w), N. It reports no stiffness: the stability guard
+// does not see it and the implicit step refuses it (Simulation). It may throw; the step then fails.
+using ContactResponse = std::function<void(const World& w, const std::vector<Push>& pushes, double h, Points& f)>;
+// A response and the name its runs record (summary.json pairs[].response).
+struct OwnResponse {
+  std::string name;
+  ContactResponse force;
+};
+
 class Collision {
  public:
   // The automatic force separates a contact at v_sep = L / separation_time (ContactSpec; its
@@ -54,6 +67,11 @@ class Collision {
   // Detect, then eliminate, in a (sub)step of h seconds (StepContext::h; the automatic force
   // separates a contact within it).
   PairStep step(World& w, double h);
+  // A response instead of the force rule (ContactResponse; empty: the force rule). Refused
+  // (std::invalid_argument) for a projecting pair, which has no forces.
+  void set_response(OwnResponse r);
+  bool has_response() const { return static_cast<bool>(response_); }
+  const std::string& response_name() const { return response_name_; }
   // Projection (eliminator "projection"), after the position update: detect, then move the
   // penetrating nodes to the surface (responses/projection.hpp). step() does nothing for it.
   PairStep project(World& w, double h);
@@ -118,6 +136,9 @@ class Collision {
   double ahead_us_[2] = {0.0, 0.0};  // and their times
   double projected_h_ = 0.0;  // the substep of the last project()
   VolumeStep volume_step_;    // eliminator volume: the last restriction
+  ContactResponse response_;  // set_response: replaces the force rule
+  std::string response_name_;
+  Points response_f_;         // its last forces per node (work())
   double volume_pixel_ = 0.0;  // and its images' pixel (set once, at rest)
 };
 

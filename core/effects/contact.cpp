@@ -7,6 +7,13 @@
 
 namespace harness {
 
+namespace {
+// The pair's stiffness is the linear penalty's (a response of the program's reports none).
+bool stiff(const Pair& p) {
+  return p.spec.force_rule == ForceRule::penalty && p.spec.stiffness > 0.0 && !(p.collision && p.collision->has_response());
+}
+}  // namespace
+
 void ContactEffect::begin_step(World&, const StepContext&) {
   for (Pair& p : pairs_) p.last = PairStep{};
 }
@@ -78,14 +85,14 @@ double ContactEffect::work(const World& w, const Points& dx) const {
 
 bool ContactEffect::has_stiffness() const {
   for (const Pair& p : pairs_)
-    if (p.spec.force_rule == ForceRule::penalty && p.spec.stiffness > 0.0) return true;
+    if (stiff(p)) return true;
   return false;
 }
 
 bool ContactEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) const {
   bool any = false;
   for (const Pair& p : pairs_) {
-    if (p.spec.force_rule != ForceRule::penalty || !(p.spec.stiffness > 0.0)) continue;
+    if (!stiff(p)) continue;
     any = true;
     const double k = p.spec.stiffness;
     if (!p.collision->stepped()) {
@@ -109,7 +116,7 @@ bool ContactEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) 
 
 void ContactEffect::add_jacobian(const World&, LinearSystem& sys) const {
   for (const Pair& p : pairs_) {
-    if (p.spec.force_rule != ForceRule::penalty || !(p.spec.stiffness > 0.0)) continue;
+    if (!stiff(p)) continue;
     if (!p.collision || !p.collision->stepped()) continue;
     const auto& pushes = p.collision->pushes();
     const auto& mag = p.collision->magnitudes();

@@ -249,6 +249,7 @@ int run_scene(const Scene& scene, const RunOptions& opt, RunOutcome* outcome) {
   so.layout.order = opt.node_order;
   so.jitter = opt.jitter;
   so.jitter_seed = opt.jitter_seed;
+  so.responses = opt.responses;
   Simulation sim(scene, so);  // may throw InputError: nothing written yet
   if (!opt.compare_also_dir.empty() && opt.compare_dir.empty())
     throw InputError("--compare-also " + opt.compare_also_dir, "needs --compare");

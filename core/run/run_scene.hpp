@@ -33,6 +33,9 @@ struct RunOptions {
   // --ensemble K (run_ensemble): K members; a member's initial jitter and its seed (SimulationOptions).
   double max_wall_s = 0.0;  // --max-wall: a run past this wall time fails (0: no limit)
   int ensemble = 1;
+  // Contact responses of the program's own by pair (SimulationOptions::responses; the Python
+  // module's harness.run(response=...)); recorded as summary.json pairs[].response.
+  std::vector<OwnResponse> responses;
   double jitter = 0.0;
   std::uint64_t jitter_seed = 0;
 };

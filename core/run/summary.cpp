@@ -129,6 +129,8 @@ json pair_json(const Simulation& sim, const Recorder& rec, const RunOutcome& out
   pj["detector"] = p.collision        ? json(scene_word(p.spec.detector))
                    : p.engine_contact ? json(p.engine_contact)
                                       : json(nullptr);
+  // A response of the program's own (harness.run(response=...)) instead of the scene's force rule.
+  pj["response"] = p.collision && p.collision->has_response() ? json(p.collision->response_name()) : json(nullptr);
   at(pj, key::kVoxelSizeUsed) =
       p.collision && p.collision->voxel_size() > 0.0 ? json(p.collision->voxel_size()) : json(nullptr);
   at(pj, key::kRegionRebuilds) = p.collision ? json(p.collision->rebuilds()) : json(nullptr);

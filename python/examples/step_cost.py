@@ -6,6 +6,10 @@ same thread count, references and frames off, each way timed in turn, `--repeats
   run        harness.run(scene, steps=N) less steps=0 (the same code in the process)
   step(N)    Simulation.step(N): one call
   step() xN  Simulation.step() N times from a Python loop
+  py resp    (--response) Simulation(scene, response=harness.penalty_response(k)).step(N): the
+             scene's own penalty rule written in Python, called every substep
+  set_v(1), set_v(all)  (--response) one set_velocities call on 1 node / every node of body 0, us
+             per call (not per step; the x cli column is then meaningless)
 
 Prints microseconds per step (medians over the rounds) and each way's ratio to the CLI's.
 
@@ -18,6 +22,8 @@ import statistics
 import subprocess
 import tempfile
 import time
+
+import numpy as np
 
 import harness
 
@@ -35,6 +41,8 @@ def main():
     ap.add_argument("--steps", type=int, default=2000)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--response", action="store_true",
+                    help="also the scene's penalty rule as a Python response, and set_velocities' cost")
     args = ap.parse_args()
     edits = {"references.solvers": [], "output.frames_every": 0}
     print(f"{'scene':<20}{'way':<12}{'us/step':>10}{'x cli':>8}")
@@ -68,6 +76,23 @@ def main():
                 "step(N)": lambda: one(args.steps),
                 "step() xN": lambda: loop(args.steps),
             }
+            force = scene.to_dict()["contacts"][0].get("force") if scene.contacts else None
+            if args.response and isinstance(force, dict) and "stiffness" in force:
+                def py(n):
+                    sim = harness.Simulation(scene, threads=args.threads,
+                                             response=harness.penalty_response(force["stiffness"]))
+                    return wall(lambda: sim.step(n))
+
+                def set_v(count):
+                    sim = harness.Simulation(scene, threads=args.threads)
+                    v = np.array(sim.velocities(0))
+                    nodes = None if count is None else list(range(count))
+                    rows = v if count is None else v[:count]
+                    return wall(lambda: [sim.set_velocities(0, rows, nodes=nodes) for _ in range(args.steps)])
+
+                ways["py resp"] = lambda: py(args.steps)
+                ways["set_v(1)"] = lambda: set_v(1)
+                ways["set_v(all)"] = lambda: set_v(None)
             times = {k: [] for k in ways}
             for _ in range(args.repeats):
                 for k, fn in ways.items():

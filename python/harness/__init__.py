@@ -28,7 +28,7 @@ from ._harness import Scene, SceneError, Simulation, SimulationError, have_refer
 from ._harness import _run_scene
 
 __all__ = ["Scene", "SceneError", "Simulation", "SimulationError", "Result", "run", "read_steps",
-           "have_reference"]
+           "have_reference", "penalty_response"]
 
 
 # steps.csv's columns of words: always str, also where every row is empty (a scene without contacts).
@@ -77,6 +77,29 @@ def read_steps(path):
     return out
 
 
+def penalty_response(k):
+    """The built-in linear penalty written as a response of your own (docs/python.md): per contact
+    k max(0, depth) along the push's direction on its node, and the reaction on the nodes it pushes
+    against shared by their weights; both ways of a two-sided pair. A template for your own rule:
+    response(contacts, guest, host) -> (forces on the guest, forces on the host), each (n, 3), N."""
+    k = float(k)
+
+    def penalty(contacts, guest, host):
+        fg, fh = np.zeros_like(guest["x"]), np.zeros_like(host["x"])
+        f = k * np.maximum(contacts["depth"], 0.0)[:, None] * contacts["direction"]
+        f[contacts["hosts"][:, 0] < 0] = 0.0  # nothing to push against: no force
+        for way, (own, other) in enumerate(((fg, fh), (fh, fg))):
+            sel = contacts["way"] == way
+            np.add.at(own, contacts["node"][sel], f[sel])
+            for j in range(3):
+                s = sel & (contacts["hosts"][:, j] >= 0)
+                np.add.at(other, contacts["hosts"][s, j], -contacts["weights"][s, j, None] * f[s])
+        return fg, fh
+
+    penalty.__qualname__ = f"penalty_response({k:g})"
+    return penalty
+
+
 class Result:
     """A finished run: .summary (summary.json as a dict), .steps (steps.csv's columns as numpy
     arrays), .state_hash, .exit_code (0 done, 3 the state became non-finite: .summary says
@@ -109,7 +132,7 @@ def _as_scene(scene):
     raise TypeError(f"expected a harness.Scene, a dict or a scene file/name, got {type(scene).__name__}")
 
 
-def run(scene, steps=None, threads=1, compare=None, out=None, compare_also=None):
+def run(scene, steps=None, threads=1, compare=None, out=None, compare_also=None, response=None):
     """Runs a scene as `harness run` does (the same code, the same files) and returns a Result.
 
     steps: exactly that many steps (time.settle off), as --steps; None: the scene's own.
@@ -118,6 +141,11 @@ def run(scene, steps=None, threads=1, compare=None, out=None, compare_also=None)
     compare_also: with compare, a second reference measured on the same steps (--compare-also: the
     other kind, one way against both ways): summary error_vs_reference_also, steps also_* columns.
     out: the output folder (as --out); None: a temporary folder, removed after reading it back.
+    response: a contact response of your own instead of the scene's force rule, as for Simulation
+    (a callable for every pair, or a dict of pair label or index -> callable): the same folder as
+    the command line writes, with summary.json pairs[].response naming it, which --compare, the
+    card and the studies accept. An exception it raises is raised here, after the outputs of the
+    steps before it are written (summary status "failed").
     Raises SceneError for bad input (nothing written), KeyboardInterrupt when interrupted (the
     outputs in `out` hold the state after the last whole step, summary status "interrupted"; with
     out=None the temporary folder is kept and named), SystemExit(143) when terminated (SIGTERM).
@@ -133,7 +161,7 @@ def run(scene, steps=None, threads=1, compare=None, out=None, compare_also=None)
     keep = out is not None
     try:
         rc = _run_scene(scene, folder, threads, os.fspath(compare) if compare is not None else "",
-                        os.fspath(compare_also) if compare_also is not None else "")
+                        os.fspath(compare_also) if compare_also is not None else "", response)
         if rc in (130, 143):
             keep = True
             if rc == 143:
