@@ -7,7 +7,7 @@
 #   --quick       300 steps per run instead of the scenes' own (a smoke run, seconds)
 #   --paper       also installs LaTeX (Debian packages) and builds paper/main.pdf
 #   --studies     also reruns the studies (scripts/study.py ablation accuracy convergence refinement
-#                 realtime swap region orient: hours on two cores; each run is cached in
+#                 realtime realtime_grid swap region orient: hours on two cores; each run is cached in
 #                 results/sweeps/, so an interrupted study resumes). Without it the study CSV files
 #                 committed in results/ are used as they are.
 #   --paper-only  builds paper/main.pdf from the committed results alone: no build, no harness, no
@@ -179,7 +179,7 @@ fi
 if [[ $studies -eq 1 ]]; then
   study=(--harness "$H" --results results)
   [[ $quick -eq 1 ]] && study+=(--quick)
-  "$PYTHON" scripts/study.py ablation accuracy convergence refinement realtime swap region orient "${study[@]}"
+  "$PYTHON" scripts/study.py ablation accuracy convergence refinement realtime realtime_grid swap region orient "${study[@]}"
   "$PYTHON" scripts/claims.py results
 fi
 echo "reproduce: results written in $(( $(date +%s) - start )) s"

@@ -12,6 +12,9 @@
   study.py refinement   refinement.csv, tables/refinement.{md,tex}: settled shape against mesh resolution
   study.py realtime     realtime.csv, tables/realtime.{md,tex}: collision unit and simulator time per
                         step by method, dt mode (scene, 0.9 dt_crit, implicit 10 dt) and threads
+  study.py realtime_grid  realtime_grid.csv, tables/realtime_grid.md: the exact method with implicit
+                        Euler at the scene's dt x 2^k (k = 0..6) beside its explicit run: the largest
+                        step whose settled error stays within 1.5x, its real-time factor (1, 2 threads)
   study.py swap         swap.csv, tables/swap.md: host and guest swapped (which body carries the grid)
   study.py region       region.csv, tables/region.md: claim (e), region half/full/overlap x margin
   study.py orient       orient.csv, tables/orient.md: claim (a) without its confound

@@ -229,7 +229,8 @@ def report_run_rows(data, scene):
                  force="F=%g" % reader.num(reader.contact(s, strict=False).get("force"))
                  if isinstance(reader.contact(s, strict=False).get("force"), (int, float)) else "auto",
                  ep_p90=gst["p90"] if gst["p90"] is not None else math.nan, ep_peak_frac=gst["peak_frac"],
-                 ep_failed_frac=gst["open_frac"], regime=key)
+                 ep_failed_frac=gst["open_frac"], regime=key,
+                 stability_class=reader.stability_verdict(s) or "")  # the C++ class the run recorded
         out.append(r)
     return out
 

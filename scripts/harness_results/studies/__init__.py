@@ -15,7 +15,7 @@ from .. import counts, reader, runner
 from . import common
 
 # The order of `study.py all`.
-ORDER = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime", "swap", "region", "orient",
+ORDER = ["references", "accuracy", "ablation", "convergence", "refinement", "realtime", "realtime_grid", "swap", "region", "orient",
          "bullet", "detection", "restriction", "regime", "ensemble"]
 # The studies that run on a user's scene (--scene FILE|NAME --out DIR): the same code as the
 # bundled ones, the scene's own eliminator, footing voxels from its host's node spacing, its

@@ -1,0 +1,30 @@
+"""study.py realtime_grid's decision (harness_results/studies/realtime_grid.py): which grid steps keep
+the exact method's accuracy, and which is chosen."""
+from harness_results.studies import realtime_grid as rg
+
+
+def row(point, dt, err, cls="steady", status="ok", tunnelled=0, t=100.0):
+    return {"point": point, "dt": dt, "pos_err_max_mm": err, "stability_class": cls, "status": status,
+            "tunnelled": tunnelled, "t_step_mean_us_t1": t}
+
+
+def test_the_largest_step_that_keeps_the_accuracy_is_chosen():
+    rows = [row("baseline", 1e-4, 1.0, t=50.0), row("k0", 1e-4, 1.0), row("k1", 2e-4, 1.49),
+            row("k2", 4e-4, 1.51), row("k3", 8e-4, 1.1, cls="chatters"), row("k4", 1.6e-3, 1.2, tunnelled=3),
+            row("k5", 3.2e-3, 1.0, status="failed"), row("k6", 6.4e-3, 1.0, cls="forced")]
+    chosen = rg.decide(rows)
+    assert chosen["point"] == "k1"
+    by = {r["point"]: r for r in rows}
+    assert [by[p]["keeps"] for p in ("k0", "k1", "k2", "k3", "k4", "k5", "k6")] == ["yes", "yes", "no", "no", "no", "no", "no"]
+    assert by["k2"]["why_not"].startswith("error") and by["k3"]["why_not"] == "chatters"
+    assert by["k4"]["why_not"] == "tunnelled" and by["k5"]["why_not"].startswith("status")
+    assert by["k6"]["why_not"].startswith("not judged")
+    assert by["k1"]["error_over_best"] == 1.49 and by["k0"]["cost_in_explicit_steps"] == 2.0
+    assert [r["chosen"] for r in rows].count("yes") == 1 and by["baseline"]["keeps"] == ""
+
+
+def test_nothing_kept_nothing_chosen():
+    rows = [row("baseline", 1e-4, 1.0), row("k0", 1e-4, 2.0), row("k1", 2e-4, float("nan"))]
+    assert rg.decide(rows) is None
+    assert all(r["chosen"] == "" for r in rows)
+    assert rows[2]["why_not"] == "no error measured"
