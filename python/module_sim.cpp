@@ -164,28 +164,8 @@ class PySim {
                 const pyb::object& nodes, bool velocities) {
     const Busy busy(*this);
     const Body& b = body(which);
-    std::vector<int> idx;
-    if (nodes.is_none()) {
-      for (int i = 0; i < b.size(); ++i) idx.push_back(i);
-    } else {
-      if (!pyb::isinstance<pyb::iterable>(nodes) || pyb::isinstance<pyb::str>(nodes))
-        throw pyb::type_error("nodes: a sequence of body-local node indices");
-      std::set<int> seen;
-      for (const pyb::handle& h : nodes) {
-        long long i = 0;
-        if (!as_index(h, i)) throw pyb::type_error("nodes: a sequence of body-local node indices");
-        if (i < 0 || i >= b.size())
-          throw pyb::index_error("node " + std::to_string(i) + ": body " + b.name + " has " + std::to_string(b.size()));
-        if (!seen.insert(static_cast<int>(i)).second) throw pyb::value_error("node " + std::to_string(i) + " given twice");
-        idx.push_back(static_cast<int>(i));
-      }
-    }
-    if (a.ndim() != 2 || a.shape(1) != 3 || a.shape(0) != static_cast<pyb::ssize_t>(idx.size()))
-      throw pyb::value_error("expected an array of shape (" + std::to_string(idx.size()) + ", 3)");
-    auto r = a.unchecked<2>();
-    for (std::size_t k = 0; k < idx.size(); ++k)
-      if (!std::isfinite(r(k, 0)) || !std::isfinite(r(k, 1)) || !std::isfinite(r(k, 2)))
-        throw pyb::value_error("row " + std::to_string(k) + " is not finite");
+    const std::vector<int> idx = node_list(b, nodes, true);
+    const auto r = checked_rows(a, idx.size());
     World& w = sim_->world();
     Points& p = velocities ? w.v : w.x;
     double dE = 0.0;  // the kinetic energy's change (velocities)
@@ -201,8 +181,9 @@ class PySim {
     else sim_->reset_energy();
   }
 
-  // The body-local node indices `nodes` (None: all) in the scene's numbering, checked.
-  std::vector<int> node_list(const Body& b, const pyb::object& nodes) const {
+  // The body-local node indices `nodes` (None: all) in the scene's numbering, checked; `unique`:
+  // a node given twice is refused.
+  std::vector<int> node_list(const Body& b, const pyb::object& nodes, bool unique) const {
     std::vector<int> idx;
     if (nodes.is_none()) {
       idx.resize(static_cast<std::size_t>(b.size()));
@@ -211,14 +192,28 @@ class PySim {
     }
     if (!pyb::isinstance<pyb::iterable>(nodes) || pyb::isinstance<pyb::str>(nodes))
       throw pyb::type_error("nodes: a sequence of body-local node indices");
+    std::set<int> seen;
     for (const pyb::handle& h : nodes) {
       long long i = 0;
       if (!as_index(h, i)) throw pyb::type_error("nodes: a sequence of body-local node indices");
       if (i < 0 || i >= b.size())
         throw pyb::index_error("node " + std::to_string(i) + ": body " + b.name + " has " + std::to_string(b.size()));
+      if (unique && !seen.insert(static_cast<int>(i)).second)
+        throw pyb::value_error("node " + std::to_string(i) + " given twice");
       idx.push_back(static_cast<int>(i));
     }
     return idx;
+  }
+
+  // The rows of an (n, 3) array of finite numbers (ValueError otherwise).
+  static pyb::detail::unchecked_reference<double, 2> checked_rows(const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& a, std::size_t n) {
+    if (a.ndim() != 2 || a.shape(1) != 3 || a.shape(0) != static_cast<pyb::ssize_t>(n))
+      throw pyb::value_error("expected an array of shape (" + std::to_string(n) + ", 3)");
+    auto r = a.unchecked<2>();
+    for (std::size_t k = 0; k < n; ++k)
+      if (!std::isfinite(r(k, 0)) || !std::isfinite(r(k, 1)) || !std::isfinite(r(k, 2)))
+        throw pyb::value_error("row " + std::to_string(k) + " is not finite");
+    return r;
   }
 
   // Forces (N) on a body's nodes (all, or the body-local `nodes`; a node given twice gets both) in
@@ -227,13 +222,8 @@ class PySim {
                   const pyb::object& nodes) {
     const Busy busy(*this);
     const Body& b = body(which);
-    const std::vector<int> idx = node_list(b, nodes);
-    if (a.ndim() != 2 || a.shape(1) != 3 || a.shape(0) != static_cast<pyb::ssize_t>(idx.size()))
-      throw pyb::value_error("expected an array of shape (" + std::to_string(idx.size()) + ", 3)");
-    auto r = a.unchecked<2>();
-    for (std::size_t k = 0; k < idx.size(); ++k)
-      if (!std::isfinite(r(k, 0)) || !std::isfinite(r(k, 1)) || !std::isfinite(r(k, 2)))
-        throw pyb::value_error("row " + std::to_string(k) + " is not finite");
+    const std::vector<int> idx = node_list(b, nodes, false);
+    const auto r = checked_rows(a, idx.size());
     for (std::size_t k = 0; k < idx.size(); ++k)
       sim_->add_next_force(b.begin + b.local_of_scene(idx[k]), Vec3(r(k, 0), r(k, 1), r(k, 2)));
   }
