@@ -1,6 +1,7 @@
 #include "core/simulation.hpp"
 
 #include "core/clock.hpp"
+#include "core/collision/responses/plugin.hpp"
 #include "core/integrator.hpp"
 
 #include <algorithm>
@@ -77,24 +78,27 @@ void Simulation::build_pairs() {
 }
 
 void Simulation::attach_responses(const SimulationOptions& options) {
-  for (std::size_t i = 0; i < options.responses.size(); ++i) {
-    if (!options.responses[i].force) continue;
-    if (i >= pairs_.size())
-      throw InputError(scene_.file + ": contacts", "a response for pair " + std::to_string(i) + ", but the scene has " +
-                                                       std::to_string(pairs_.size()) + " contact pairs");
-    const std::string at = scene_.file + ": " + scene_.contacts[i].path;
+  if (options.responses.size() > pairs_.size())
+    throw InputError(scene_.file + ": contacts", "a response for pair " + std::to_string(options.responses.size() - 1) +
+                                                     ", but the scene has " + std::to_string(pairs_.size()) + " contact pairs");
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    const ContactPairSpec& cp = scene_.contacts[i];
+    const bool given = i < options.responses.size() && options.responses[i].force;
+    if (!given && cp.plugin.empty()) continue;
+    const std::string at = scene_.file + ": " + cp.path;
+    if (given && !cp.plugin.empty())
+      throw InputError(at + ".response", "the scene names a plug-in and the program gives a response of its own: one of them");
     if (!pairs_[i].collision)
-      throw InputError(scene_.file + ": effects", "a response for pair " + pairs_[i].label +
-                                                      " needs the \"contact\" effect, which the scene does not list");
+      throw InputError(given ? scene_.file + ": effects" : at + ".response",
+                       "a response for pair " + pairs_[i].label + " needs the \"contact\" effect, which the scene does not list");
     if (scene_.integrator != Integrator::symplectic_euler)
       throw InputError(scene_.file + ": time.integrator",
                        "a response of its own reports no stiffness, which the implicit step needs: use "
                        "\"symplectic_euler\"");
-    try {
-      pairs_[i].collision->set_response(options.responses[i]);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(at + ".eliminator", e.what());
-    }
+    if (pairs_[i].collision->projects())
+      throw InputError(at + ".eliminator", std::string("eliminator \"") + to_string(cp.spec.eliminator) +
+                                               "\" applies no forces: a response of its own needs line or plane");
+    pairs_[i].collision->set_response(given ? options.responses[i] : load_response_plugin(scene_, cp));
   }
 }
 

@@ -50,6 +50,8 @@ void check_device_support(const Simulation& sim) {
     if (c.force_rule == ForceRule::automatic) refuse(s, p + ".force", "the automatic force \"auto\"");
     if (c.orient != Orient::paper) refuse(s, p + ".orient", "an orientation other than \"paper\"");
     if (c.damping > 0.0) refuse(s, p + ".damping", "the contact damping variant");
+    const Collision* col = sim.pairs()[i].collision.get();
+    if (col && col->has_response()) refuse(s, p + ".response", "a response of its own (" + col->response_name() + ")");
   }
 }
 

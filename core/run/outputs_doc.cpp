@@ -53,7 +53,7 @@ const std::vector<KeyDoc>& summary_docs() {
       {"compare_also", "with scripts/runs_compare_also.py: how the second reference's figures were obtained", false},
       {"pairs[].pair", "the pair's label", false},
       {"pairs[].detector", "the detector that drove elimination", false},
-      {"pairs[].response", "a contact response of the program's own (Python: `harness.run(response=...)`) that replaced the scene's force rule, by name; null: the force rule", false},
+      {"pairs[].response", "a contact response of your own that replaced the scene's force rule, by name: \"plugin:NAME\" (contacts.N.response, docs/plugins.md) or \"python:NAME\" (`harness.run(response=...)`); null: the force rule", false},
       {"pairs[].voxel_size_used", "the voxel size used, a power of two, m", false},
       {"pairs[].region_rebuilds", "how often the voxel region was rebuilt", false},
       {"pairs[].contacts_total", "contacts reported over the run", false},

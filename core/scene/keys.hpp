@@ -56,6 +56,7 @@ enum class KeyType {
   length_or_auto,  // "auto" (0 in the Scene) or a number within (lo, hi]
   force,           // "auto", a number within [lo, hi], or an object of kind `of`
   always_true,     // present: must be true
+  numbers,         // an object of named numbers (any names), each within [lo, hi]
 };
 
 enum class Presence {

@@ -326,6 +326,28 @@ void read_contact_spec(const Ctx& c, Obj& o, ContactSpec& cs) {
   cs.made = kContactSpecMade;
 }
 
+// contacts.N.response ("plugin:PATH", PATH against the scene's directory) and its parameters.
+void read_response(const Ctx& c, Obj& o, ContactPairSpec& p, const std::string& dir) {
+  const json* r = o.get("response");
+  const json* params = o.get("response_parameters");
+  if (params && !r) c.fail(o.at("response_parameters"), "only with response");
+  if (!r) return;
+  const std::string v = as_string(c, o.at("response"), *r);
+  const std::string prefix = "plugin:";
+  if (v.rfind(prefix, 0) != 0 || v.size() == prefix.size())
+    c.fail(o.at("response"), "expected \"plugin:PATH\" (a shared library: docs/plugins.md), got \"" + v + "\"");
+  const std::filesystem::path fp(v.substr(prefix.size()));
+  p.plugin = fp.is_absolute() ? fp.string() : (std::filesystem::path(dir) / fp).lexically_normal().string();
+  o.out()["response"] = v;
+  if (!params) return;
+  if (!params->is_object()) c.fail(o.at("response_parameters"), "expected an object of named numbers, got " + type_name(*params));
+  for (auto it = params->begin(); it != params->end(); ++it) {
+    if (it.key().empty()) c.fail(o.at("response_parameters"), "an empty parameter name");
+    p.plugin_parameters.emplace_back(it.key(), as_number(c, join(o.at("response_parameters"), it.key()), it.value()));
+  }
+  o.out()["response_parameters"] = *params;
+}
+
 ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& path, json& r, const Scene& s) {
   Obj o(c, j, path, r, "contact");
   ContactPairSpec p;
@@ -347,6 +369,7 @@ ContactPairSpec read_contact(const Ctx& c, const json& j, const std::string& pat
   if (cs.guest < 0) c.fail(o.at("guest"), "unknown body \"" + p.guest + "\"");
   if (p.host == p.guest) c.fail(o.at("guest"), "host and guest must be different bodies");
   read_contact_spec(c, o, cs);
+  read_response(c, o, p, s.dir);
   o.finish();
   return p;
 }

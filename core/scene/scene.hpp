@@ -118,6 +118,10 @@ struct ContactPairSpec {
   std::string label;        // the pair's name in the outputs (default "host/guest")
   ContactSpec spec{};       // the pair's parameters; host and guest are the bodies' indices
   std::string path;         // "contacts.N"
+  // contacts.N.response: a plug-in's file (the PATH of "plugin:PATH", resolved against the scene's
+  // directory; "" the force rule) and its response_parameters in the scene's order.
+  std::string plugin;
+  std::vector<std::pair<std::string, double>> plugin_parameters;
 };
 
 struct Scene {

@@ -173,6 +173,13 @@ class Generator {
       case KeyType::always_true:
         s["const"] = true;
         break;
+      case KeyType::numbers: {
+        json item = {{"type", "number"}};
+        bounds(item, k);
+        s["type"] = "object";
+        s["additionalProperties"] = item;
+        break;
+      }
       case KeyType::list:
         s["type"] = "array";
         s["items"] = object_ref(k.of);
