@@ -35,7 +35,13 @@
                         without --scene every bundled scene's into results/cards/<scene>/
                         (harness_results/card.py; --methods D1,D2,... the detectors, --set KEY=JSON for every
                         run and the reference, recorded in card.md and card.csv)
-  study.py card|accuracy|ablation --method 'NAME=KEY=JSON,KEY=JSON'   (repeatable)
+  study.py scorecard --method 'NAME=KEY=JSON,...' [--scenes A,B,...] [--out DIR]
+                        a method of your own judged over several scenes (default the three bundled ones)
+                        beside the built-in detectors by the claims' judge: each scene's card, then per
+                        scene whether it is closer to the reference than the best built-in method that
+                        does not fail (the error ratio's interval), its time ratio, its failures;
+                        DIR/scorecard.{md,csv} (default results/scorecard; harness_results/scorecard.py)
+  study.py card|scorecard|accuracy|ablation --method 'NAME=KEY=JSON,KEY=JSON'   (repeatable)
                         a method of your own beside the built-in ones: NAME's rows are the runs with those
                         `harness run --set` overrides (split on the commas outside brackets, braces and
                         quotes: contacts.0.force={"stiffness":500,"damping":0.1} stays whole); its name and
@@ -62,9 +68,9 @@ from harness_results import needs
 
 needs.numpy_and_matplotlib("study.py")
 
-from harness_results import card, methods, rules, studies  # noqa: E402
+from harness_results import card, methods, rules, scorecard, studies  # noqa: E402
 
-METHOD_STUDIES = ("card", "accuracy", "ablation")
+METHOD_STUDIES = ("card", "scorecard", "accuracy", "ablation")
 
 
 def method_error(msg):
@@ -76,7 +82,7 @@ def method_error(msg):
 def main():
     ap = argparse.ArgumentParser(description=__doc__ + "\n" + rules.__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("what", nargs="+", choices=studies.ORDER + ["all", "card"])
+    ap.add_argument("what", nargs="+", choices=studies.ORDER + ["all", "card", "scorecard"])
     ap.add_argument("--harness", default="build/bin/harness")
     ap.add_argument("--results", default="results")
     ap.add_argument("--quick", action="store_true")
@@ -98,6 +104,8 @@ def main():
     ap.add_argument("--voxel", type=float, help="with --scene: the footing voxel in m (the studies take it and twice it; "
                     "default: the harness's auto voxel, the smallest power of two in m at or above the host's mean "
                     "surface edge)")
+    ap.add_argument("--scenes", help="scorecard: the scenes, A,B,... (files or bundled names; default %s)" %
+                    ",".join(scorecard.SCENES))
     ap.add_argument("--methods", default=",".join(card.METHODS), help="card: the detectors (default %(default)s)")
     ap.add_argument("--set", dest="card_sets", action="append", default=[], help="card: KEY=JSON for every run")
     ap.add_argument("--method", dest="method_specs", action="append", default=[], metavar="NAME=KEY=JSON,...",
@@ -105,7 +113,7 @@ def main():
                          "(repeatable; commas inside [], {} and quotes belong to the value)")
     a = ap.parse_args()
     try:
-        taken = (card.builtin_names(a) if "card" in a.what else []) + (
+        taken = (card.builtin_names(a) if {"card", "scorecard"} & set(a.what) else []) + (
             studies.module("ablation").builtin_names() if "ablation" in a.what else [])
         a.user_methods = methods.parse_all(a.method_specs, taken=taken)
     except methods.MethodError as e:
@@ -115,10 +123,17 @@ def main():
                                                       ", ".join(w for w in a.what if w not in METHOD_STUDIES)))
     if a.voxel is not None and (not a.scene or not a.voxel > 0):
         ap.error("--voxel: a size in m above 0, with --scene (got %g%s)" % (a.voxel, "" if a.scene else ", no --scene"))
-    if "card" in a.what:
+    if "card" in a.what or "scorecard" in a.what:
         if len(a.what) > 1:
-            ap.error("card is made alone (study.py card --scene ...)")
-        card.run(a)
+            ap.error("%s is made alone" % a.what[0])
+        if "scorecard" in a.what:
+            if a.scene:
+                ap.error("scorecard: --scenes A,B,... (several scenes), not --scene")
+            if a.reference and len((a.scenes or "").split(",")) != 1:
+                ap.error("scorecard: --reference with exactly one scene in --scenes")
+            scorecard.run(a)
+        else:
+            card.run(a)
         return
     if a.scene:  # a user's scene: the studies that take one, everything in --out
         if "all" in a.what:

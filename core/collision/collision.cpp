@@ -112,6 +112,9 @@ void Collision::set_response(OwnResponse r) {
     throw std::invalid_argument("a response of its own needs a force eliminator (line, plane), not a projection");
   response_ = std::move(r.force);
   response_name_ = response_ ? std::move(r.name) : std::string();
+  // The eliminator gives a response what it gives the penalty rule, whatever the scene's force
+  // rule: each push's contact normal and depth (penalty_depth), which the other rules do not need.
+  if (response_) spec_.force_rule = reverse_spec_.force_rule = ForceRule::penalty;
 }
 
 PairStep Collision::step(World& w, double h) {

@@ -265,6 +265,7 @@ def make(a, scene, out):
     sentence = judge(rows, base, 1e3 * reader.reference_floor(reader.load_summary(ref))[0])
     write(out, scene_name(scene), ref, rows, base, sentence, a.card_sets, [(m.name, m.sets) for m in user])
     print("card: %s -> %s: %s" % (scene, os.path.join(out, "card.md"), sentence))
+    return rows, base, ref
 
 
 def run(a):

@@ -6,7 +6,7 @@
 # spheres (in contact both ways from about step 1900) its surfaces lie within 1e-12 m of the
 # built-in's (measured 3.7e-17 m, summation order only: a margin of 27,000), and one 1 % stiffer
 # lies far outside (measured 4.7e-6 m; asserted > 1e-9). summary.json names it (pairs[].response,
-# "plugin:hertz"). Bad plug-ins and parameters are one-line errors with exit 2 naming the key:
+# "plugin:hertz"), and the scene's `force` does not change its run. Bad plug-ins and parameters are one-line errors with exit 2 naming the key:
 # a missing file, a file that is not a shared library, a missing symbol, another interface
 # version, parameters the plug-in refuses, a parameter that is not a number, parameters without a
 # response, a response that is not "plugin:...", the implicit integrator, projection, --device.
@@ -72,18 +72,24 @@ s["references"] = {"solvers": []}
 s.setdefault("output", {})["frames_every"] = 0
 json.dump(s, open(T + "/builtin.json", "w"), indent=1)
 c["response"] = "plugin:hertz/build/libhertz.so"
-for name, params in (("plugin", {"stiffness": 500}), ("stiffer", {"stiffness": 505}), ("hertz15", {"stiffness": 500, "exponent": 1.5})):
+for name, params in (("plugin", {"stiffness": 500}), ("stiffer", {"stiffness": 505})):
     c["response_parameters"] = params
     json.dump(s, open("%s/%s.json" % (T, name), "w"), indent=1)
+# The scene's force rule is not used with a response: the automatic force's scene gives the
+# plug-in the same pushes (contact normals and depths) as the penalty's.
+c["response_parameters"], c["force"] = {"stiffness": 500}, "auto"
+json.dump(s, open(T + "/plugin_auto.json", "w"), indent=1)
 PYEOF
 
 "$H" run "$T/builtin.json" --steps 3000 --quiet --out "$T/b" || bad "built-in run exited $?"
 "$H" run "$T/plugin.json" --steps 3000 --quiet --out "$T/p" --compare "$T/b" || bad "plug-in run exited $?"
 "$H" run "$T/stiffer.json" --steps 3000 --quiet --out "$T/s" --compare "$T/b" || bad "stiffer plug-in run exited $?"
+"$H" run "$T/plugin_auto.json" --steps 3000 --quiet --out "$T/a" --compare "$T/b" || bad "plug-in run (force auto) exited $?"
 "$PY" - "$T" <<'PYEOF' || bad "the plug-in is not the built-in penalty"
 import csv, json, sys
 T = sys.argv[1]
-s = {k: json.load(open("%s/%s/summary.json" % (T, k))) for k in "bps"}
+s = {k: json.load(open("%s/%s/summary.json" % (T, k))) for k in "bpsa"}
+assert s["a"]["state_hash"] == s["p"]["state_hash"], "the scene's force rule changed a plug-in's run"
 assert s["b"]["pairs"][0]["response"] is None, s["b"]["pairs"][0]["response"]
 for k in "ps":
     assert s[k]["status"] == "ok" and s[k]["pairs"][0]["response"] == "plugin:hertz", (k, s[k]["pairs"][0]["response"])

@@ -49,6 +49,22 @@ assert {(r["host"], r["swapped"]) for r in swap} == {("tissue", "no"), ("probe",
 PY
 "$PY" "$SRC/scripts/study.py" card --harness "$H" --scene my_press.json --reference st/references/my_press --out card \
   --set time.settle=null >> log 2>&1 && grep -q "^| no contact force |" card/card.md || bad "the card"
+# The scorecard: a method of the user's (a stiffer penalty with the exact narrow phase) judged
+# beside the built-in detectors, its standing per scene in scorecard.md and scorecard.csv.
+"$PY" "$SRC/scripts/study.py" scorecard --harness "$H" --scenes my_press.json --reference st/references/my_press \
+  --out sc --set time.settle=null --method 'k200=contacts.0.force={"stiffness":200},contacts.0.detector="voxel_exact"' \
+  >> log 2>&1 || bad "the scorecard"
+"$PY" - sc <<'PY' || bad "the scorecard's rows"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1] + "/scorecard.csv")))
+mine = [r for r in rows if r["method"] == "k200"]
+assert len(mine) == 1 and mine[0]["builtin"] == "no", rows
+assert mine[0]["standing"] in ("closer", "farther", "cannot tell", "fails", "no built-in passes"), mine[0]
+assert {r["method"] for r in rows if r["builtin"] == "yes"} == {"voxel", "voxel_exact", "cgal"}
+if mine[0]["standing"] in ("closer", "farther", "cannot tell"):
+    assert float(mine[0]["error_ratio_lo"]) <= float(mine[0]["error_ratio"]) <= float(mine[0]["error_ratio_hi"]), mine[0]
+assert "**k200**" in open(sys.argv[1] + "/scorecard.md").read()
+PY
 after=$(find "$SRC/results" -type f -newer "$T/my_press.json" | wc -l)
 [[ $after -eq $before ]] || bad "files written into results/: $((after - before))"
 "$PY" "$SRC/scripts/study.py" region --scene my_press.json --out x > err 2>&1; rc=$?
