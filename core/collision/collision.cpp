@@ -27,6 +27,8 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
     throw std::invalid_argument("contact pair: stiffness must be finite and >= 0");
   if (spec_.force_rule == ForceRule::constant && (!(spec_.force >= 0.0) || !std::isfinite(spec_.force)))
     throw std::invalid_argument("contact pair: force must be finite and >= 0");
+  if (spec_.eliminator == EliminatorKind::distance_field && spec_.detector != DetectorKind::distance_field)
+    throw std::invalid_argument("eliminator \"distance_field\" needs detector \"distance_field\" (its field gives the pushes)");
   detector_ = make_detector(spec_.detector, exact);
   eliminator_ = make_eliminator(spec_.eliminator);
   detector_->initialize(w, spec_);

@@ -10,6 +10,7 @@ const std::vector<DetectorName>& detector_names() {
       {DetectorKind::cgal, "cgal", true},
       {DetectorKind::fcl, "fcl", true},
       {DetectorKind::box, "box", false},
+      {DetectorKind::distance_field, "distance_field", false},
   };
   return names;
 }
@@ -20,6 +21,7 @@ const std::vector<std::pair<EliminatorKind, const char*>>& eliminator_names() {
       {EliminatorKind::plane, "plane"},
       {EliminatorKind::projection, "projection"},
       {EliminatorKind::volume, "volume"},
+      {EliminatorKind::distance_field, "distance_field"},
   };
   return names;
 }

@@ -12,11 +12,11 @@ namespace harness {
 enum class Region { half, full, overlap };
 enum class HostNodes { all, surface };
 // Which detection drives elimination. `exact` detectors need the reference library.
-enum class DetectorKind { voxel, hash, cgal, fcl, voxel_exact, box };
+enum class DetectorKind { voxel, hash, cgal, fcl, voxel_exact, box, distance_field };
 // The response (responses/): the direction rule of the penalty push (line, plane), position-based
 // projection (a penetrating node moved to the surface), or the restriction with a practical bound
 // (volume: the shared volume's gradient, by layered depth images, moves both surfaces).
-enum class EliminatorKind { line, plane, projection, volume };
+enum class EliminatorKind { line, plane, projection, volume, distance_field };
 // How large each contact's force is: the paper's constant F, `auto`, or a penalty k_c x depth
 // (force_rules.hpp).
 enum class ForceRule { constant, automatic, penalty };

@@ -1,6 +1,7 @@
 #include "core/collision/detectors/collision_detector.hpp"
 
 #include "core/collision/detectors/box.hpp"
+#include "core/collision/detectors/distance_field.hpp"
 #include "core/collision/detectors/hash.hpp"
 #include "core/collision/detectors/voxel.hpp"
 #include "core/collision/detectors/voxel_exact.hpp"
@@ -15,6 +16,7 @@ std::unique_ptr<CollisionDetector> make_detector(DetectorKind kind, ExactDetecto
     case DetectorKind::hash: return std::make_unique<HashDetector>();
     case DetectorKind::voxel_exact: return std::make_unique<VoxelExactDetector>();
     case DetectorKind::box: return std::make_unique<BoxDetector>();
+    case DetectorKind::distance_field: return std::make_unique<DistanceFieldDetector>();
     case DetectorKind::cgal:
     case DetectorKind::fcl: break;
   }

@@ -1,5 +1,6 @@
 #include "core/collision/responses/collision_eliminator.hpp"
 
+#include "core/collision/responses/field.hpp"
 #include "core/collision/responses/force_rules.hpp"
 #include "core/collision/responses/line.hpp"
 #include "core/collision/responses/plane.hpp"
@@ -16,6 +17,7 @@ std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind) {
     case EliminatorKind::plane: return std::make_unique<PlaneEliminator>();
     case EliminatorKind::projection: return std::make_unique<ProjectionEliminator>();
     case EliminatorKind::volume: return std::make_unique<VolumeEliminator>();
+    case EliminatorKind::distance_field: return std::make_unique<FieldEliminator>();
   }
   throw std::invalid_argument("unknown eliminator kind");
 }
