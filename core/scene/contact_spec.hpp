@@ -60,6 +60,7 @@ struct ContactSpec {
   double force;      // N per contact (ForceRule::constant)
   double stiffness;  // N/m per contact (ForceRule::penalty)
   double separation_time;  // s, of the automatic force: v_sep = L / separation_time
+  double field_resample;  // distance_field: resample when a host vertex moved this share of a voxel
   double damping;  // N s/m per contact: F -> max(0, F - damping v_n) where F > 0 (0: none; a variant)
   // Also the other way round: the guest's surface keeps the host's nodes out as well (a second
   // detector with the roles swapped). The paper's model is one-sided (false).

@@ -300,6 +300,7 @@ void read_contact_spec(const Ctx& c, Obj& o, ContactSpec& cs) {
   cs.invert_push = o.boolean("invert_push");
   cs.separation_time = o.number("separation_time");
   cs.damping = o.number("damping");
+  cs.field_resample = o.number("field_resample");
   cs.force = 0.0;
   cs.stiffness = 0.0;
   // force: a number of newtons (constant), "auto", or {"stiffness": k} (penalty).

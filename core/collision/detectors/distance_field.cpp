@@ -5,6 +5,7 @@
 #include "core/collision/detectors/voxel_exact_geometry.hpp"
 #include "core/collision/initializer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -24,6 +25,9 @@ void DistanceFieldDetector::initialize(const World& w, const ContactSpec& spec) 
   guest_begin_ = g.begin, guest_end_ = g.end;
   host_begin_ = h.begin, host_surface_ = h.n_surface;
   margin_ = spec.margin;
+  resample_ = spec.field_resample;
+  if (!(resample_ > 0.0 && resample_ <= 1.0))
+    throw std::invalid_argument("distance_field detector: field_resample must lie in (0, 1]");
   faces_ = h.faces;
   vf_start_ = h.vf_start, vf_faces_ = h.vf_faces;
   // The face across each edge k (t[k], t[k + 1]) of each face, for the edges' pseudonormals.
@@ -69,27 +73,79 @@ Vec3 DistanceFieldDetector::pseudonormal(const World& w, int face, int feature) 
   return n;
 }
 
+namespace {
+
+// The closest point of triangle f to x: its squared distance, feature and point.
+struct Nearest {
+  double d2 = std::numeric_limits<double>::infinity();
+  int face = -1, feature = 0;
+  Vec3 q = Vec3::Zero();
+};
+
+}  // namespace
+
 double DistanceFieldDetector::signed_distance(const World& w, const Vec3& x, int* face) const {
-  double best = std::numeric_limits<double>::infinity();
-  int best_f = -1, best_feature = 0;
-  Vec3 best_q = Vec3::Zero();
+  Nearest best;
   const int F = static_cast<int>(faces_.size());
-  for (int f = 0; f < F; ++f) {
-    const Tri& t = faces_[f];
-    const Vec3 v[3] = {w.x[host_begin_ + t[0]], w.x[host_begin_ + t[1]], w.x[host_begin_ + t[2]]};
-    const Vec3 lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
-    if (geo::box_bound(lo, hi, x) >= best) continue;  // cannot be nearer
-    Vec3 q;
-    double wt[3];
-    int feature = 0;
-    if (!geo::closest_feature(x, v[0], v[1], v[2], q, wt, feature)) geo::closest_on_edges(x, v, q, wt, feature);
-    const double d2 = (x - q).squaredNorm();
-    if (d2 < best) best = d2, best_f = f, best_feature = feature, best_q = q;
+  for (int f = 0; f < F; ++f) consider(w, x, f, best.d2, best.face, best.feature, best.q);
+  if (face) *face = best.face;
+  return signed_of(w, x, best.d2, best.face, best.feature, best.q);
+}
+
+void DistanceFieldDetector::consider(const World& w, const Vec3& x, int f, double& d2, int& face, int& feature,
+                                     Vec3& q) const {
+  const Tri& t = faces_[f];
+  const Vec3 v[3] = {w.x[host_begin_ + t[0]], w.x[host_begin_ + t[1]], w.x[host_begin_ + t[2]]};
+  const Vec3 lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+  if (geo::box_bound(lo, hi, x) >= d2) return;  // cannot be nearer
+  Vec3 p;
+  double wt[3];
+  int ft = 0;
+  if (!geo::closest_feature(x, v[0], v[1], v[2], p, wt, ft)) geo::closest_on_edges(x, v, p, wt, ft);
+  const double e2 = (x - p).squaredNorm();
+  if (e2 < d2) d2 = e2, face = f, feature = ft, q = p;
+}
+
+double DistanceFieldDetector::signed_of(const World& w, const Vec3& x, double d2, int face, int feature,
+                                        const Vec3& q) const {
+  if (face < 0) return std::numeric_limits<double>::infinity();
+  const double d = std::sqrt(d2);
+  return (x - q).dot(pseudonormal(w, face, feature)) < 0.0 ? -d : d;
+}
+
+// The corner's nearest triangle from the buckets: the cells around the corner ring by ring
+// (Chebyshev rings of cells; every point of ring r lies at least r voxels from the corner), until
+// the next ring cannot hold a nearer point. A triangle is in every cell its box overlaps, so the
+// cell holding its nearest point to the corner is among them: the answer is the brute force's.
+double DistanceFieldDetector::corner_distance(const World& w, int i, int j, int k, int* face) {
+  const Vec3 x = origin_ + h_ * Vec3(i, j, k);
+  ++stamp_now_;
+  double d2 = std::numeric_limits<double>::infinity();
+  int best_f = -1, feature = 0;
+  Vec3 q = Vec3::Zero();
+  const int c[3] = {i, j, k};
+  const int rings = std::max(n_[0], std::max(n_[1], n_[2]));
+  for (int r = 0; r <= rings; ++r) {
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) lo[a] = std::max(0, c[a] - 1 - r), hi[a] = std::min(n_[a] - 1, c[a] + r);
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int xx = lo[0]; xx <= hi[0]; ++xx) {
+          const bool inner = r > 0 && xx >= c[0] - r && xx <= c[0] + r - 1 && y >= c[1] - r && y <= c[1] + r - 1 &&
+                             z >= c[2] - r && z <= c[2] + r - 1;
+          if (inner) continue;  // in an earlier ring
+          const int cell = (z * n_[1] + y) * n_[0] + xx;
+          for (int b = bucket_start_[cell]; b < bucket_start_[cell + 1]; ++b) {
+            const int f = bucket_faces_[b];
+            if (stamp_[f] == stamp_now_) continue;
+            stamp_[f] = stamp_now_;
+            consider(w, x, f, d2, best_f, feature, q);
+          }
+        }
+    if (best_f >= 0 && (r + 1) * h_ >= std::sqrt(d2)) break;
   }
   if (face) *face = best_f;
-  if (best_f < 0) return std::numeric_limits<double>::infinity();
-  const double d = std::sqrt(best);
-  return (x - best_q).dot(pseudonormal(w, best_f, best_feature)) < 0.0 ? -d : d;
+  return signed_of(w, x, d2, best_f, feature, q);
 }
 
 void DistanceFieldDetector::sample(const World& w) {
@@ -111,11 +167,45 @@ void DistanceFieldDetector::sample(const World& w) {
                                 " corners (more than " + std::to_string(kMaxVoxels) + "): use a larger voxel_size");
   phi_.resize(static_cast<std::size_t>(count));
   face_.resize(phi_.size());
+  // Each triangle in the cells its box overlaps (CSR over the grid's cells).
+  const int F = static_cast<int>(faces_.size());
+  const std::size_t cells = static_cast<std::size_t>(n_[0]) * n_[1] * n_[2];
+  bucket_start_.assign(cells + 1, 0);
+  auto range = [&](int f, int c0[3], int c1[3]) {
+    const Tri& t = faces_[f];
+    const Vec3 &a = w.x[host_begin_ + t[0]], &b = w.x[host_begin_ + t[1]], &q = w.x[host_begin_ + t[2]];
+    const Vec3 l = a.cwiseMin(b).cwiseMin(q), u = a.cwiseMax(b).cwiseMax(q);
+    for (int d = 0; d < 3; ++d) {
+      c0[d] = std::clamp(static_cast<int>(std::floor((l[d] - origin_[d]) / h_)), 0, n_[d] - 1);
+      c1[d] = std::clamp(static_cast<int>(std::floor((u[d] - origin_[d]) / h_)), 0, n_[d] - 1);
+    }
+  };
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int> cursor;
+    if (pass == 1) {
+      for (std::size_t c2 = 0; c2 < cells; ++c2) bucket_start_[c2 + 1] += bucket_start_[c2];
+      bucket_faces_.resize(static_cast<std::size_t>(bucket_start_[cells]));
+      cursor.assign(bucket_start_.begin(), bucket_start_.end() - 1);
+    }
+    for (int f = 0; f < F; ++f) {
+      int c0[3], c1[3];
+      range(f, c0, c1);
+      for (int z = c0[2]; z <= c1[2]; ++z)
+        for (int y = c0[1]; y <= c1[1]; ++y)
+          for (int xx = c0[0]; xx <= c1[0]; ++xx) {
+            const int cell = (z * n_[1] + y) * n_[0] + xx;
+            if (pass == 0) ++bucket_start_[cell + 1];
+            else bucket_faces_[cursor[cell]++] = f;
+          }
+    }
+  }
+  stamp_.assign(faces_.size(), 0);
+  stamp_now_ = 0;
   for (int k = 0; k <= n_[2]; ++k)
     for (int j = 0; j <= n_[1]; ++j)
       for (int i = 0; i <= n_[0]; ++i) {
         const int q = corner(i, j, k);
-        phi_[q] = signed_distance(w, origin_ + h_ * Vec3(i, j, k), &face_[q]);
+        phi_[q] = corner_distance(w, i, j, k, &face_[q]);
       }
   sampled_at_.assign(w.x.begin() + host_begin_, w.x.begin() + host_begin_ + host_surface_);
   ++rebuilds_;
@@ -152,10 +242,14 @@ bool DistanceFieldDetector::field(const Vec3& x, double& phi, Vec3* grad) const 
 
 void DistanceFieldDetector::detect(const World& w, std::vector<Contact>& out) {
   out.clear();
-  const double limit = kRebuildShare * h_;
+  const double limit = resample_ * h_;
   for (int s = 0; s < host_surface_; ++s)
-    if ((w.x[host_begin_ + s] - sampled_at_[s]).squaredNorm() > limit * limit) {
-      sample(w);
+    if (!((w.x[host_begin_ + s] - sampled_at_[s]).squaredNorm() <= limit * limit)) {
+      try {
+        sample(w);
+      } catch (const std::invalid_argument& e) {  // during a run: a failed step (named after any blow-up)
+        throw std::runtime_error(e.what());
+      }
       break;
     }
   for (int i = guest_begin_; i < guest_end_; ++i) {
