@@ -490,9 +490,12 @@ def test_python_penalty_reproduces_the_built_in(small):
     built_in = harness.Simulation(scene)
     mine = harness.Simulation(scene, response=harness.penalty_response(k))
     stiffer = harness.Simulation(scene, response=harness.penalty_response(1.01 * k))
+    # The scene's force rule is not the response's: under the automatic force the response is
+    # given the same pushes (contact normals and depths), so it runs as under the penalty.
+    under_auto = harness.Simulation(scene.with_(**{"contacts.0.force": "auto"}), response=harness.penalty_response(k))
     in_contact = 0
     for _ in range(30):
-        for s in (built_in, mine, stiffer):
+        for s in (built_in, mine, stiffer, under_auto):
             s.step(100)
         in_contact += 100 if len(built_in.contacts()["node"]) else 0
         assert len(mine.contacts()["node"]) == len(built_in.contacts()["node"])
@@ -502,6 +505,7 @@ def test_python_penalty_reproduces_the_built_in(small):
         return max(np.abs(a.positions(i) - b.positions(i)).max() for i in (0, 1))
 
     assert gap(built_in, mine) < 1e-12
+    assert gap(mine, under_auto) == 0.0
     assert gap(built_in, stiffer) > 1e-9
     # the audit books the response's work as the built-in's
     ea, eb = built_in.energy(), mine.energy()
