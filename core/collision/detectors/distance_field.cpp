@@ -58,19 +58,7 @@ Vec3 DistanceFieldDetector::pseudonormal(const World& w, int face, int feature) 
   };
   if (feature == VoxelExactDetector::kInterior) return unit(face);
   if (feature >= 3) return unit(face) + unit(adjacent_[3 * face + (feature - 3)]);
-  const int u = t[feature];  // a vertex: its faces' normals weighted by their angles at it
-  const Vec3& xu = w.x[host_begin_ + u];
-  Vec3 n = Vec3::Zero();
-  for (int k = vf_start_[u]; k < vf_start_[u + 1]; ++k) {
-    const Tri& s = faces_[vf_faces_[k]];
-    const int j = s[0] == u ? 0 : s[1] == u ? 1 : 2;
-    const Vec3 e1 = w.x[host_begin_ + s[(j + 1) % 3]] - xu, e2 = w.x[host_begin_ + s[(j + 2) % 3]] - xu;
-    const Vec3 c = e1.cross(e2);
-    const double len = c.norm();
-    if (!(len > 0.0) || !std::isfinite(len)) continue;
-    n += (std::atan2(len, e1.dot(e2)) / len) * c;
-  }
-  return n;
+  return vertex_pseudonormal(w, host_begin_, faces_, vf_start_, vf_faces_, t[feature]);  // a vertex
 }
 
 namespace {

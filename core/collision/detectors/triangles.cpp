@@ -58,4 +58,20 @@ bool triangle_direction(const World& w, int begin, const Tri& t, const Vec3& x, 
   return face_normal(w, begin, t, n);
 }
 
+Vec3 vertex_pseudonormal(const World& w, int begin, const std::vector<Tri>& faces, const std::vector<int>& vf_start,
+                         const std::vector<int>& vf_faces, int u) {
+  const Vec3& xu = w.x[begin + u];
+  Vec3 n = Vec3::Zero();
+  for (int k = vf_start[u]; k < vf_start[u + 1]; ++k) {
+    const Tri& t = faces[vf_faces[k]];
+    const int j = t[0] == u ? 0 : t[1] == u ? 1 : 2;
+    const Vec3 e1 = w.x[begin + t[(j + 1) % 3]] - xu, e2 = w.x[begin + t[(j + 2) % 3]] - xu;
+    const Vec3 c = e1.cross(e2);
+    const double len = c.norm();
+    if (!(len > 0.0) || !std::isfinite(len)) continue;
+    n += (std::atan2(len, e1.dot(e2)) / len) * c;
+  }
+  return n;
+}
+
 }  // namespace harness

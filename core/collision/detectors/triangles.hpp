@@ -16,6 +16,11 @@ bool face_normal(const World& w, int begin, const Tri& t, Vec3& n);
 // front of it: no penetration).
 bool triangle_contact_point(const World& w, int begin, const Tri& t, const Vec3& x, ContactPoint& out,
                             bool inside = true);
+// The angle-weighted pseudonormal of surface vertex u (Baerentzen and Aanaes 2005): its incident
+// faces' normals (vf_start / vf_faces, CSR over body-local vertices) weighted by their angles at
+// it; not normalised.
+Vec3 vertex_pseudonormal(const World& w, int begin, const std::vector<Tri>& faces, const std::vector<int>& vf_start,
+                         const std::vector<int>& vf_faces, int u);
 // The direction from x to the closest point of t (outward for a node inside), or the face's
 // normal when x lies on it; false when degenerate.
 bool triangle_direction(const World& w, int begin, const Tri& t, const Vec3& x, Vec3& n);

@@ -253,19 +253,7 @@ Vec3 VoxelExactDetector::pseudonormal(const World& w, int face, int feature) con
   }
   if (feature >= 3) return unit_normal(w, face) + unit_normal(w, adjacent_[3 * face + (feature - 3)]);
   // A vertex: its incident faces' normals weighted by their angles at it.
-  const int u = faces_[face][feature];
-  const Vec3& xu = w.x[host_begin_ + u];
-  Vec3 n = Vec3::Zero();
-  for (int k = vf_start_[u]; k < vf_start_[u + 1]; ++k) {
-    const Tri& t = faces_[vf_faces_[k]];
-    const int j = t[0] == u ? 0 : t[1] == u ? 1 : 2;
-    const Vec3 e1 = w.x[host_begin_ + t[(j + 1) % 3]] - xu, e2 = w.x[host_begin_ + t[(j + 2) % 3]] - xu;
-    const Vec3 c = e1.cross(e2);
-    const double len = c.norm();
-    if (!(len > 0.0) || !std::isfinite(len)) continue;
-    n += (std::atan2(len, e1.dot(e2)) / len) * c;
-  }
-  return n;
+  return vertex_pseudonormal(w, host_begin_, faces_, vf_start_, vf_faces_, faces_[face][feature]);
 }
 
 bool VoxelExactDetector::evaluate(const World& w, const Vec3& x, int cell, Workspace& ws, Hit& out) const {
