@@ -21,6 +21,7 @@ OUT/scorecard.csv (one row per scene and run). OUT defaults to --results/scoreca
 
 import math
 import os
+import sys
 
 from . import card, reader, writers
 from .judge import claims, choices, measure
@@ -179,7 +180,8 @@ def run(a):
     a.methods = a.methods.split(",") if isinstance(a.methods, str) else a.methods
     users = list(getattr(a, "user_methods", None) or [])
     if not users:
-        raise SystemExit("study.py scorecard: give the method to judge: --method 'NAME=KEY=JSON,...' (repeatable)")
+        print("study.py scorecard: give the method to judge: --method 'NAME=KEY=JSON,...' (repeatable)", file=sys.stderr)
+        sys.exit(2)
     scenes = [s for s in (a.scenes.split(",") if a.scenes else SCENES) if s]
     out = a.out or os.path.join(a.results, "scorecard")
     os.makedirs(out, exist_ok=True)

@@ -45,3 +45,16 @@ def test_a_card_row_is_read_as_the_judge_reads_a_row():
     assert y.failed == "2 nodes through"
     z = measure.measure(scorecard.judge_row(dict(row, verdict="chatters"), "s"), spec, scenes, label="m", time_key="t_mean")
     assert z.failed.startswith("chatters")
+
+
+def test_without_a_method_it_says_so_with_exit_2():
+    import os
+    import subprocess
+    import sys
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    p = subprocess.run([sys.executable, os.path.join(root, "scripts", "study.py"), "scorecard"], capture_output=True,
+                       text=True)
+    assert p.returncode == 2 and "--method" in p.stderr and len(p.stderr.strip().splitlines()) == 1
+    p = subprocess.run([sys.executable, os.path.join(root, "scripts", "study.py"), "scorecard", "--scene", "x.json",
+                        "--method", "m=contacts.0.force=1"], capture_output=True, text=True)
+    assert p.returncode == 2 and "--scenes" in p.stderr
