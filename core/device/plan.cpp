@@ -1,5 +1,6 @@
 #include "core/device/plan.hpp"
 
+#include "core/collision/detectors/triangles.hpp"
 #include "core/collision/detectors/voxel.hpp"
 #include "core/collision/detectors/voxel_exact.hpp"
 #include "core/device/device_step.hpp"
@@ -79,17 +80,7 @@ void surface_of(const World& w, int body, DirPlan& d) {
   d.vf_start = b.vf_start;
   d.vf_faces = b.vf_faces;
   if (d.vf_start.empty()) d.vf_start.assign(static_cast<std::size_t>(b.n_surface) + 1, 0);
-  // The face across each edge k (t[k], t[k + 1]) of each face (voxel_exact.cpp's adjacent_).
-  std::map<std::pair<int, int>, int> directed;
-  const int F = static_cast<int>(b.faces.size());
-  for (int f = 0; f < F; ++f)
-    for (int k = 0; k < 3; ++k) directed[{b.faces[f][k], b.faces[f][(k + 1) % 3]}] = f;
-  d.adjacent.assign(3 * static_cast<std::size_t>(F), -1);
-  for (int f = 0; f < F; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const auto it = directed.find({b.faces[f][(k + 1) % 3], b.faces[f][k]});
-      d.adjacent[3 * f + k] = it == directed.end() ? f : it->second;
-    }
+  d.adjacent = edge_adjacency(b.faces);  // the face across each edge (voxel_exact.cpp's adjacent_)
 }
 
 DirPlan dir_plan(const World& w, const ContactSpec& spec, int host, int guest, const CollisionDetector& det) {

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -30,17 +29,7 @@ void DistanceFieldDetector::initialize(const World& w, const ContactSpec& spec) 
     throw std::invalid_argument("distance_field detector: field_resample must lie in (0, 1]");
   faces_ = h.faces;
   vf_start_ = h.vf_start, vf_faces_ = h.vf_faces;
-  // The face across each edge k (t[k], t[k + 1]) of each face, for the edges' pseudonormals.
-  std::map<std::pair<int, int>, int> directed;
-  const int F = static_cast<int>(faces_.size());
-  for (int f = 0; f < F; ++f)
-    for (int k = 0; k < 3; ++k) directed[{faces_[f][k], faces_[f][(k + 1) % 3]}] = f;
-  adjacent_.assign(3 * static_cast<std::size_t>(F), -1);
-  for (int f = 0; f < F; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const auto it = directed.find({faces_[f][(k + 1) % 3], faces_[f][k]});
-      adjacent_[3 * f + k] = it == directed.end() ? f : it->second;
-    }
+  adjacent_ = edge_adjacency(faces_);  // the face across each edge, for the edges' pseudonormals
   h_ = resolve_voxel_size(w, spec);
   rebuilds_ = 0;
   sample(w);

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <utility>
 
 namespace harness {
 
@@ -72,6 +74,20 @@ Vec3 vertex_pseudonormal(const World& w, int begin, const std::vector<Tri>& face
     n += (std::atan2(len, e1.dot(e2)) / len) * c;
   }
   return n;
+}
+
+std::vector<int> edge_adjacency(const std::vector<Tri>& faces) {
+  std::map<std::pair<int, int>, int> directed;
+  const int F = static_cast<int>(faces.size());
+  for (int f = 0; f < F; ++f)
+    for (int k = 0; k < 3; ++k) directed[{faces[f][k], faces[f][(k + 1) % 3]}] = f;
+  std::vector<int> adjacent(3 * static_cast<std::size_t>(F), -1);
+  for (int f = 0; f < F; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto it = directed.find({faces[f][(k + 1) % 3], faces[f][k]});
+      adjacent[3 * f + k] = it == directed.end() ? f : it->second;
+    }
+  return adjacent;
 }
 
 }  // namespace harness

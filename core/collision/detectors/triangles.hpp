@@ -16,6 +16,9 @@ bool face_normal(const World& w, int begin, const Tri& t, Vec3& n);
 // front of it: no penetration).
 bool triangle_contact_point(const World& w, int begin, const Tri& t, const Vec3& x, ContactPoint& out,
                             bool inside = true);
+// Per face f and edge k (t[k], t[k + 1]): the face across that edge (3 F entries; f itself where
+// no face shares the edge the other way round).
+std::vector<int> edge_adjacency(const std::vector<Tri>& faces);
 // The angle-weighted pseudonormal of surface vertex u (Baerentzen and Aanaes 2005): its incident
 // faces' normals (vf_start / vf_faces, CSR over body-local vertices) weighted by their angles at
 // it; not normalised.
