@@ -1,5 +1,6 @@
 #include "experiments/reference.hpp"
 
+#include "core/collision/responses/force_rule.hpp"
 #include "core/run/summary.hpp"
 #include "core/run/summary_keys.hpp"
 #include "core/run/surfaces.hpp"
@@ -22,8 +23,9 @@ namespace {
 
 double default_stiffness(const Scene& sc) {
   if (sc.contacts.empty()) return 0.0;
-  if (sc.contacts[0].spec.force_rule == ForceRule::penalty && sc.contacts[0].spec.stiffness > 0.0)
-    return sc.contacts[0].spec.stiffness;
+  // The scene's own linear penalty, when it has one (the reference is a penalty's).
+  const ContactSpec& c = sc.contacts[0].spec;
+  if (c.force_rule == kDefaultObjectRule && rule_parameter(c, "stiffness") > 0.0) return rule_parameter(c, "stiffness");
   for (const BodySpec& b : sc.bodies)
     if (b.name == sc.contacts[0].host)
       return 100.0 * (b.material.youngs_modulus > 0.0 ? 0.6 * b.material.youngs_modulus * 0.005 : b.material.stiffness);

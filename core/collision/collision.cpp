@@ -1,6 +1,7 @@
 #include "core/collision/collision.hpp"
 
 #include "core/clock.hpp"
+#include "core/collision/responses/force_rule.hpp"
 #include "core/collision/responses/force_rules.hpp"
 #include "core/collision/responses/projection.hpp"
 
@@ -23,10 +24,17 @@ void check_pair(const World& w, const ContactSpec& spec) {
 
 Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact) : spec_(std::move(spec)) {
   check_pair(w, spec_);
-  if (spec_.force_rule == ForceRule::penalty && (!(spec_.stiffness >= 0.0) || !std::isfinite(spec_.stiffness)))
-    throw std::invalid_argument("contact pair: stiffness must be finite and >= 0");
-  if (spec_.force_rule == ForceRule::constant && (!(spec_.force >= 0.0) || !std::isfinite(spec_.force)))
-    throw std::invalid_argument("contact pair: force must be finite and >= 0");
+  rule_ = find_force_rule(spec_.force_rule);
+  if (!rule_) throw std::invalid_argument("contact pair: no force rule \"" + spec_.force_rule + "\"");
+  if (spec_.force_parameters.size() != rule_->parameters.size())
+    throw std::invalid_argument("contact pair: force rule \"" + spec_.force_rule + "\" takes " +
+                                std::to_string(rule_->parameters.size()) + " parameters (set_force_rule)");
+  for (std::size_t i = 0; i < rule_->parameters.size(); ++i) {
+    const RuleParameter& p = rule_->parameters[i];
+    const double v = spec_.force_parameters[i];
+    if (!std::isfinite(v) || v < p.lo || v > p.hi)
+      throw std::invalid_argument(std::string("contact pair: ") + p.name + " must be finite and within its range");
+  }
   if (spec_.eliminator == EliminatorKind::distance_field && spec_.detector != DetectorKind::distance_field)
     throw std::invalid_argument("eliminator \"distance_field\" needs detector \"distance_field\" (its field gives the pushes)");
   detector_ = make_detector(spec_.detector, exact);
@@ -116,7 +124,11 @@ void Collision::set_response(OwnResponse r) {
   response_name_ = response_ ? std::move(r.name) : std::string();
   // The eliminator gives a response what it gives the penalty rule, whatever the scene's force
   // rule: each push's contact normal and depth (penalty_depth), which the other rules do not need.
-  if (response_) spec_.force_rule = reverse_spec_.force_rule = ForceRule::penalty;
+  if (response_) {
+    set_force_rule(spec_, kDefaultObjectRule, {{"stiffness", 0.0}});
+    rule_ = &force_rule_of(spec_);
+    if (reverse_) reverse_spec_.force_rule = spec_.force_rule, reverse_spec_.force_parameters = spec_.force_parameters;
+  }
 }
 
 PairStep Collision::step(World& w, double h) {
@@ -144,17 +156,9 @@ PairStep Collision::step(World& w, double h) {
     for (std::size_t i = 0; i < w.x.size(); ++i) w.f[i] += response_f_[i];
     return finish(s, detect_us, t1);
   }
-  switch (spec_.force_rule) {
-    case ForceRule::automatic: {
-      const double L = detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_;
-      s.force = auto_contact_forces(w, pushes_, h, L / spec_.separation_time, magnitude_, share_);
-      break;
-    }
-    case ForceRule::penalty: s.force = penalty_contact_forces(pushes_, spec_.stiffness, magnitude_); break;
-    case ForceRule::constant:
-      magnitude_.assign(pushes_.size(), spec_.force);  // capacity reserved: no allocation
-      s.force = pushes_.empty() ? 0.0 : spec_.force;
-      break;
+  {
+    RuleStep rs{w, pushes_, h, length(), spec_, share_};
+    s.force = rule_->force(rs, spec_.force_parameters, magnitude_);
   }
   if (spec_.damping > 0.0) s.force = damp_contact_forces(w, pushes_, spec_.damping, magnitude_);
   if (spec_.invert_push)

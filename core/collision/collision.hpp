@@ -1,7 +1,7 @@
 // Collision: the paper's wrapper, one per contact pair, with one interface for the simulation:
 // it owns the pair's detector (make_detector, detectors/) and eliminator (make_eliminator,
 // responses/), and each step detects, then eliminates with the pair's force rule
-// (responses/force_rules.hpp), adding the penalty forces into World::f. It runs after every
+// (responses/force_rule.hpp, one file per rule under rules/), adding the penalty forces into World::f. It runs after every
 // other force of the step (the contact effect is last in the effect table), because the
 // automatic force is derived from them.
 #pragma once
@@ -20,6 +20,8 @@
 #include <vector>
 
 namespace harness {
+
+struct ForceRuleDef;
 
 // What a pair did in one step (summed over its substeps; `contacts` averaged over them).
 struct PairStep {
@@ -97,6 +99,11 @@ class Collision {
   const std::vector<Contact>& contacts() const { return contacts_; }
   const std::vector<Contact>& reverse_contacts() const { return reverse_contacts_; }
   double voxel_size() const { return detector_->voxel_size(); }
+  // The pair's length scale L: the voxel size, or the host's mean spring rest length for a
+  // detector without a grid (the automatic force's, RuleStep::length).
+  double length() const { return detector_->voxel_size() > 0.0 ? detector_->voxel_size() : length_scale_; }
+  // The pair's force rule (the registry's; a response of its own runs under the penalty's pushes).
+  const ForceRuleDef& rule() const { return *rule_; }
   int rebuilds() const { return detector_->rebuilds(); }
   const ContactSpec& spec() const { return spec_; }
   const CollisionDetector& detector() const { return *detector_; }
@@ -118,6 +125,7 @@ class Collision {
   PairStep finish(PairStep s, double detect_us, Clock::time_point t1);
 
   ContactSpec spec_{};
+  const ForceRuleDef* rule_ = nullptr;
   std::unique_ptr<CollisionDetector> detector_;
   std::unique_ptr<CollisionEliminator> eliminator_;
   std::vector<Contact> contacts_;  // reserved for every guest node: no growth per step

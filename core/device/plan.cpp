@@ -3,6 +3,7 @@
 #include "core/collision/detectors/triangles.hpp"
 #include "core/collision/detectors/voxel.hpp"
 #include "core/collision/detectors/voxel_exact.hpp"
+#include "core/collision/responses/force_rule.hpp"
 #include "core/device/device_step.hpp"
 #include "core/spring_forces.hpp"
 
@@ -45,10 +46,10 @@ void check_device_support(const Simulation& sim) {
     // voxel_exact's pushes with the penalty force are the contact point's whatever the rule (line or
     // plane: penalty_depth); with a constant force only the line rule is on a device.
     if (c.eliminator == EliminatorKind::projection || c.eliminator == EliminatorKind::volume ||
-        (c.detector == DetectorKind::voxel_exact && c.eliminator != EliminatorKind::line && c.force_rule != ForceRule::penalty))
+        (c.detector == DetectorKind::voxel_exact && c.eliminator != EliminatorKind::line && !force_rule_of(c).depth))
       refuse(s, p + ".eliminator", std::string("eliminator \"") + to_string(c.eliminator) + "\" with detector \"" +
                                        to_string(c.detector) + "\"");
-    if (c.force_rule == ForceRule::automatic) refuse(s, p + ".force", "the automatic force \"auto\"");
+    if (force_rule_of(c).device < 0) refuse(s, p + ".force", "the force rule \"" + c.force_rule + "\"");
     if (c.orient != Orient::paper) refuse(s, p + ".orient", "an orientation other than \"paper\"");
     if (c.damping > 0.0) refuse(s, p + ".damping", "the contact damping variant");
     const Collision* col = sim.pairs()[i].collision.get();
@@ -92,8 +93,12 @@ DirPlan dir_plan(const World& w, const ContactSpec& spec, int host, int guest, c
   d.guest_begin = gb.begin, d.guest_size = gb.size();
   d.detector = spec.detector == DetectorKind::voxel_exact ? kDetVoxelExact : kDetVoxel;
   d.eliminator = spec.eliminator == EliminatorKind::plane ? kElimPlane : kElimLine;
-  d.force_rule = spec.force_rule == ForceRule::penalty ? kForcePenalty : kForceConstant;
-  d.force = spec.force, d.stiffness = spec.stiffness, d.invert = spec.invert_push;
+  // The rule's device kernel and its one parameter (F of kForceConstant, k of kForcePenalty).
+  const ForceRuleDef& rule = force_rule_of(spec);
+  if (rule.device < 0 || spec.force_parameters.size() != 1) throw std::logic_error("device plan: a force rule without a kernel");
+  d.force_rule = rule.device;
+  d.force = d.stiffness = spec.force_parameters[0];
+  d.invert = spec.invert_push;
   const Initializer* init = nullptr;
   if (const auto* v = dynamic_cast<const VoxelDetector*>(&det)) init = &v->initializer();
   if (const auto* v = dynamic_cast<const VoxelExactDetector*>(&det)) init = &v->initializer();

@@ -1,16 +1,32 @@
 #include "core/effects/contact.hpp"
 
+#include "core/collision/responses/force_rule.hpp"
 #include "core/scene/scene.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace harness {
 
 namespace {
-// The pair's stiffness is the linear penalty's (a response of the program's reports none).
+// The pair's force rule reports a stiffness (ForceRuleDef::stiffness; a response of the
+// program's reports none).
+// The rule's stiffness at a depth of the pair's length scale: what the guard assumes before the
+// first step.
+double nominal_stiffness(const Pair& p) {
+  const auto k = p.collision->rule().stiffness;
+  const double v = k ? k(p.spec.force_parameters, p.collision->length(), 0.0) : 0.0;
+  return std::isfinite(v) && v > 0.0 ? v : 0.0;
+}
 bool stiff(const Pair& p) {
-  return p.spec.force_rule == ForceRule::penalty && p.spec.stiffness > 0.0 && !(p.collision && p.collision->has_response());
+  return p.collision && !p.collision->has_response() && nominal_stiffness(p) > 0.0;
+}
+// The contact stiffness (N/m) of push i along its direction: the rule's, at the push's depth.
+double push_stiffness(const Pair& p, std::size_t i) {
+  const Push& q = p.collision->pushes()[i];
+  const double k = p.collision->rule().stiffness(p.spec.force_parameters, q.depth, p.collision->magnitudes()[i]);
+  return std::isfinite(k) && k > 0.0 ? k : 0.0;
 }
 }  // namespace
 
@@ -94,8 +110,8 @@ bool ContactEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) 
   for (const Pair& p : pairs_) {
     if (!stiff(p)) continue;
     any = true;
-    const double k = p.spec.stiffness;
-    if (!p.collision->stepped()) {
+    if (!p.collision->stepped()) {  // before the first step: the rule's at a depth of the pair's length scale
+      const double k = nominal_stiffness(p);
       const Body& g = w.bodies[p.spec.guest];
       for (int i = g.begin; i < g.end; ++i) rows[i] += Vec3::Constant(2.0 * k);
       continue;
@@ -105,6 +121,8 @@ bool ContactEffect::add_stiffness_rows(const World& w, std::vector<Vec3>& rows) 
     for (std::size_t i = 0; i < pushes.size(); ++i) {
       const Push& q = pushes[i];
       if (q.count == 0 || !(mag[i] > 0.0)) continue;
+      const double k = push_stiffness(p, i);
+      if (k == 0.0) continue;
       const Vec3 a = q.n.cwiseAbs();
       const Vec3 r = (2.0 * k * a.sum()) * a;
       rows[q.guest] += r;
@@ -128,7 +146,7 @@ void ContactEffect::add_jacobian(const World&, LinearSystem& sys) const {
       for (int h = 0; h < q.count && h < 3; ++h) b.node[h + 1] = q.hosts[h], b.c[h + 1] = -q.weight[h];
       b.count = 1 + std::min(q.count, 3);
       b.n = q.n;
-      b.k = p.spec.stiffness;
+      b.k = push_stiffness(p, i);
       sys.contacts.push_back(b);
     }
   }

@@ -1,6 +1,6 @@
 // Parameters of one contact pair as resolved from the scene (docs/scenes.md, "contacts"), and the
-// names the scene uses for each choice (one table per swap point: a new detector, response or
-// force rule is one line in its table plus its file pair).
+// names the scene uses for each choice (one table per swap point: a new detector or response is one line in
+// its table plus its file pair; a force rule is one file, core/collision/rules/).
 #pragma once
 
 #include <string>
@@ -17,9 +17,6 @@ enum class DetectorKind { voxel, hash, cgal, fcl, voxel_exact, box, distance_fie
 // projection (a penetrating node moved to the surface), or the restriction with a practical bound
 // (volume: the shared volume's gradient, by layered depth images, moves both surfaces).
 enum class EliminatorKind { line, plane, projection, volume, distance_field };
-// How large each contact's force is: the paper's constant F, `auto`, or a penalty k_c x depth
-// (force_rules.hpp).
-enum class ForceRule { constant, automatic, penalty };
 // Which way the line and plane push along their direction (directions.hpp): the paper's rules
 // (line: from the nearest host node toward the guest node; plane: agreeing with the host's
 // outward normals), or both the same way: `guest` (from the host node, or the plane, toward the
@@ -56,9 +53,10 @@ struct ContactSpec {
   HostNodes host_nodes;
   EliminatorKind eliminator;
   Orient orient;
-  ForceRule force_rule;
-  double force;      // N per contact (ForceRule::constant)
-  double stiffness;  // N/m per contact (ForceRule::penalty)
+  // How large each contact's force is: a rule of the registry (core/collision/responses/
+  // force_rule.hpp: constant, auto, penalty, ...) by name, and its parameters in its order.
+  std::string force_rule;
+  std::vector<double> force_parameters;
   double separation_time;  // s, of the automatic force: v_sep = L / separation_time
   double field_resample;  // distance_field: resample when a host vertex moved this share of a voxel
   double damping;  // N s/m per contact: F -> max(0, F - damping v_n) where F > 0 (0: none; a variant)

@@ -2,12 +2,14 @@
 // loader reads them within their kind; the descriptions are the schema's.
 #include "core/scene/keys.hpp"
 
+#include "core/collision/responses/force_rule.hpp"
 #include "core/limits.hpp"
 #include "core/scene/scene.hpp"
 
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <stdexcept>
 
 namespace harness {
@@ -224,9 +226,57 @@ std::string key_description(const SceneKey& k) {
   return k.doc.empty() ? tail : k.doc + " " + tail;
 }
 
+namespace {
+
+// A string the table keeps for the program's life (rows and kinds hold const char*).
+const char* kept(std::string s) {
+  static std::deque<std::string> store;
+  store.push_back(std::move(s));
+  return store.back().c_str();
+}
+
+// contacts.N.force and the rows of each object rule (kind force.RULE), from the force rules'
+// registry (core/collision/responses/force_rule.hpp): a rule's file is its only statement.
+void append_force_keys(std::vector<SceneKey>& keys) {
+  SceneKey force = key("contact", "force", KeyType::force).holding("force").fallback("auto");
+  std::string number, words, objects;
+  for (const ForceRuleDef& r : force_rules()) {
+    if (r.form == RuleForm::number) {
+      const RuleParameter& p = r.parameters[0];
+      force.range(p.lo, p.hi).with_unit(p.unit);
+      number = std::string("A number: ") + r.doc + ", " + p.unit + " (rule " + r.name + ")";
+    } else if (r.form == RuleForm::word) {
+      force.names.emplace_back(r.name);
+      words += std::string("; \"") + r.name + "\": " + r.doc;
+    } else {
+      objects += std::string(objects.empty() ? "" : "; ") + r.name + (r.name == std::string(kDefaultObjectRule) ? " (the default)" : "") + ": " + r.doc;
+    }
+  }
+  std::string doc = number + words;
+  if (!objects.empty()) doc += "; an object {\"rule\": NAME, PARAMETER: value, ...}, NAME one of " + objects;
+  keys.push_back(force.described(doc + "."));
+  for (const ForceRuleDef& r : force_rules()) {
+    if (r.form != RuleForm::object) continue;
+    const char* kind = kept(std::string("force.") + r.name);
+    SceneKey rule = key(kind, "rule", KeyType::word).in({r.name});
+    if (r.name == std::string(kDefaultObjectRule)) rule.optional().described("The rule; absent: this one.");
+    else rule.required().described("The rule.");
+    keys.push_back(rule);
+    for (const RuleParameter& p : r.parameters) {
+      SceneKey k = key(kind, p.name, KeyType::number).range(p.lo, p.hi).with_unit(p.unit);
+      if (std::isnan(p.fallback)) k.required();
+      else k.fallback(p.fallback);
+      keys.push_back(k.described(std::string(p.doc) + (*p.unit ? std::string(", ") + p.unit : std::string()) + "."));
+    }
+  }
+}
+
+}  // namespace
+
 // The table itself: data, one row per key (the one function over 80 lines that is a table).
 const std::vector<SceneKey>& scene_keys() {
-  static const std::vector<SceneKey> keys = {
+  static const std::vector<SceneKey> table = [] {
+  std::vector<SceneKey> keys = {
       key("scene", "name", KeyType::string).computed().described("The scene's name in outputs. Default: the file's stem."),
       key("scene", "seed", KeyType::integer).optional().schema({{"minimum", std::numeric_limits<long long>::min()}, {"maximum", std::numeric_limits<long long>::max()}}).described("Recorded in the outputs; nothing in a run is random. Default: none."),
       key("scene", "time", KeyType::object).holding("time").described("Time stepping."),
@@ -328,10 +378,11 @@ const std::vector<SceneKey>& scene_keys() {
       key("contact", "damping", KeyType::number).range(0.0, 1e9).fallback(0.0).with_unit("N s/m").described("A damping term on the contact force, a variant (not the paper's method): where a contact's force F is positive it becomes max(0, F - c v_n), v_n the guest node's speed away from its hosts along the push, c this value, N s/m per contact; 0: none. Not used by projection and volume."),
       key("contact", "response", KeyType::string).optional().range(1, kInf).schema({{"pattern", "^plugin:."}}).described("\"plugin:PATH\": the pair's contact forces from a response of your own, a shared library built against core/plugin/harness/response.h (docs/plugins.md), instead of the force rule: it is given each (sub)step's contacts with the eliminator's pushes and both bodies' state. PATH relative to the scene file. Symplectic Euler only; not with projection, volume or --device. Default: none (the force rule)."),
       key("contact", "response_parameters", KeyType::numbers).optional().described("Named numbers handed to the response's plug-in when it is made (its own names; it refuses those it does not know). Only with response. Default: none."),
-      key("contact", "force", KeyType::force).holding("force.stiffness").range(0.0, 1e12).fallback("auto").with_unit("N").described("A number: the paper's constant force, N per contact; \"auto\": the force that separates within separation_time; {\"stiffness\": k}: penalty k times depth, N/m."),
-      key("force.stiffness", "stiffness", KeyType::number).range(0.0, 1e12).with_unit("N/m").described("Penalty stiffness, N/m."),
   };
+  append_force_keys(keys);
   return keys;
+  }();
+  return table;
 }
 
 namespace {
@@ -350,10 +401,19 @@ json shell_body_schema() {
   return j;
 }
 
+// The force key's kind and one kind per object rule (append_force_keys).
+void append_force_kinds(std::vector<SceneKind>& kinds) {
+  kinds.push_back({"force", "", "", json::object()});
+  for (const ForceRuleDef& r : force_rules())
+    if (r.form == RuleForm::object)
+      kinds.push_back({kept(std::string("force.") + r.name), "", std::string("Force rule ") + r.name + ": " + r.doc + ".", json::object()});
+}
+
 }  // namespace
 
 const std::vector<SceneKind>& scene_kinds() {
-  static const std::vector<SceneKind> kinds = {
+  static const std::vector<SceneKind> table = [] {
+  std::vector<SceneKind> kinds = {
       {"scene", "", "A scene of the harness (docs/scenes.md): one JSON object in SI units (m, kg, s, N, Pa). This schema is generated from the loader's key table (core/scene/keys.cpp) for unknown keys, types, missing keys and ranges; the checks it cannot express (unique body names, contact bodies that exist, min below max, node budgets, mesh files) are listed in docs/scenes.md, \"JSON Schema\". Printed by `harness schema`.", json::object()},
       {"time", "", "", json::object()},
       {"settle", "", "", json::object()},
@@ -373,9 +433,11 @@ const std::vector<SceneKind>& scene_kinds() {
       {"load", "load", "A total force shared equally by the selected nodes, ramped linearly from zero.", json::object()},
       {"pressure", "pressure", "Internal pressure of a closed shell, ramped linearly from `from` to `to`.", json::object()},
       {"contact", "contact", "A contact pair: the guest's nodes are looked up against the host.", json::object()},
-      {"force.stiffness", "", "", json::object()},
   };
+  append_force_kinds(kinds);
   return kinds;
+  }();
+  return table;
 }
 
 const SceneKey& scene_key(const std::string& kind, const std::string& name) {

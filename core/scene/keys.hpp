@@ -54,7 +54,7 @@ enum class KeyType {
   vec3,            // [x, y, z]; each above `lo` when lo_open
   int3,            // three integers, each within [lo, hi]
   length_or_auto,  // "auto" (0 in the Scene) or a number within (lo, hi]
-  force,           // "auto", a number within [lo, hi], or an object of kind `of`
+  force,           // a word of `names`, a number within [lo, hi], or an object of a kind `of`.RULE (force rules)
   always_true,     // present: must be true
   numbers,         // an object of named numbers (any names), each within [lo, hi]
 };

@@ -5,6 +5,7 @@
 // cannot express").
 #include "core/scene/scene.hpp"
 
+#include "core/collision/responses/force_rule.hpp"
 #include "core/limits.hpp"
 #include "core/scene/check.hpp"
 
@@ -284,6 +285,61 @@ void read_bodies(const Ctx& c, Obj& top, Scene& s, const std::string& dir) {
   });
 }
 
+// contacts.N.force: the rule of the registry (core/collision/responses/force_rule.hpp) a number,
+// a word or an object names, and its parameters from that rule's rows (kind force.RULE).
+void read_force(const Ctx& c, Obj& o, ContactSpec& cs) {
+  const SceneKey& fk = o.row("force");
+  const json* given = o.get("force");
+  const json& f = given ? *given : fk.def;
+  const std::string at = o.at("force");
+  std::string words;
+  for (const ForceRuleDef& r : force_rules())
+    if (r.form == RuleForm::word) words += std::string(words.empty() ? "" : ", ") + "\"" + r.name + "\"";
+  auto wrong = [&] {
+    c.fail(at, "expected a number of newtons, " + words + " or an object {\"rule\": NAME, ...} (docs/scenes.md, \"Force rules\")");
+  };
+  if (f.is_string()) {
+    const ForceRuleDef* r = rule_of_form(RuleForm::word, f.get<std::string>());
+    if (!r) wrong();
+    cs.force_rule = r->name;
+    cs.force_parameters.clear();
+    o.out()["force"] = r->name;
+  } else if (f.is_number()) {
+    const ForceRuleDef* r = rule_of_form(RuleForm::number);
+    if (!r) wrong();
+    const RuleParameter& p = r->parameters[0];
+    const double x = as_number(c, at, f);
+    if (x < p.lo || x > p.hi) c.fail(at, "value " + fmt(x) + " out of range (>= " + fmt(p.lo) + ", <= " + fmt(p.hi) + ")");
+    cs.force_rule = r->name;
+    cs.force_parameters = {x};
+    o.out()["force"] = x;
+  } else if (f.is_object()) {
+    std::string name = kDefaultObjectRule;
+    std::string objects;
+    for (const ForceRuleDef& r : force_rules())
+      if (r.form == RuleForm::object) objects += std::string(objects.empty() ? "" : ", ") + r.name;
+    if (const auto it = f.find("rule"); it != f.end()) name = as_string(c, join(at, "rule"), *it);
+    const ForceRuleDef* r = find_force_rule(name);
+    if (!r || r->form != RuleForm::object) c.fail(join(at, "rule"), "unknown rule \"" + name + "\" (one of " + objects + ")");
+    std::string takes;
+    for (const RuleParameter& p : r->parameters) takes += std::string(takes.empty() ? "" : ", ") + p.name;
+    for (const auto& [key, value] : f.items()) {
+      bool known = key == "rule";
+      for (const RuleParameter& p : r->parameters) known = known || key == p.name;
+      if (!known) c.fail(join(at, key), "unknown key (rule " + name + " takes " + (takes.empty() ? "none" : takes) + ")");
+    }
+    Obj fo(c, f, at, o.out()["force"], scene_kind(std::string("force.") + r->name).name);
+    fo.get("rule");
+    if (f.contains("rule")) fo.out()["rule"] = name;
+    cs.force_rule = r->name;
+    cs.force_parameters.clear();
+    for (const RuleParameter& p : r->parameters) cs.force_parameters.push_back(fo.number(p.name));
+    fo.finish();
+  } else {
+    wrong();
+  }
+}
+
 // A pair's parameters (every key of a contact but host, guest and label), each from its row of
 // the key table: its value, or its default when absent. Marks the spec made from the table.
 void read_contact_spec(const Ctx& c, Obj& o, ContactSpec& cs) {
@@ -301,29 +357,7 @@ void read_contact_spec(const Ctx& c, Obj& o, ContactSpec& cs) {
   cs.separation_time = o.number("separation_time");
   cs.damping = o.number("damping");
   cs.field_resample = o.number("field_resample");
-  cs.force = 0.0;
-  cs.stiffness = 0.0;
-  // force: a number of newtons (constant), "auto", or {"stiffness": k} (penalty).
-  const json* f = o.get("force");
-  if (!f || (f->is_string() && f->get<std::string>() == "auto")) {
-    cs.force_rule = ForceRule::automatic;
-    o.out()["force"] = "auto";
-  } else if (f->is_object()) {
-    Obj fo(c, *f, o.at("force"), o.out()["force"], o.row("force").of);
-    cs.force_rule = ForceRule::penalty;
-    cs.stiffness = fo.number("stiffness");
-    fo.finish();
-  } else if (f->is_string()) {
-    c.fail(o.at("force"), "expected a number of newtons, \"auto\" or {\"stiffness\": N/m}");
-  } else {
-    cs.force_rule = ForceRule::constant;
-    const SceneKey& fk = o.row("force");
-    const double x = as_number(c, o.at("force"), *f);
-    if (x < fk.lo || x > fk.hi)
-      c.fail(o.at("force"), "value " + fmt(x) + " out of range (>= " + fmt(fk.lo) + ", <= " + fmt(fk.hi) + ")");
-    cs.force = x;
-    o.out()["force"] = x;
-  }
+  read_force(c, o, cs);
   cs.made = kContactSpecMade;
 }
 

@@ -168,8 +168,16 @@ class Generator {
         s["maxItems"] = 3;
         break;
       case KeyType::force:
-        s["anyOf"] = {{{"const", "auto"}}, {{"type", "number"}, {"minimum", num(k.lo)}, {"maximum", num(k.hi)}}, object_ref(k.of)};
+      {  // the words, a number within the row's range, or an object of a kind k.of.RULE (one per rule)
+        json any = json::array();
+        for (const std::string& w : k.names) any.push_back({{"const", w}});
+        any.push_back({{"type", "number"}, {"minimum", num(k.lo)}, {"maximum", num(k.hi)}});
+        const std::string prefix = std::string(k.of) + ".";
+        for (const SceneKind& kind : scene_kinds())
+          if (std::string(kind.name).rfind(prefix, 0) == 0) any.push_back(object_ref(kind.name));
+        s["anyOf"] = any;
         break;
+      }
       case KeyType::always_true:
         s["const"] = true;
         break;

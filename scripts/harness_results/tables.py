@@ -164,12 +164,19 @@ def body_rows(r):
     return rows
 
 
+def object_force(f):
+    """An object force: the penalty's k in N/m, another rule by its name and parameters."""
+    if set(f) == {"stiffness"}:
+        return "k %g N/m" % f["stiffness"]
+    return "%s %s" % (f.get("rule", "penalty"), " ".join("%s %g" % (k, v) for k, v in f.items() if k != "rule"))
+
+
 def contact_row(r):
     """scenes_contacts' row of one run: its time stepping and contact pair."""
     s = r["summary"]
     c = reader.contact(s)
     f = c["force"]
-    force = "auto" if f == "auto" else ("k %g N/m" % f["stiffness"] if isinstance(f, dict) else "%g N" % f)
+    force = "auto" if f == "auto" else (object_force(f) if isinstance(f, dict) else "%g N" % f)
     return [r["title"], "%g" % (reader.scene_dt(s) * 1e6), "%d" % r["steps"], ", ".join(reader.scene_effects(s)),
             c["host"], c["guest"],
             c["voxel_size"] if isinstance(c["voxel_size"], str) else "%g" % (c["voxel_size"] * 1000.0),

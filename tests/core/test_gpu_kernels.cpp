@@ -116,6 +116,9 @@ TEST_CASE("gpu_kernels_refusals: what a device cannot step is refused with its k
   CHECK(message({{"contacts.0.detector", "\"hash\""}}).find("contacts.0.detector") != std::string::npos);
   CHECK(message({{"contacts.0.detector", "\"voxel\""}, {"contacts.0.force", "\"auto\""}}).find("contacts.0.force") !=
         std::string::npos);
+  // A force rule without a device kernel (core/collision/rules/hertz.cpp), never a substitute.
+  CHECK(message({{"contacts.0.detector", "\"voxel\""}, {"contacts.0.force", R"({"rule":"hertz","stiffness":10})"}})
+            .find("contacts.0.force: ") != std::string::npos);
   CHECK(message({{"contacts.0.detector", "\"voxel\""}, {"contacts.0.eliminator", "\"projection\""}})
             .find("contacts.0.eliminator") != std::string::npos);
   CHECK(message({{"contacts.0.detector", "\"voxel_exact\""}, {"time.integrator", "\"implicit_euler\""}})

@@ -1,4 +1,5 @@
 // Scene loading: strict validation, one clear message per bad input naming file and key path.
+#include "core/collision/responses/force_rule.hpp"
 #include "core/run/run_scene.hpp"
 #include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
@@ -154,8 +155,8 @@ TEST_CASE("bad mesh files are bad input naming the scene key and the mesh", "[sc
 TEST_CASE("overrides given with --set apply before validation", "[scene][set]") {
   Scene s = parse_scene(kGood, "scene.json", {{"contacts.0.force", "2.5"}, {"time.dt", "5e-5"},
                                               {"references.solvers", R"(["cgal"])"}});
-  CHECK(s.contacts[0].spec.force == 2.5);
-  CHECK(s.contacts[0].spec.force_rule == ForceRule::constant);
+  CHECK(s.contacts[0].spec.force_rule == "constant");
+  CHECK(s.contacts[0].spec.force_parameters == std::vector<double>{2.5});
   CHECK(s.dt == 5e-5);
   CHECK(s.references.cgal);
   auto msg = [&](const std::string& k, const std::string& v) {

@@ -1,7 +1,7 @@
 // CollisionEliminator: the paper's interface for eliminating collisions with penalty forces.
 // An eliminator decides, per contact, the direction of the push and which host nodes take the
 // reaction (the swap point: line.hpp, plane.hpp, chosen by EliminatorKind in make_eliminator);
-// the magnitude comes from the pair's force rule (force_rules.hpp), the same for every eliminator. Every contact's forces sum to
+// the magnitude comes from the pair's force rule (force_rule.hpp), the same for every eliminator. Every contact's forces sum to
 // zero (Newton's third law): +F n on the guest node, -w_k F n on host node k, sum w_k = 1.
 #pragma once
 
@@ -12,8 +12,8 @@
 namespace harness {
 
 // One contact's push: direction n (unit) on the guest node, reactions on up to three host
-// nodes with weights summing to one. count == 0: the contact gets no force. For the penalty
-// rule (spec.force_rule == penalty) the eliminator also says how deep the guest node is below
+// nodes with weights summing to one. count == 0: the contact gets no force. For a rule of
+// depth (ForceRuleDef::depth: the penalty) the eliminator also says how deep the guest node is below
 // the host's surface as it sees it: `depth` (m, negative outside) along the outward `normal`.
 struct Push {
   int guest = -1;

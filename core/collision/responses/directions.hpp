@@ -1,6 +1,6 @@
 // The direction rules of the paper's two penalty eliminators (line.hpp, plane.hpp; Newton's third
 // law: every contact's forces sum to zero). F is the force magnitude in N, given per contact by
-// the force rule (force_rules.hpp); forces are added into World::f.
+// the force rule (force_rule.hpp); forces are added into World::f.
 //
 // Host outward hint at a host node (host_outward_hint): for a host surface vertex (body-local
 // index < n_surface, with faces) the area-weighted vertex normal; for an interior node, or a

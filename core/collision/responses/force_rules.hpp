@@ -1,11 +1,8 @@
-// Force rules: the magnitude of each contact's push (the direction and the host nodes that take
-// the reaction come from the eliminator, collision_eliminator.hpp).
-//   constant   the paper's: one F (N) for every contact, tuned by hand so that it beats the
-//              deformation forces;
-//   automatic  `"force": "auto"`: that rule applied per contact and per step (below);
-//   penalty    `"force": {"stiffness": k_c}`: F = k_c max(0, depth) along the push's outward
-//              normal (Push::depth, Push::normal; directions.hpp says where they come from), so
-//              no force acts across a gap and a pressed contact has a static equilibrium.
+// The arithmetic the force rules share (each rule is its own file under core/collision/rules/,
+// registered by force_rule.hpp): the penalty's and the automatic force's magnitudes, the contact
+// damping variant applied after any rule, and the scatter of magnitudes along the pushes into
+// World::f (the direction and the host nodes that take the reaction come from the eliminator,
+// collision_eliminator.hpp).
 #pragma once
 
 #include "core/collision/responses/collision_eliminator.hpp"

@@ -1,6 +1,7 @@
 #include "core/collision/responses/line.hpp"
 
 #include "core/collision/responses/directions.hpp"
+#include "core/collision/responses/force_rule.hpp"
 #include "core/parallel.hpp"
 
 #include <algorithm>
@@ -70,7 +71,7 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
         p.n = -p.n;  // oriented by the host's outward normal at its node
     }
   }
-  if (spec.force_rule == ForceRule::penalty) {
+  if (force_rule_of(spec).depth) {  // the rule needs each contact's normal and depth
     if (!have_center) center = host_center_of(w, spec.host);
 #pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
     for (std::size_t i = 0; i < n; ++i) penalty_depth(w, spec.host, det, contacts[i], center, out[i]);

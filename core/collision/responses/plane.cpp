@@ -1,6 +1,7 @@
 #include "core/collision/responses/plane.hpp"
 
 #include "core/collision/responses/directions.hpp"
+#include "core/collision/responses/force_rule.hpp"
 #include "core/parallel.hpp"
 
 namespace harness {
@@ -44,7 +45,7 @@ void PlaneEliminator::pushes(const World& w, const ContactSpec& spec, const Coll
     p.hosts[0] = h[0];
     p.weight[0] = 1.0;
   }
-  if (spec.force_rule == ForceRule::penalty) {
+  if (force_rule_of(spec).depth) {  // the rule needs each contact's normal and depth
 #pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
     for (std::size_t i = 0; i < n; ++i) penalty_depth(w, spec.host, det, contacts[i], center, out[i]);
   }

@@ -169,8 +169,15 @@ def force_label(f):
     if f == "auto":
         return "auto"
     if f.startswith("{"):
-        return "k=%g" % json.loads(f)["stiffness"]
+        return object_force_label(json.loads(f))
     return "F=%s" % f
+
+
+def object_force_label(f):
+    """An object force as the tables name it: k=<stiffness>, then its other keys (a rule of the
+    registry other than the penalty: rule="hertz" exponent=1.5)."""
+    rest = " ".join("%s=%s" % (k, json.dumps(v)) for k, v in sorted(f.items()) if k != "stiffness")
+    return ("k=%g" % f["stiffness"] if "stiffness" in f else "") + (" " if rest and "stiffness" in f else "") + rest
 
 
 def force_setting(label):
@@ -233,8 +240,7 @@ def resolved_force_label(c):
     keys beside its stiffness)."""
     f = c.get("force")
     if isinstance(f, dict):
-        rest = " ".join("%s=%s" % (k, json.dumps(v)) for k, v in sorted(f.items()) if k != "stiffness")
-        return ("k=%g" % f["stiffness"] if "stiffness" in f else "") + (" " if rest and "stiffness" in f else "") + rest
+        return object_force_label(f)
     if f is None:
         return ""
     return force_label(f if isinstance(f, str) else json.dumps(f))

@@ -3,6 +3,7 @@
 // within the stated bound of the sphere's signed distance; it follows the host when the host moves
 // more than its field_resample share of a voxel, and only then; a stale field feeds a bounce; the eliminator pushes along the field's gradient with
 // reactions that balance; the pairing with other detectors is refused.
+#include "core/collision/responses/force_rule.hpp"
 #include "core/collision/collision.hpp"
 #include "core/collision/detectors/distance_field.hpp"
 #include "core/collision/responses/force_rules.hpp"
@@ -179,8 +180,7 @@ TEST_CASE("distance_field: the eliminator pushes along the gradient, reactions b
   add_body(w, "sphere", sphere_shell(0.02, 2));
   add_body(w, "guest", cloud({Vec3(0.015, 0.004, -0.003), Vec3(-0.002, 0.017, 0.006), Vec3(0.0, 0.0, 0.03)}));
   ContactSpec spec = field_spec(std::ldexp(1.0, -9));
-  spec.force_rule = ForceRule::penalty;
-  spec.stiffness = 800.0;
+  set_force_rule(spec, "penalty", {{"stiffness", 800.0}});
   Collision col(w, spec);
   for (Vec3& f : w.f) f.setZero();
   col.step(w, 1e-4);

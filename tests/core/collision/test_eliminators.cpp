@@ -1,6 +1,7 @@
 #include "core/scene/scene.hpp"
 #include "core/collision/collision.hpp"
 #include "core/collision/responses/directions.hpp"
+#include "core/collision/responses/force_rule.hpp"
 #include "core/collision/responses/force_rules.hpp"
 #include "core/collision/responses/line.hpp"
 #include "core/collision/responses/plane.hpp"
@@ -52,8 +53,7 @@ ContactSpec pair_spec(EliminatorKind e, double voxel = 1.0) {
   s.voxel_size = voxel;
   s.region = Region::full;
   s.eliminator = e;
-  s.force_rule = ForceRule::constant;  // the paper's constant force, 1 N per contact
-  s.force = 1.0;
+  set_force_rule(s, "constant", {{"force", 1.0}});  // the paper's constant force, 1 N per contact
   return s;
 }
 
@@ -114,7 +114,7 @@ TEST_CASE("the line rule pushes the guest away from the nearest host node", "[co
   add_body(w, "host", cloud({Vec3(0.1, 0.1, 0.1), Vec3(0.45, 0.45, 0.45), Vec3(-1, -1, -1), Vec3(1, 1, 1)}));
   add_body(w, "guest", cloud({Vec3(0.3, 0.2, 0.1)}));
   ContactSpec s = pair_spec(EliminatorKind::line, 0.5);
-  s.force = 2.0;
+  s.force_parameters = {2.0};
   Collision col(w, s);
   const PairStep st = col.step(w, 1e-3);
   REQUIRE(st.contacts == 1);
@@ -165,7 +165,7 @@ TEST_CASE("plane normal is exact for nodes on known planes", "[collision][elimin
   add_body(w, "host", cloud({Vec3(0.3, 0, 1), Vec3(-0.2, 0.25, 1), Vec3(-0.1, -0.3, 1), Vec3(0, 0, -5)}));
   add_body(w, "guest", cloud({Vec3(0, 0, 0.9)}));
   ContactSpec s = pair_spec(EliminatorKind::plane, 2.0);
-  s.force = 3.0;
+  s.force_parameters = {3.0};
   Collision col(w, s);
   REQUIRE(col.step(w, 1e-3).contacts == 1);
   CHECK(w.f[4] == Vec3(0, 0, 3.0));
@@ -321,7 +321,7 @@ TEST_CASE("degenerate contacts give finite forces", "[collision][eliminator]") {
     for (EliminatorKind e : {EliminatorKind::line, EliminatorKind::plane}) {
       std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
       ContactSpec s = pair_spec(e, 0.5);
-      s.force = 1.5;
+      s.force_parameters = {1.5};
       Collision col(w, s);
       REQUIRE(col.step(w, 1e-3).contacts == 1);
       for (const Vec3& f : w.f) CHECK(finite(f));
@@ -396,7 +396,7 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
     for (EliminatorKind e : {EliminatorKind::line, EliminatorKind::plane}) {
       World x = w;
       ContactSpec s = pair_spec(e, 0.5);
-      s.force_rule = ForceRule::automatic;
+      set_force_rule(s, "auto");
       Collision col(x, s);
       col.detect(x);
       REQUIRE(!col.contacts().empty());
@@ -446,7 +446,7 @@ TEST_CASE("automatic force makes each contact separate at v_sep within the step"
   add_body(w, "host", cloud({Vec3(0, 0, 0), Vec3(1, 1, 1)}));
   add_body(w, "guest", cloud({Vec3(0.1, 0.1, 0.1), Vec3(9, 9, 9)}));
   ContactSpec s = pair_spec(EliminatorKind::line, 0.5);
-  s.force_rule = ForceRule::automatic;
+  set_force_rule(s, "auto");
   Collision col(w, s);
   PairStep st = col.step(w, dt);
   CHECK(st.contacts == 1);

@@ -1,6 +1,7 @@
 // The responses the paper calls "restrictions" and its alternatives conserve momentum: the depth
 // penalty (forces sum to zero per contact) and position-based projection (corrections shared by
 // inverse mass: the centre of mass and the momentum do not move).
+#include "core/collision/responses/force_rule.hpp"
 #include "core/scene/scene.hpp"
 #include "core/collision/collision.hpp"
 #include "core/collision/responses/force_rules.hpp"
@@ -44,15 +45,15 @@ Vec3 mass_moment(const World& w) {
   return p;
 }
 
-ContactSpec spec(EliminatorKind e, ForceRule r) {
+ContactSpec spec(EliminatorKind e, const char* r) {
   ContactSpec s = contact_spec_defaults();
   s.host = 0;
   s.guest = 1;
   s.voxel_size = 0.25;
   s.region = Region::full;
   s.eliminator = e;
-  s.force_rule = r;
-  s.stiffness = 200.0;
+  if (r == std::string("penalty")) set_force_rule(s, r, {{"stiffness", 200.0}});
+  else set_force_rule(s, r);
   return s;
 }
 
@@ -65,7 +66,7 @@ TEST_CASE("the depth penalty's forces sum to zero: momentum is conserved", "[col
     for (EliminatorKind e : {EliminatorKind::line, EliminatorKind::plane})
       for (bool two_sided : {false, true}) {
         World w = overlapping(rng);
-        ContactSpec s = spec(e, ForceRule::penalty);
+        ContactSpec s = spec(e, "penalty");
         s.two_sided = two_sided;
         Collision col(w, s);
         std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
@@ -92,7 +93,7 @@ TEST_CASE("projection moves penetrating nodes without moving the centre of mass 
   for (int t = 0; t < 50; ++t)
     for (bool two_sided : {false, true}) {
       World w = overlapping(rng);
-      ContactSpec s = spec(EliminatorKind::projection, ForceRule::automatic);
+      ContactSpec s = spec(EliminatorKind::projection, "auto");
       s.two_sided = two_sided;
       Collision col(w, s);
       const Vec3 p0 = momentum(w), c0 = mass_moment(w);
@@ -140,7 +141,7 @@ TEST_CASE("the volume restriction: momentum and centre of mass kept, the shared 
   int reduced = 0;
   for (int t = 0; t < 20; ++t) {
     World w = overlapping(rng);
-    ContactSpec s = spec(EliminatorKind::volume, ForceRule::automatic);
+    ContactSpec s = spec(EliminatorKind::volume, "auto");
     s.volume_pixel = 0.02;
     Collision col(w, s);
     const Vec3 p0 = momentum(w), c0 = mass_moment(w);
@@ -177,7 +178,7 @@ TEST_CASE("the volume restriction broken (pushed the wrong way) grows the shared
   std::mt19937 rng(37);
   World w = overlapping(rng);
   for (int i = w.bodies[0].begin; i < w.bodies[0].end; ++i) w.kinematic[i] = Kinematic::pinned;
-  ContactSpec s = spec(EliminatorKind::volume, ForceRule::automatic);
+  ContactSpec s = spec(EliminatorKind::volume, "auto");
   s.volume_pixel = 0.02;
   const double v0 = intersection_volume(w, w.x, 0, 1, s.volume_pixel).volume;
   {

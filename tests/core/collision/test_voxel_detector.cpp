@@ -1,6 +1,7 @@
 // The voxel detector against a brute-force oracle that recomputes the grid geometry from the
 // formulas documented in initializer.hpp / voxel_data.hpp and checks every guest node against
 // every host node.
+#include "core/collision/responses/force_rule.hpp"
 #include "core/scene/scene.hpp"
 #include "core/collision/collision.hpp"
 #include "core/collision/detectors/voxel.hpp"
@@ -539,10 +540,10 @@ TEST_CASE("bad pairs and the detector registry", "[collision][voxel]") {
   s.margin = -1;
   CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);
   s.margin = 1;
-  s.force_rule = ForceRule::constant;  // a constant force that is not finite
-  s.force = std::numeric_limits<double>::infinity();
+  set_force_rule(s, "constant", {{"force", 1.0}});
+  s.force_parameters = {std::numeric_limits<double>::infinity()};  // a constant force that is not finite
   CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);
-  s.force = 1.0;
+  s.force_parameters = {1.0};
   // An exact detector without the reference library's maker: refused, naming the library.
   s.detector = DetectorKind::cgal;
   CHECK_THROWS_WITH(Collision(w, s), Catch::Contains("reference library"));
@@ -593,7 +594,7 @@ TEST_CASE("the per-step path reuses its buffers", "[collision][voxel]") {
       s.voxel_size = 0.3;
       s.region = r;
       s.eliminator = e;
-      s.force_rule = ForceRule::automatic;
+      set_force_rule(s, "auto");
       Collision col(w, s);
       col.step(w, 1e-3);
       const Contact* contacts = col.contacts().data();

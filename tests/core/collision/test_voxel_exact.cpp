@@ -3,6 +3,7 @@
 // conserving momentum both ways, the energy audit of an undamped drop, the same answer for any
 // thread count, no growth per step, and what it refuses. Its agreement with CGAL on random poses
 // is in tests/reference/test_voxel_exact.cpp.
+#include "core/collision/responses/force_rule.hpp"
 #include "core/collision/collision.hpp"
 #include "core/collision/detectors/voxel_exact.hpp"
 #include "core/collision/responses/force_rules.hpp"
@@ -128,11 +129,11 @@ TEST_CASE("voxel_exact: every response along its normal conserves momentum, both
   int pushing = 0;
   struct Rule {
     EliminatorKind e;
-    ForceRule r;
+    const char* r;
   };
   for (int t = 0; t < 30; ++t)
-    for (const Rule& rule : {Rule{EliminatorKind::line, ForceRule::constant}, Rule{EliminatorKind::line, ForceRule::automatic},
-                             Rule{EliminatorKind::line, ForceRule::penalty}, Rule{EliminatorKind::plane, ForceRule::penalty}})
+    for (const Rule& rule : {Rule{EliminatorKind::line, "constant"}, Rule{EliminatorKind::line, "auto"},
+                             Rule{EliminatorKind::line, "penalty"}, Rule{EliminatorKind::plane, "penalty"}})
       for (bool two_sided : {false, true}) {
         World w;
         add_body(w, "host", box_lattice(Vec3(0, 0, 0), Vec3(1, 1, 0.5), Vec3i(5, 5, 3)));
@@ -145,9 +146,10 @@ TEST_CASE("voxel_exact: every response along its normal conserves momentum, both
         }
         ContactSpec s = exact_spec(0.25 * (1 + t % 3), t % 2 ? Region::half : Region::overlap);
         s.eliminator = rule.e;
-        s.force_rule = rule.r;
-        s.force = 1.0 + 0.5 * u(rng);
-        s.stiffness = 300.0;
+        const double force = 1.0 + 0.5 * u(rng);
+        if (rule.r == std::string("constant")) set_force_rule(s, "constant", {{"force", force}});
+        else if (rule.r == std::string("penalty")) set_force_rule(s, "penalty", {{"stiffness", 300.0}});
+        else set_force_rule(s, rule.r);
         s.two_sided = two_sided;
         Collision col(w, s);
         std::fill(w.f.begin(), w.f.end(), Vec3::Zero());
@@ -181,14 +183,13 @@ TEST_CASE("voxel_exact: the depth penalty is the gradient of 1/2 k d^2", "[colli
     for (int i = 0; i < 20; ++i) g.push_back(0.8 * Vec3(u(rng), u(rng), u(rng)));
     add_body(w, "guest", cloud(g));
     ContactSpec s = exact_spec(2.0);
-    s.force_rule = ForceRule::penalty;
-    s.stiffness = 50.0;
+    set_force_rule(s, "penalty", {{"stiffness", 50.0}});
     auto energy = [&](World& ww) {
       Collision c(ww, s);
       std::fill(ww.f.begin(), ww.f.end(), Vec3::Zero());
       c.step(ww, 1e-3);
       double e = 0.0;
-      for (const Push& p : c.pushes()) e += 0.5 * s.stiffness * std::max(0.0, p.depth) * std::max(0.0, p.depth);
+      for (const Push& p : c.pushes()) e += 0.5 * rule_parameter(s, "stiffness") * std::max(0.0, p.depth) * std::max(0.0, p.depth);
       return e;
     };
     energy(w);
@@ -336,8 +337,7 @@ TEST_CASE("voxel_exact: the per-step path reuses its buffers", "[collision][voxe
     add_body(w, "tissue", box);
     add_body(w, "tool", ball);
     ContactSpec s = exact_spec(0.5, r);
-    s.force_rule = ForceRule::penalty;
-    s.stiffness = 10.0;
+    set_force_rule(s, "penalty", {{"stiffness", 10.0}});
     s.two_sided = true;
     Collision col(w, s);
     col.step(w, 1e-3);

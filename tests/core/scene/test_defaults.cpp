@@ -1,6 +1,7 @@
 // Defaults are written once, in the key table (core/scene/keys.cpp): a ContactSpec is made from it
 // (contact_spec_defaults, or the loader), never from the struct, and a spec that was not is
 // refused; the structs a scene fills from an empty section hold the table's defaults.
+#include "core/collision/responses/force_rule.hpp"
 #include "core/collision/collision.hpp"
 #include "core/effects/effects.hpp"
 #include "core/scene/keys.hpp"
@@ -49,7 +50,8 @@ void check_contact_defaults(const ContactSpec& s) {
   CHECK(s.separation_time == def("contact", "separation_time").get<double>());
   CHECK(s.damping == def("contact", "damping").get<double>());
   REQUIRE(def("contact", "force") == "auto");
-  CHECK(s.force_rule == ForceRule::automatic);
+  CHECK(s.force_rule == "auto");
+  CHECK(s.force_parameters.empty());
 }
 
 const char* kMinimal = R"({
