@@ -96,7 +96,7 @@ void Simulation::attach_responses(const SimulationOptions& options) {
                        "a response of its own reports no stiffness, which the implicit step needs: use "
                        "\"symplectic_euler\"");
     if (pairs_[i].collision->projects())
-      throw InputError(at + ".eliminator", std::string("eliminator \"") + to_string(cp.spec.eliminator) +
+      throw InputError(at + ".eliminator", std::string("eliminator \"") + cp.spec.eliminator +
                                                "\" applies no forces: a response of its own needs line or plane");
     pairs_[i].collision->set_response(given ? options.responses[i] : load_response_plugin(scene_, cp));
   }

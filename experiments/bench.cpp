@@ -403,7 +403,7 @@ class BenchSize {
     if (!wanted("voxel_exact_detect") && !wanted("voxel_exact_detect_eliminate")) return;
     World& w = sim_->world();
     ContactSpec spec = sim_->pairs().at(0).spec;
-    spec.detector = DetectorKind::voxel_exact;
+    spec.detector = "voxel_exact";
     Collision c(w, spec);
     const int found = c.detect(w);
     const auto& d = dynamic_cast<const VoxelExactDetector&>(c.detector());
@@ -421,7 +421,7 @@ class BenchSize {
     set_threads(1);
     World& w = sim_->world();
     ContactSpec spec = sim_->pairs().at(0).spec;
-    spec.detector = DetectorKind::hash;
+    spec.detector = "hash";
     spec.cell_size = 0.0;
     const Collision automatic(w, spec);
     const double cell = dynamic_cast<const HashDetector&>(automatic.detector()).cell_size();

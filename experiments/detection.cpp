@@ -164,7 +164,7 @@ class Source {
     std::vector<Candidate> cs;
     auto add = [&](ContactSpec s, const std::string& setting) {
       Candidate c;
-      c.detector = to_string(s.detector);
+      c.detector = s.detector;
       c.setting = setting;
       s.two_sided = false;
       c.timed = std::make_unique<Collision>(w, s, make_exact_detector);
@@ -173,7 +173,7 @@ class Source {
       cs.push_back(std::move(c));
     };
     ContactSpec s = pair;
-    s.detector = DetectorKind::voxel;
+    s.detector = "voxel";
     add(s, "the pair's voxel size");
     const double v = cs.back().timed->voxel_size();
     s.voxel_size = 0.5 * v;
@@ -181,20 +181,20 @@ class Source {
     s.voxel_size = 2.0 * v;
     add(s, "voxel x2");
     s = pair;
-    s.detector = DetectorKind::voxel_exact;
+    s.detector = "voxel_exact";
     s.voxel_size = 0.0;
     add(s, "automatic voxel");
     s = pair;
-    s.detector = DetectorKind::box;
+    s.detector = "box";
     add(s, "the host's bounding box (the baseline)");
     s = pair;
-    s.detector = DetectorKind::hash;
+    s.detector = "hash";
     s.cell_size = 0.0;
     add(s, "automatic cell");
     s = pair;
-    s.detector = DetectorKind::fcl;
+    s.detector = "fcl";
     add(s, "triangle pairs (AABB tree)");
-    s.detector = DetectorKind::cgal;
+    s.detector = "cgal";
     add(s, "inside test (the truth)");
     return cs;
   }

@@ -1,4 +1,6 @@
 // The command-line program `harness` (docs/usage.md).
+#include "core/collision/detectors/collision_detector.hpp"
+#include "core/collision/responses/collision_eliminator.hpp"
 #include "core/collision/responses/force_rule.hpp"
 #include "core/parallel.hpp"
 #include "core/run/columns.hpp"
@@ -375,8 +377,8 @@ int main(int argc, char** argv) {
   CLI::App* schema = app.add_subcommand("schema", "print the scene format's JSON Schema (draft 2020-12)");
   CLI::App* outputs = app.add_subcommand("outputs", "print docs/outputs.md: the columns of steps.csv and timing.csv, "
                                          "the stability verdicts and summary.json's keys");
-  CLI::App* rules = app.add_subcommand("rules", "print the force rules' table of docs/scenes.md (core/collision/rules/: "
-                                       "one file per rule)");
+  CLI::App* rules = app.add_subcommand("rules", "print docs/scenes.md's tables of the force rules (core/collision/rules/: "
+                                       "one file per rule), of the eliminators and of the detectors");
   SweepCommand sweep;
   sweep.setup(app);
   BenchCommand bench;
@@ -400,7 +402,11 @@ int main(int argc, char** argv) {
     if (list->parsed()) return cmd_list();
     if (schema->parsed()) return std::fputs(scene_schema_text().c_str(), stdout) < 0 ? 1 : 0;
     if (outputs->parsed()) return std::fputs(outputs_markdown().c_str(), stdout) < 0 ? 1 : 0;
-    if (rules->parsed()) return std::fputs(force_rules_markdown().c_str(), stdout) < 0 ? 1 : 0;
+    if (rules->parsed())
+      return std::fputs((force_rules_markdown() + "\n" + eliminators_markdown() + "\n" + detectors_markdown()).c_str(),
+                        stdout) < 0
+                 ? 1
+                 : 0;
     if (bench.cmd->parsed()) return bench.exec();
     if (sweep.cmd->parsed()) return sweep.exec(argv[0]);
     if (reference.cmd->parsed()) return reference.exec();

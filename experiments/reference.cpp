@@ -46,8 +46,8 @@ Scene level_scene(const Scene& base, int level, double k, bool one_sided) {
   for (const auto& e : s["effects"]) contact = contact || e == "contact";
   if (!contact) s["effects"].push_back("contact");
   for (json& c : s["contacts"]) {
-    c["detector"] = scene_word(DetectorKind::cgal);
-    c["eliminator"] = scene_word(EliminatorKind::line);
+    c["detector"] = "cgal";
+    c["eliminator"] = "line";
     c["force"] = {{"stiffness", k}};
     c["two_sided"] = !one_sided;
   }

@@ -131,13 +131,10 @@ bool FclDetector::contact_point(const World& w, const Contact& c, ContactPoint& 
   return triangle_contact_point(w, host_begin_, host_.faces()[c.key], w.x[c.guest], out, false);
 }
 
-std::unique_ptr<CollisionDetector> make_exact_detector(DetectorKind kind) {
-  switch (kind) {
-    case DetectorKind::cgal: return std::make_unique<CgalDetector>();
-    case DetectorKind::fcl: return std::make_unique<FclDetector>();
-    default: break;
-  }
-  throw std::invalid_argument(std::string("detector \"") + to_string(kind) + "\" is not an exact detector");
+std::unique_ptr<CollisionDetector> make_exact_detector(const std::string& name) {
+  if (name == "cgal") return std::make_unique<CgalDetector>();
+  if (name == "fcl") return std::make_unique<FclDetector>();
+  throw std::invalid_argument("detector \"" + name + "\" is not an exact detector");
 }
 
 }  // namespace harness

@@ -56,6 +56,6 @@ class FclDetector final : public CollisionDetector {
 
 // The exact detectors' maker (an ExactDetectorMaker: SimulationOptions, RunOptions): "cgal" and
 // "fcl"; throws std::invalid_argument for any other kind.
-std::unique_ptr<CollisionDetector> make_exact_detector(DetectorKind kind);
+std::unique_ptr<CollisionDetector> make_exact_detector(const std::string& name);
 
 }  // namespace harness

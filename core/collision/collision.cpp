@@ -33,10 +33,14 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
     const RuleParameter& p = rule_->parameters[i];
     const double v = spec_.force_parameters[i];
     if (!std::isfinite(v) || v < p.lo || v > p.hi)
-      throw std::invalid_argument(std::string("contact pair: ") + p.name + " must be finite and within its range");
+      throw std::invalid_argument(std::string("contact pair: ") + p.name + " must be finite and within " +
+                                  std::to_string(p.lo) + " to " + std::to_string(p.hi));
   }
-  if (spec_.eliminator == EliminatorKind::distance_field && spec_.detector != DetectorKind::distance_field)
-    throw std::invalid_argument("eliminator \"distance_field\" needs detector \"distance_field\" (its field gives the pushes)");
+  elim_ = find_eliminator(spec_.eliminator);
+  if (!elim_) throw std::invalid_argument("contact pair: no eliminator \"" + spec_.eliminator + "\"");
+  if (*elim_->detector && std::string(elim_->detector) != spec_.detector)
+    throw std::invalid_argument("eliminator \"" + spec_.eliminator + "\" needs detector \"" + elim_->detector +
+                                "\" (its detection gives the pushes)");
   detector_ = make_detector(spec_.detector, exact);
   eliminator_ = make_eliminator(spec_.eliminator);
   detector_->initialize(w, spec_);
@@ -46,7 +50,7 @@ Collision::Collision(const World& w, ContactSpec spec, ExactDetectorMaker exact)
   share_.assign(w.x.size(), 0);
   // Length scale of the automatic force for detectors without a grid: the host's node spacing.
   length_scale_ = rest_spring_length(w, spec_.host);
-  if (spec_.eliminator == EliminatorKind::volume) volume_pixel_ = volume_pixel(w, spec_.host, spec_.guest, spec_.volume_pixel);
+  if (volume()) volume_pixel_ = volume_pixel(w, spec_.host, spec_.guest, spec_.volume_pixel);
   if (spec_.two_sided) {
     reverse_spec_ = spec_;
     std::swap(reverse_spec_.host, reverse_spec_.guest);
@@ -102,7 +106,7 @@ PairStep Collision::project(World& w, double h) {
   const auto t0 = Clock::now();
   detect_all(w);
   const auto t1 = Clock::now();
-  if (spec_.eliminator == EliminatorKind::volume) {  // the bound and the restriction (responses/volume.hpp)
+  if (volume()) {  // the bound and the restriction (responses/volume.hpp)
     pushes_.clear();
     magnitude_.clear();
     s.force = restrict_volume(w, spec_.host, spec_.guest, volume_pixel_, h, volume_step_, spec_.invert_push);
@@ -169,7 +173,7 @@ PairStep Collision::step(World& w, double h) {
 
 double Collision::work(const World& w, const Points& dx) const {
   double sum = 0.0;
-  if (spec_.eliminator == EliminatorKind::volume) {
+  if (volume()) {
     // restrict_volume moved node i by dx_i: the equivalent force m dx_i / h^2
     if (!(projected_h_ > 0.0)) return 0.0;
     for (const auto& [i, d] : volume_step_.moves) sum += w.m[i] / (projected_h_ * projected_h_) * d.dot(dx[i]);

@@ -77,9 +77,7 @@ class Collision {
   // Projection (eliminator "projection"), after the position update: detect, then move the
   // penetrating nodes to the surface (responses/projection.hpp). step() does nothing for it.
   PairStep project(World& w, double h);
-  bool projects() const {
-    return spec_.eliminator == EliminatorKind::projection || spec_.eliminator == EliminatorKind::volume;
-  }
+  bool projects() const { return elim_->projects; }
   // The volume response's last restriction (responses/volume.hpp): the bound and the moves.
   const VolumeStep& volume_step() const { return volume_step_; }
   // Detection only (tests, benchmarks, measurement); returns the number of contacts.
@@ -126,6 +124,9 @@ class Collision {
 
   ContactSpec spec_{};
   const ForceRuleDef* rule_ = nullptr;
+  const EliminatorDef* elim_ = nullptr;
+  // The volume response: its restriction runs in project() itself (responses/volume.hpp).
+  bool volume() const { return spec_.eliminator == "volume"; }
   std::unique_ptr<CollisionDetector> detector_;
   std::unique_ptr<CollisionEliminator> eliminator_;
   std::vector<Contact> contacts_;  // reserved for every guest node: no growth per step

@@ -41,14 +41,14 @@ void check_device_support(const Simulation& sim) {
   for (std::size_t i = 0; i < s.contacts.size(); ++i) {
     const ContactSpec& c = s.contacts[i].spec;
     const std::string& p = s.contacts[i].path;
-    if (c.detector != DetectorKind::voxel && c.detector != DetectorKind::voxel_exact)
-      refuse(s, p + ".detector", std::string("detector \"") + to_string(c.detector) + "\"");
+    const DetectorDef* det = find_detector(c.detector);
+    if (!det || det->device < 0) refuse(s, p + ".detector", "detector \"" + c.detector + "\"");
     // voxel_exact's pushes with the penalty force are the contact point's whatever the rule (line or
     // plane: penalty_depth); with a constant force only the line rule is on a device.
-    if (c.eliminator == EliminatorKind::projection || c.eliminator == EliminatorKind::volume ||
-        (c.detector == DetectorKind::voxel_exact && c.eliminator != EliminatorKind::line && !force_rule_of(c).depth))
-      refuse(s, p + ".eliminator", std::string("eliminator \"") + to_string(c.eliminator) + "\" with detector \"" +
-                                       to_string(c.detector) + "\"");
+    if (eliminator_of(c).device < 0 ||
+        (c.detector == "voxel_exact" && c.eliminator != "line" && !force_rule_of(c).depth))
+      refuse(s, p + ".eliminator", std::string("eliminator \"") + c.eliminator + "\" with detector \"" +
+                                       c.detector + "\"");
     if (force_rule_of(c).device < 0) refuse(s, p + ".force", "the force rule \"" + c.force_rule + "\"");
     if (c.orient != Orient::paper) refuse(s, p + ".orient", "an orientation other than \"paper\"");
     if (c.damping > 0.0) refuse(s, p + ".damping", "the contact damping variant");
@@ -91,8 +91,10 @@ DirPlan dir_plan(const World& w, const ContactSpec& spec, int host, int guest, c
   const Body& gb = w.bodies[guest];
   d.host_begin = hb.begin, d.host_size = hb.size(), d.host_surface = hb.n_surface;
   d.guest_begin = gb.begin, d.guest_size = gb.size();
-  d.detector = spec.detector == DetectorKind::voxel_exact ? kDetVoxelExact : kDetVoxel;
-  d.eliminator = spec.eliminator == EliminatorKind::plane ? kElimPlane : kElimLine;
+  const DetectorDef* det_def = find_detector(spec.detector);
+  if (!det_def || det_def->device < 0) throw std::logic_error("device plan: a detector without a kernel");
+  d.detector = det_def->device;
+  d.eliminator = eliminator_of(spec).device;
   // The rule's device kernel and its one parameter (F of kForceConstant, k of kForcePenalty).
   const ForceRuleDef& rule = force_rule_of(spec);
   if (rule.device < 0 || spec.force_parameters.size() != 1) throw std::logic_error("device plan: a force rule without a kernel");

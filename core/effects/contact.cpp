@@ -10,10 +10,9 @@
 namespace harness {
 
 namespace {
-// The pair's force rule reports a stiffness (ForceRuleDef::stiffness; a response of the
-// program's reports none).
-// The rule's stiffness at a depth of the pair's length scale: what the guard assumes before the
-// first step.
+// The rule's stiffness at a depth of the pair's length scale (magnitude 0): what the guard
+// assumes before the first step. A pair is stiff when its rule reports a stiffness there (a
+// response of the program's reports none).
 double nominal_stiffness(const Pair& p) {
   const auto k = p.collision->rule().stiffness;
   const double v = k ? k(p.spec.force_parameters, p.collision->length(), 0.0) : 0.0;
@@ -155,11 +154,10 @@ void ContactEffect::add_jacobian(const World&, LinearSystem& sys) const {
 std::unique_ptr<Effect> make_contact_effect(EffectBuild& b) {
   for (std::size_t i = 0; i < b.pairs.size(); ++i) {
     Pair& p = b.pairs[i];
-    for (const DetectorName& d : detector_names())
-      if (d.kind == p.spec.detector && d.exact && !b.exact_detectors)
-        throw InputError(b.scene.file + ": " + b.scene.contacts[i].path + ".detector",
-                         std::string("detector \"") + d.name +
-                             "\" needs the reference library (FCL, CGAL), which this program was built without");
+    if (const DetectorDef* d = find_detector(p.spec.detector); d && d->exact && !b.exact_detectors)
+      throw InputError(b.scene.file + ": " + b.scene.contacts[i].path + ".detector",
+                       std::string("detector \"") + d->name +
+                           "\" needs the reference library (FCL, CGAL), which this program was built without");
     try {
       p.collision = std::make_unique<Collision>(b.world, p.spec, b.exact_detectors);
     } catch (const std::invalid_argument& e) {

@@ -30,7 +30,7 @@ const std::vector<Column>& steps_columns() {
       {"step", "step index (from 1); the row describes the state after this step", [](O o, R r) { o.integer(r.sim.step_index()); }},
       {"time", "simulated time after the step, s", [](O o, R r) { o.g9(r.sim.time()); }},
       {"pair", "the contact pair's label (host/guest); empty in a scene without pairs", [](O o, R r) { if (r.pair) o.text(r.pair->label); }},
-      {"detector", "the detector that drove elimination (`none` without contact handling)", [](O o, R r) { if (r.pair) o.text(r.pair->collision ? to_string(r.pair->spec.detector) : r.pair->engine_contact ? r.pair->engine_contact : "none"); }},
+      {"detector", "the detector that drove elimination (`none` without contact handling)", [](O o, R r) { if (r.pair) o.text(r.pair->collision ? r.pair->spec.detector.c_str() : r.pair->engine_contact ? r.pair->engine_contact : "none"); }},
       {"contacts", "contacts the detector reported this step", [](O o, R r) { if (any_contact(r)) o.integer(r.pair->last.contacts); }},
       {"t_step_us", "wall time of the whole step, us", [](O o, R r) { o.us(r.sim.last().step_us); }, true},
       {"t_physics_us", "wall time of the step less detection and elimination, us", [](O o, R r) { o.us(r.sim.last().physics_us); }, true},

@@ -126,7 +126,7 @@ json pair_json(const Simulation& sim, const Recorder& rec, const RunOutcome& out
   auto measured = [&](json v) { return t.measured ? v : json(nullptr); };
   json pj;
   pj["pair"] = p.label;
-  pj["detector"] = p.collision        ? json(scene_word(p.spec.detector))
+  pj["detector"] = p.collision        ? json(p.spec.detector)
                    : p.engine_contact ? json(p.engine_contact)
                                       : json(nullptr);
   // A response of the program's own (harness.run(response=...)) instead of the scene's force rule.

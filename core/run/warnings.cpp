@@ -43,7 +43,7 @@ std::vector<Warning> start_warnings(const Simulation& sim) {
     // The paper's grid lists the host's nodes: a voxel finer than their spacing can hold none of
     // them while a guest node sits inside the host there (voxel_exact lists triangles instead).
     const double hs = host_node_spacing(w, host);
-    if (pair.spec.detector == DetectorKind::voxel && used > 0.0 && hs > used)
+    if (pair.spec.detector == "voxel" && used > 0.0 && hs > used)
       out.push_back({key, "voxel " + mm(used) + " is finer than host '" + w.bodies[host].name + "' node spacing " + mm(hs) +
                               ": a voxel inside the host can hold none of its nodes, guest nodes there go undetected "
                               "(a voxel of at least the spacing, or voxel_exact, avoids it)"});

@@ -1,6 +1,6 @@
 // Parameters of one contact pair as resolved from the scene (docs/scenes.md, "contacts"), and the
-// names the scene uses for each choice (one table per swap point: a new detector or response is one line in
-// its table plus its file pair; a force rule is one file, core/collision/rules/).
+// names the scene uses for each choice (a detector or an eliminator is its file pair, registered in
+// it; a force rule is one file, core/collision/rules/).
 #pragma once
 
 #include <string>
@@ -11,27 +11,11 @@ namespace harness {
 
 enum class Region { half, full, overlap };
 enum class HostNodes { all, surface };
-// Which detection drives elimination. `exact` detectors need the reference library.
-enum class DetectorKind { voxel, hash, cgal, fcl, voxel_exact, box, distance_field };
-// The response (responses/): the direction rule of the penalty push (line, plane), position-based
-// projection (a penetrating node moved to the surface), or the restriction with a practical bound
-// (volume: the shared volume's gradient, by layered depth images, moves both surfaces).
-enum class EliminatorKind { line, plane, projection, volume, distance_field };
 // Which way the line and plane push along their direction (directions.hpp): the paper's rules
 // (line: from the nearest host node toward the guest node; plane: agreeing with the host's
 // outward normals), or both the same way: `guest` (from the host node, or the plane, toward the
 // guest node) or `outward` (agreeing with the host's outward normals at the host nodes).
 enum class Orient { paper, guest, outward };
-
-struct DetectorName {
-  DetectorKind kind;
-  const char* name;
-  bool exact;  // built by the reference library (FCL, CGAL)
-};
-const std::vector<DetectorName>& detector_names();
-const std::vector<std::pair<EliminatorKind, const char*>>& eliminator_names();
-const char* to_string(DetectorKind k);
-const char* to_string(EliminatorKind k);
 
 // The cookie of a ContactSpec made from the scene's key table (b2DefaultWorldDef's pattern).
 inline constexpr unsigned kContactSpecMade = 0x5CE4E7A8u;
@@ -44,14 +28,19 @@ inline constexpr unsigned kContactSpecMade = 0x5CE4E7A8u;
 struct ContactSpec {
   int host = -1;  // body index in World::bodies
   int guest = -1;
-  DetectorKind detector;
+  // Which detection drives elimination, by name (core/collision/detectors/, registered by
+  // collision_detector.hpp's HARNESS_DETECTOR; the exact ones need the reference library).
+  std::string detector;
   double voxel_size;  // requested, m; rounded down to a power of two; 0 = automatic
   double cell_size;   // spatial hashing's cell, m; 0 = automatic (mean host edge)
   double volume_pixel;  // the volume response's image pixel, m; 0 = automatic (responses/volume.hpp)
   Region region;
   int margin;  // voxels added around the region
   HostNodes host_nodes;
-  EliminatorKind eliminator;
+  // The response (core/collision/responses/, registered by collision_eliminator.hpp's
+  // HARNESS_ELIMINATOR): the direction rule of the push (line, plane, ...), or a position-based
+  // correction (projection, volume), by name.
+  std::string eliminator;
   Orient orient;
   // How large each contact's force is: a rule of the registry (core/collision/responses/
   // force_rule.hpp: constant, auto, penalty, ...) by name, and its parameters in its order.

@@ -2,6 +2,7 @@
 // loader reads them within their kind; the descriptions are the schema's.
 #include "core/scene/keys.hpp"
 
+#include "core/collision/responses/collision_eliminator.hpp"
 #include "core/collision/responses/force_rule.hpp"
 #include "core/limits.hpp"
 #include "core/scene/scene.hpp"
@@ -83,21 +84,6 @@ const std::vector<std::pair<Orient, const char*>>& scene_words<Orient>() {
       {Orient::paper, "paper"}, {Orient::guest, "guest"}, {Orient::outward, "outward"}};
   return w;
 }
-// Detectors and responses are named by their own tables (contact_spec.cpp), effects by the scene
-// layer's effect_names() (readers.cpp; effects.cpp follows its order): one home each.
-template <>
-const std::vector<std::pair<DetectorKind, const char*>>& scene_words<DetectorKind>() {
-  static const std::vector<std::pair<DetectorKind, const char*>> w = [] {
-    std::vector<std::pair<DetectorKind, const char*>> v;
-    for (const DetectorName& d : detector_names()) v.emplace_back(d.kind, d.name);
-    return v;
-  }();
-  return w;
-}
-template <>
-const std::vector<std::pair<EliminatorKind, const char*>>& scene_words<EliminatorKind>() {
-  return eliminator_names();
-}
 
 namespace {
 
@@ -109,7 +95,28 @@ std::vector<std::string> effect_words() {
   for (const auto& [flag, name] : effect_names()) out.emplace_back(name);
   return out;
 }
-std::vector<std::string> detector_words() { return word_list<DetectorKind>(); }
+// The detectors' registry (collision_detector.hpp): their names and what each does.
+std::vector<std::string> detector_words() {
+  std::vector<std::string> out;
+  for (const DetectorDef& d : detectors()) out.emplace_back(d.name);
+  return out;
+}
+std::string detector_doc() {
+  std::string doc;
+  for (const DetectorDef& d : detectors()) doc += std::string(doc.empty() ? "" : ", ") + d.name + " (" + d.doc + ")";
+  return doc + "; the exact ones need the reference library.";
+}
+// The eliminators' registry (collision_eliminator.hpp): their names and what each does.
+std::vector<std::string> eliminator_words() {
+  std::vector<std::string> out;
+  for (const EliminatorDef& e : eliminators()) out.emplace_back(e.name);
+  return out;
+}
+std::string eliminator_doc() {
+  std::string d;
+  for (const EliminatorDef& e : eliminators()) d += std::string(d.empty() ? "" : ", ") + e.name + " (" + e.doc + ")";
+  return d + ".";
+}
 
 SceneKey key(const char* kind, const char* name, KeyType type) {
   SceneKey k;
@@ -362,14 +369,14 @@ const std::vector<SceneKey>& scene_keys() {
       key("contact", "host", KeyType::string).described("A body's name."),
       key("contact", "guest", KeyType::string).described("Another body's name (not the host)."),
       key("contact", "label", KeyType::string).computed().range(1, kInf).described("The pair's name in the outputs (steps.csv pair, summary.json pairs[].pair, penetration_episodes.csv). Default: host/guest."),
-      key("contact", "detector", KeyType::word).in(detector_words()).fallback("voxel").described("voxel (the paper's local grid), voxel_exact (the paper's grid with an exact narrow phase: closest host triangle and pseudonormal, exact within a stated band), hash (spatial hashing, Teschner et al. 2003), box (every guest node inside the host's bounding box: the baseline), distance_field (the host's signed distance sampled at the corners of the paper's power-of-two voxels over its box, resampled when a host vertex moves field_resample of a voxel; a node is in contact where the interpolated field is negative), cgal or fcl (exact; need the reference library)."),
+      key("contact", "detector", KeyType::word).in(detector_words()).fallback("voxel").described(detector_doc()),
       key("contact", "voxel_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Voxel edge, m, rounded down to a power of two, or \"auto\" (the smallest power of two >= the host's mean surface edge at rest, its node spacing for a body without a surface; for voxel_exact doubled until it exceeds the host's longest surface edge / sqrt(3))."),
       key("contact", "cell_size", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("Spatial hashing's cell, m, or \"auto\" (the host's mean surface edge at the current positions)."),
       key("contact", "volume_pixel", KeyType::length_or_auto).above(0.0, 1e6).fallback("auto").with_unit("m").described("The volume response's layered depth images' pixel edge, m, or \"auto\" (half the smaller of the two bodies' mean surface edges at rest)."),
       key("contact", "region", KeyType::word).in(word_list<Region>()).fallback("half").described("The voxel grid covers half the host's box, the full box, or their overlap."),
       key("contact", "margin", KeyType::integer).range(0, 64).fallback(1).described("Voxels added around the region."),
       key("contact", "host_nodes", KeyType::word).in(word_list<HostNodes>()).fallback("all").described("surface: only surface nodes enter the voxels (voxel_exact always lists the surface vertices)."),
-      key("contact", "eliminator", KeyType::word).in(word_list<EliminatorKind>()).fallback("line").described("line (push along the line to the nearest host node), plane (along the normal of the plane through the three nearest), projection (move the node to the surface after the position update), volume (a restriction with a practical bound: after the position update, both bodies' surface vertices moved along the gradient of the volume they share, by layered depth images, one Newton step toward none), distance_field (with detector distance_field: along the field's gradient, as deep as the field says, the reaction on the nearest host triangle)."),
+      key("contact", "eliminator", KeyType::word).in(eliminator_words()).fallback("line").described(eliminator_doc()),
       key("contact", "orient", KeyType::word).in(word_list<Orient>()).fallback("paper").described("Which way line and plane push: paper (line from the nearest host node toward the guest node, plane agreeing with the host's outward normals), guest (both toward the guest node), outward (both agreeing with the host's outward normals)."),
       key("contact", "two_sided", KeyType::boolean).fallback(false).described("Also the other way round (the host's nodes against the guest's surface)."),
       key("contact", "invert_push", KeyType::boolean).fallback(false).described("Every push negated: a broken method, used by tests."),

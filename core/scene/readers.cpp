@@ -343,14 +343,14 @@ void read_force(const Ctx& c, Obj& o, ContactSpec& cs) {
 // A pair's parameters (every key of a contact but host, guest and label), each from its row of
 // the key table: its value, or its default when absent. Marks the spec made from the table.
 void read_contact_spec(const Ctx& c, Obj& o, ContactSpec& cs) {
-  cs.detector = o.word<DetectorKind>("detector");
+  cs.detector = o.word("detector");
   cs.voxel_size = o.length_or_auto("voxel_size");
   cs.cell_size = o.length_or_auto("cell_size");
   cs.volume_pixel = o.length_or_auto("volume_pixel");
   cs.region = o.word<Region>("region");
   cs.margin = static_cast<int>(o.integer("margin"));
   cs.host_nodes = o.word<HostNodes>("host_nodes");
-  cs.eliminator = o.word<EliminatorKind>("eliminator");
+  cs.eliminator = o.word("eliminator");
   cs.orient = o.word<Orient>("orient");
   cs.two_sided = o.boolean("two_sided");
   cs.invert_push = o.boolean("invert_push");

@@ -31,10 +31,10 @@ struct TwoSpheres {
 }  // namespace
 
 TEST_CASE("exact detectors are made by kind through the reference library's maker", "[reference][detector]") {
-  CHECK(std::string(make_detector(DetectorKind::cgal, make_exact_detector)->name()) == "cgal");
-  CHECK(std::string(make_detector(DetectorKind::fcl, make_exact_detector)->name()) == "fcl");
-  CHECK(std::string(make_detector(DetectorKind::voxel, make_exact_detector)->name()) == "voxel");
-  CHECK_THROWS_AS(make_exact_detector(DetectorKind::voxel), std::invalid_argument);
+  CHECK(std::string(make_detector("cgal", make_exact_detector)->name()) == "cgal");
+  CHECK(std::string(make_detector("fcl", make_exact_detector)->name()) == "fcl");
+  CHECK(std::string(make_detector("voxel", make_exact_detector)->name()) == "voxel");
+  CHECK_THROWS_AS(make_exact_detector("voxel"), std::invalid_argument);
 }
 
 TEST_CASE("cgal detector: contacts are the truly penetrating guest nodes", "[reference][detector][cgal]") {

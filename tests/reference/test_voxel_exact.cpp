@@ -83,7 +83,7 @@ TEST_CASE("voxel_exact agrees with CGAL within its band on 1200 random poses", "
     const double L = longest_edge(shape);
     World w;
     ContactSpec pair = contact_spec_defaults();
-    pair.detector = DetectorKind::voxel_exact;
+    pair.detector = "voxel_exact";
     pair.host = add_body(w, "host", shape);
     pair.voxel_size = factors[(pose / 4) % 4] * L;
     pair.region = regions[(pose / 16) % 3];
@@ -170,7 +170,7 @@ TEST_CASE("voxel_exact: a node just beyond the band is counted, one just within 
   // node's descent and r(x) changes piecewise: bisection finds where depth meets the band.
   World w;
   ContactSpec pair = contact_spec_defaults();
-  pair.detector = DetectorKind::voxel_exact;
+  pair.detector = "voxel_exact";
   pair.host = add_body(w, "host", box_surface(Vec3(-0.1, -0.1, -0.05), Vec3(0.1, 0.1, 0.05), Vec3i(4, 4, 2)));
   pair.guest = harness::test::add_body(w, "guest", harness::test::cloud({Vec3(0.013, -0.021, 0.04)}));
   pair.voxel_size = 1.0 / 16;

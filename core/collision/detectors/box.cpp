@@ -61,4 +61,12 @@ bool BoxDetector::region(Vec3& lo, Vec3& hi) const {
   return true;
 }
 
+HARNESS_DETECTOR(box) {
+  DetectorDef d;
+  d.name = "box";
+  d.doc = "every guest node inside the host's bounding box: the baseline a broad phase must beat";
+  d.make = [] { return std::unique_ptr<CollisionDetector>(std::make_unique<BoxDetector>()); };
+  return d;
+}
+
 }  // namespace harness

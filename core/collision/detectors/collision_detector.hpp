@@ -1,5 +1,5 @@
 // CollisionDetector: the paper's interface for collision detection, and the one factory that
-// makes a detector of a DetectorKind (contact_spec.hpp names them). The voxel detector (the
+// makes a detector by name (the registry below). The voxel detector (the
 // paper's, voxel.hpp) lives here in core; the exact detectors (CGAL, FCL) live in reference/,
 // and a program that links the reference library passes its maker (ExactDetectorMaker).
 #pragma once
@@ -72,12 +72,32 @@ class CollisionDetector {
   virtual int beyond_band() const { return -1; }
 };
 
-// Makes the exact detectors (reference/: reference::make_exact_detector); null in a program
-// without the reference library.
-using ExactDetectorMaker = std::unique_ptr<CollisionDetector> (*)(DetectorKind);
+// Makes the exact detectors by name (reference/: reference::make_exact_detector); null in a
+// program without the reference library.
+using ExactDetectorMaker = std::unique_ptr<CollisionDetector> (*)(const std::string& name);
 
-// The detector of a kind. An exact kind without a maker throws std::invalid_argument saying
+// The detectors' registry. A detector is its file pair in core/collision/detectors/; its source
+// defines it with a line `HARNESS_DETECTOR(stem)`, which CMake finds there and calls through a
+// generated list (build/generated/detector_list.hpp), so adding one touches no other hand-written
+// file. The key table (contacts.N.detector), the schema and the device's refusals read it.
+struct DetectorDef {
+  const char* name = "";
+  const char* doc = "";  // what it does, for the key's description and docs/scenes.md
+  // Made by the reference library (FCL, CGAL: ExactDetectorMaker); `make` is then null.
+  bool exact = false;
+  std::unique_ptr<CollisionDetector> (*make)() = nullptr;
+  // Its device kernel (core/device/contact_kernels.hpp: kDet*), or -1: `--device` refuses it.
+  int device = -1;
+};
+const std::vector<DetectorDef>& detectors();
+const DetectorDef* find_detector(const std::string& name);
+// The detectors as docs/scenes.md lists them ("Detectors"; `harness rules` prints it).
+std::string detectors_markdown();
+
+// The detector of that name. An exact one without a maker throws std::invalid_argument saying
 // that this program has no reference library.
-std::unique_ptr<CollisionDetector> make_detector(DetectorKind kind, ExactDetectorMaker exact);
+std::unique_ptr<CollisionDetector> make_detector(const std::string& name, ExactDetectorMaker exact);
+
+#define HARNESS_DETECTOR(stem) DetectorDef make_detector_##stem()
 
 }  // namespace harness

@@ -304,4 +304,12 @@ bool DistanceFieldDetector::region(Vec3& lo, Vec3& hi) const {
   return true;
 }
 
+HARNESS_DETECTOR(distance_field) {
+  DetectorDef d;
+  d.name = "distance_field";
+  d.doc = "the host's signed distance sampled at the corners of the paper's power-of-two voxels over its box, resampled when a host vertex moves field_resample of a voxel; a node is in contact where the interpolated field is negative";
+  d.make = [] { return std::unique_ptr<CollisionDetector>(std::make_unique<DistanceFieldDetector>()); };
+  return d;
+}
+
 }  // namespace harness

@@ -190,4 +190,12 @@ bool HashDetector::contact_point(const World& w, const Contact& c, ContactPoint&
   return triangle_contact_point(w, host_begin_, faces_[c.key], w.x[c.guest], out);
 }
 
+HARNESS_DETECTOR(hash) {
+  DetectorDef d;
+  d.name = "hash";
+  d.doc = "spatial hashing, Teschner et al. 2003";
+  d.make = [] { return std::unique_ptr<CollisionDetector>(std::make_unique<HashDetector>()); };
+  return d;
+}
+
 }  // namespace harness

@@ -1,6 +1,7 @@
 #include "core/collision/detectors/voxel.hpp"
 
 #include "core/parallel.hpp"
+#include "core/device/contact_kernels.hpp"
 
 #include <algorithm>
 
@@ -122,6 +123,15 @@ int VoxelDetector::nearest_hosts(const World& w, const Contact& c, int k, int* o
     }
   }
   return n;
+}
+
+HARNESS_DETECTOR(voxel) {
+  DetectorDef d;
+  d.name = "voxel";
+  d.doc = "the paper's local grid: power-of-two voxels over the area of interest, attached to the host and moving with its bounding-box centre, each a list of the host's nodes; a guest node in a voxel that lists any is in contact";
+  d.make = [] { return std::unique_ptr<CollisionDetector>(std::make_unique<VoxelDetector>()); };
+  d.device = dev::kDetVoxel;
+  return d;
 }
 
 }  // namespace harness

@@ -3,6 +3,7 @@
 #include "core/collision/detectors/triangles.hpp"
 #include "core/collision/detectors/voxel_exact_geometry.hpp"
 #include "core/parallel.hpp"
+#include "core/device/contact_kernels.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -431,6 +432,15 @@ bool VoxelExactDetector::contact_point(const World&, const Contact& c, ContactPo
     out.weight[k] = h->weight[k];
   }
   return true;
+}
+
+HARNESS_DETECTOR(voxel_exact) {
+  DetectorDef d;
+  d.name = "voxel_exact";
+  d.doc = "the paper's grid with an exact narrow phase: the closest host triangle and its pseudonormal, exact within a stated band";
+  d.make = [] { return std::unique_ptr<CollisionDetector>(std::make_unique<VoxelExactDetector>()); };
+  d.device = dev::kDetVoxelExact;
+  return d;
 }
 
 }  // namespace harness

@@ -1,6 +1,6 @@
 // CollisionEliminator: the paper's interface for eliminating collisions with penalty forces.
 // An eliminator decides, per contact, the direction of the push and which host nodes take the
-// reaction (the swap point: line.hpp, plane.hpp, chosen by EliminatorKind in make_eliminator);
+// reaction (the swap point: line.hpp, plane.hpp, ..., registered below, made by make_eliminator);
 // the magnitude comes from the pair's force rule (force_rule.hpp), the same for every eliminator. Every contact's forces sum to
 // zero (Newton's third law): +F n on the guest node, -w_k F n on host node k, sum w_k = 1.
 #pragma once
@@ -8,6 +8,7 @@
 #include "core/collision/detectors/collision_detector.hpp"
 
 #include <memory>
+#include <string>
 
 namespace harness {
 
@@ -37,7 +38,32 @@ class CollisionEliminator {
                  const std::vector<Contact>& contacts, double force) const;
 };
 
-// The eliminator of a kind (one line per kind in responses.cpp).
-std::unique_ptr<CollisionEliminator> make_eliminator(EliminatorKind kind);
+// The eliminators' registry. An eliminator is its file pair in core/collision/responses/; its
+// .cpp defines it with HARNESS_ELIMINATOR(stem) (a line of its own at the start of the line),
+// which CMake finds there and calls through a generated list (build/generated/
+// eliminator_list.hpp), so the static library's link cannot drop it and adding one touches no
+// other hand-written file. The key table (contacts.N.eliminator), the schema and the device's
+// refusals read it.
+struct EliminatorDef {
+  const char* name = "";
+  const char* doc = "";  // what it does, for the key's description and docs/scenes.md
+  std::unique_ptr<CollisionEliminator> (*make)() = nullptr;
+  // Position-based: it moves nodes after the position update (Collision::project) and applies no
+  // force, so a force rule or a response of its own has nothing to scale.
+  bool projects = false;
+  const char* detector = "";  // the one detector it needs ("" any)
+  // Its device kernel (core/device/contact_kernels.hpp: kElim*), or -1: `--device` refuses it.
+  int device = -1;
+};
+const std::vector<EliminatorDef>& eliminators();
+// The eliminator of that name, or nullptr; eliminator_of throws std::logic_error when unknown.
+const EliminatorDef* find_eliminator(const std::string& name);
+const EliminatorDef& eliminator_of(const ContactSpec& spec);
+// The eliminators as docs/scenes.md lists them ("Eliminators"; `harness rules` prints it).
+std::string eliminators_markdown();
+// The pair's eliminator, made.
+std::unique_ptr<CollisionEliminator> make_eliminator(const std::string& name);
+
+#define HARNESS_ELIMINATOR(stem) EliminatorDef make_eliminator_##stem()
 
 }  // namespace harness

@@ -25,4 +25,13 @@ void FieldEliminator::pushes(const World& w, const ContactSpec& spec, const Coll
   }
 }
 
+HARNESS_ELIMINATOR(field) {
+  EliminatorDef e;
+  e.name = "distance_field";
+  e.doc = "with detector distance_field: along the field's gradient, as deep as the field says, the reaction on the nearest host triangle";
+  e.make = [] { return std::unique_ptr<CollisionEliminator>(std::make_unique<FieldEliminator>()); };
+  e.detector = "distance_field";
+  return e;
+}
+
 }  // namespace harness

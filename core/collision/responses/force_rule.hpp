@@ -1,10 +1,10 @@
 // The force rules' registry: how large each contact's push is (the eliminator gives its
 // direction and the host nodes that take the reaction, collision_eliminator.hpp). A rule is one
-// source file under core/collision/rules/ that defines itself with HARNESS_FORCE_RULE(stem), the
-// stem being the file's: its name, how a scene writes it, its parameters with ranges and
+// source file under core/collision/rules/ that defines itself with a line HARNESS_FORCE_RULE(stem)
+// (stem: a C++ name, usually the file's): its name, how a scene writes it, its parameters with ranges and
 // defaults (the key table, the schema and docs/scenes.md pick them up), its force, its stiffness
-// and its device kernel. CMake lists the folder and generates the call of every rule's maker
-// (build/generated/force_rule_list.cpp), so adding a rule touches no other hand-written file;
+// and its device kernel. CMake lists those lines and generates the call of every rule's maker
+// (build/generated/force_rule_list.hpp), so adding a rule touches no other hand-written file;
 // nothing here depends on a static registrar surviving the static library's link.
 //
 // How a scene writes a rule (contacts.N.force):

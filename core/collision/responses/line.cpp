@@ -2,6 +2,7 @@
 
 #include "core/collision/responses/directions.hpp"
 #include "core/collision/responses/force_rule.hpp"
+#include "core/device/contact_kernels.hpp"
 #include "core/parallel.hpp"
 
 #include <algorithm>
@@ -76,6 +77,15 @@ void LineEliminator::pushes(const World& w, const ContactSpec& spec, const Colli
 #pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
     for (std::size_t i = 0; i < n; ++i) penalty_depth(w, spec.host, det, contacts[i], center, out[i]);
   }
+}
+
+HARNESS_ELIMINATOR(line) {
+  EliminatorDef e;
+  e.name = "line";
+  e.doc = "push along the line to the nearest host node";
+  e.make = [] { return std::unique_ptr<CollisionEliminator>(std::make_unique<LineEliminator>()); };
+  e.device = dev::kElimLine;
+  return e;
 }
 
 }  // namespace harness

@@ -2,6 +2,7 @@
 
 #include "core/collision/responses/directions.hpp"
 #include "core/collision/responses/force_rule.hpp"
+#include "core/device/contact_kernels.hpp"
 #include "core/parallel.hpp"
 
 namespace harness {
@@ -49,6 +50,15 @@ void PlaneEliminator::pushes(const World& w, const ContactSpec& spec, const Coll
 #pragma omp parallel for num_threads(T) if(T > 1) schedule(static)
     for (std::size_t i = 0; i < n; ++i) penalty_depth(w, spec.host, det, contacts[i], center, out[i]);
   }
+}
+
+HARNESS_ELIMINATOR(plane) {
+  EliminatorDef e;
+  e.name = "plane";
+  e.doc = "along the normal of the plane through the three nearest host nodes, a third of the reaction to each";
+  e.make = [] { return std::unique_ptr<CollisionEliminator>(std::make_unique<PlaneEliminator>()); };
+  e.device = dev::kElimPlane;
+  return e;
 }
 
 }  // namespace harness

@@ -38,4 +38,13 @@ double project_pushes(World& w, const std::vector<Push>& pushes, double h) {
   return largest;
 }
 
+HARNESS_ELIMINATOR(projection) {
+  EliminatorDef e;
+  e.name = "projection";
+  e.doc = "move the node to the surface after the position update";
+  e.make = [] { return std::unique_ptr<CollisionEliminator>(std::make_unique<ProjectionEliminator>()); };
+  e.projects = true;
+  return e;
+}
+
 }  // namespace harness

@@ -51,4 +51,13 @@ double restrict_volume(World& w, int host, int guest, double pixel, double h, Vo
   return largest;
 }
 
+HARNESS_ELIMINATOR(volume) {
+  EliminatorDef e;
+  e.name = "volume";
+  e.doc = "a restriction with a practical bound: after the position update, both bodies' surface vertices moved along the gradient of the volume they share, by layered depth images, one Newton step toward none";
+  e.make = [] { return std::unique_ptr<CollisionEliminator>(std::make_unique<VolumeEliminator>()); };
+  e.projects = true;
+  return e;
+}
+
 }  // namespace harness

@@ -21,7 +21,7 @@ TEST_CASE("box detector: the guest nodes inside the host's box, boundary include
   const int guest = add_body(w, "guest", cloud({Vec3(1, 0.5, 0.5), Vec3(3, 0.5, 0.5), Vec3(2, 1, 1),
                                                Vec3(-1e-9, 0.5, 0.5), Vec3(1.9, 0.1, 0.9)}, 5));
   ContactSpec spec = contact_spec_defaults();
-  spec.host = host, spec.guest = guest, spec.detector = DetectorKind::box;
+  spec.host = host, spec.guest = guest, spec.detector = "box";
   BoxDetector d;
   d.initialize(w, spec);
   std::vector<Contact> out;
@@ -53,5 +53,5 @@ TEST_CASE("box detector: the guest nodes inside the host's box, boundary include
     const int node = w.bodies[host].begin + s;
     if (node != near[0] && node != near[1] && node != near[2]) CHECK((w.x[node] - p).norm() >= (w.x[near[2]] - p).norm());
   }
-  CHECK(std::string(make_detector(DetectorKind::box, nullptr)->name()) == "box");
+  CHECK(std::string(make_detector("box", nullptr)->name()) == "box");
 }

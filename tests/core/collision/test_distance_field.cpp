@@ -29,8 +29,8 @@ namespace {
 ContactSpec field_spec(double voxel) {
   ContactSpec s = contact_spec_defaults();
   s.host = 0, s.guest = 1;
-  s.detector = DetectorKind::distance_field;
-  s.eliminator = EliminatorKind::distance_field;
+  s.detector = "distance_field";
+  s.eliminator = std::string("distance_field");
   s.voxel_size = voxel;
   return s;
 }
@@ -198,9 +198,9 @@ TEST_CASE("distance_field: the eliminator pushes along the gradient, reactions b
     CHECK(expected.dot(w.x[c.guest]) > 0.0);  // outward from the sphere's centre
   }
   ContactSpec bad = spec;
-  bad.detector = DetectorKind::voxel;
+  bad.detector = "voxel";
   CHECK_THROWS_WITH(Collision(w, bad), Catch::Contains("needs detector \"distance_field\""));
-  CHECK(std::string(make_detector(DetectorKind::distance_field, nullptr)->name()) == "distance_field");
+  CHECK(std::string(make_detector("distance_field", nullptr)->name()) == "distance_field");
 }
 
 namespace {

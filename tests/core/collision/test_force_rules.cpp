@@ -2,7 +2,9 @@
 // core/collision/rules/): every rule reaches the key table, the loader and docs/scenes.md; a
 // rule's stiffness is its force's derivative (finite differences); the guard reads it; the
 // Hertz-like rule at exponent 1 is the linear penalty to the bit.
+#include "core/collision/responses/collision_eliminator.hpp"
 #include "core/collision/responses/force_rule.hpp"
+#include "core/effects/effect.hpp"
 #include "core/scene/keys.hpp"
 #include "core/scene/scene.hpp"
 #include "core/simulation.hpp"
@@ -18,13 +20,14 @@ using namespace harness;
 
 namespace {
 
-// A pinned block under a small one that starts 2 mm into it: the pair is in contact from step 1.
+// A pinned block under a small one that starts 2 mm into it, off the host's lattice (aligned, a
+// guest node's three nearest host nodes span a plane through it): in contact from step 1.
 std::string scene(const std::string& force, double dt = 1e-4) {
   return R"({"name":"r","time":{"dt":)" + std::to_string(dt) + R"(,"steps":0,"guard":"substep"},
     "effects":["springs","pins","gravity","contact"],
     "bodies":[{"name":"a","shape":{"type":"box","min":[0,0,0],"max":[0.04,0.04,0.02],"cells":[4,4,2]},
                "material":{"density":1000,"stiffness":100},"pins":[{"side":"-z"}]},
-              {"name":"b","shape":{"type":"box","min":[0.01,0.01,0.018],"max":[0.03,0.03,0.03],"cells":[2,2,2]},
+              {"name":"b","shape":{"type":"box","min":[0.013,0.012,0.018],"max":[0.033,0.032,0.03],"cells":[2,2,2]},
                "material":{"density":1000,"stiffness":100}}],
     "contacts":[{"host":"a","guest":"b","detector":"voxel","voxel_size":0.01,"eliminator":"plane","force":)" +
          force + "}]}";
@@ -123,6 +126,42 @@ TEST_CASE("force rules: hertz at exponent 1 is the linear penalty to the bit", "
   CHECK(lin.critical_dt() == pow1.critical_dt());
 }
 
+TEST_CASE("force rules: the implicit step assembles the rule's stiffness", "[force_rules][implicit]") {
+  // Implicit Euler puts each push's block k n n^T in its system: hertz at exponent 1 must give the
+  // penalty's state to the bit, and at exponent 1.5 (stiffness k 1.5 d^0.5, another matrix) not.
+  auto run = [](const std::string& force) {
+    std::string text = scene(force, 5e-4);
+    text.replace(text.find(R"("guard":"substep")"), 17, R"("guard":"substep","integrator":"implicit_euler")");
+    Simulation sim(parse_scene(text, "r.json"));
+    for (int s = 0; s < 40; ++s) sim.step();
+    return sim.world().x;
+  };
+  const Points lin = run(R"({"stiffness":400})");
+  CHECK(run(R"({"rule":"hertz","stiffness":400,"exponent":1})") == lin);
+  CHECK_FALSE(run(R"({"rule":"hertz","stiffness":8000,"exponent":1.5})") == lin);
+
+  // The blocks the contact effect hands the implicit step: one per pushing contact, k = the
+  // rule's dF/d depth at that push's depth (8000 x 1.5 x depth^0.5), along the push's direction.
+  Simulation sim(parse_scene(scene(R"({"rule":"hertz","stiffness":8000,"exponent":1.5})"), "r.json"));
+  sim.step();
+  const Collision& col = *sim.pairs()[0].collision;
+  LinearSystem sys;
+  for (const auto& e : sim.effects())
+    if (std::string(e->name()) == "contact") e->add_jacobian(sim.world(), sys);
+  int pushing = 0;
+  for (std::size_t i = 0; i < col.pushes().size(); ++i) pushing += col.pushes()[i].count > 0 && col.magnitudes()[i] > 0.0;
+  REQUIRE(pushing > 0);
+  REQUIRE(static_cast<int>(sys.contacts.size()) == pushing);
+  std::size_t b = 0;
+  for (std::size_t i = 0; i < col.pushes().size(); ++i) {
+    const Push& q = col.pushes()[i];
+    if (q.count == 0 || !(col.magnitudes()[i] > 0.0)) continue;
+    CHECK(sys.contacts[b].k == Approx(8000.0 * 1.5 * std::sqrt(q.depth)).epsilon(1e-12));
+    CHECK(sys.contacts[b].n == q.n);
+    ++b;
+  }
+}
+
 TEST_CASE("force rules: the stability guard reads the rule's stiffness", "[force_rules][guard]") {
   Simulation soft(parse_scene(scene(R"({"rule":"hertz","stiffness":1e3})"), "r.json"));
   Simulation stiff(parse_scene(scene(R"({"rule":"hertz","stiffness":1e8})"), "r.json"));
@@ -143,6 +182,27 @@ TEST_CASE("docs/scenes.md lists the force rules the registry has", "[force_rules
   REQUIRE(in);
   std::ostringstream ss;
   ss << in.rdbuf();
-  // Regenerate the table with `build/bin/harness rules`.
+  // Regenerate the tables with `build/bin/harness rules`.
   CHECK(ss.str().find(force_rules_markdown()) != std::string::npos);
+  CHECK(ss.str().find(eliminators_markdown()) != std::string::npos);
+  CHECK(ss.str().find(detectors_markdown()) != std::string::npos);
+}
+
+TEST_CASE("eliminators: the registry is the scene key's words, the paper's line first", "[force_rules][scene]") {
+  const SceneKey& k = scene_key("contact", "eliminator");
+  std::vector<std::string> names;
+  for (const EliminatorDef& e : eliminators()) names.emplace_back(e.name);
+  CHECK(k.names == names);
+  CHECK(names.front() == "line");
+  CHECK(k.def == "line");
+  for (const EliminatorDef& e : eliminators()) {
+    INFO(e.name);
+    CHECK(std::string(e.doc).size() > 10);
+    CHECK(std::string(make_eliminator(e.name)->name()) == e.name);  // the maker makes that one
+  }
+  CHECK(find_eliminator("projection")->projects);
+  CHECK(find_eliminator("volume")->projects);
+  CHECK_FALSE(find_eliminator("plane")->projects);
+  CHECK(std::string(find_eliminator("distance_field")->detector) == "distance_field");
+  CHECK(load_error(scene("0.001").replace(scene("0.001").find("\"plane\""), 7, "\"plane2\"")).find("r.json: contacts.0.eliminator") == 0);
 }

@@ -545,14 +545,14 @@ TEST_CASE("bad pairs and the detector registry", "[collision][voxel]") {
   CHECK_THROWS_AS(Collision(w, s), std::invalid_argument);
   s.force_parameters = {1.0};
   // An exact detector without the reference library's maker: refused, naming the library.
-  s.detector = DetectorKind::cgal;
+  s.detector = "cgal";
   CHECK_THROWS_WITH(Collision(w, s), Catch::Contains("reference library"));
-  CHECK(std::string(make_detector(DetectorKind::voxel, nullptr)->name()) == "voxel");
-  for (const DetectorName& d : detector_names()) {
-    CHECK(std::string(to_string(d.kind)) == d.name);
-    if (d.exact) CHECK_THROWS_AS(make_detector(d.kind, nullptr), std::invalid_argument);
+  CHECK(std::string(make_detector("voxel", nullptr)->name()) == "voxel");
+  for (const DetectorDef& d : detectors()) {
+    if (d.exact) CHECK_THROWS_AS(make_detector(d.name, nullptr), std::invalid_argument);
+    else CHECK(std::string(make_detector(d.name, nullptr)->name()) == d.name);  // the maker makes that one
   }
-  s.detector = DetectorKind::voxel;
+  s.detector = "voxel";
   Collision col(w, s);
   CHECK(col.detect(w) == 1);
 }
@@ -584,7 +584,7 @@ TEST_CASE("the per-step path reuses its buffers", "[collision][voxel]") {
   const auto box = harness::test::box_lattice(Vec3(-1, -1, -1), Vec3(1, 1, 1), Vec3i(6, 6, 6));
   const auto ball = harness::test::icosahedron(Vec3(0, 0, 3), 0.8, true);
   for (Region r : {Region::half, Region::full, Region::overlap}) {
-    for (EliminatorKind e : {EliminatorKind::line, EliminatorKind::plane}) {
+    for (const std::string e : {"line", "plane"}) {
       World w;
       add_body(w, "tissue", box);
       add_body(w, "tool", ball);

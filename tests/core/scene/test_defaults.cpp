@@ -37,13 +37,13 @@ double length_of(const char* kind, const char* name) {
 
 void check_contact_defaults(const ContactSpec& s) {
   CHECK(s.made == kContactSpecMade);
-  CHECK(std::string(to_string(s.detector)) == def("contact", "detector").get<std::string>());
+  CHECK(s.detector == def("contact", "detector").get<std::string>());
   CHECK(s.voxel_size == length_of("contact", "voxel_size"));
   CHECK(s.cell_size == length_of("contact", "cell_size"));
   CHECK(s.region == word_of<Region>("contact", "region"));
   CHECK(s.margin == def("contact", "margin").get<int>());
   CHECK(s.host_nodes == word_of<HostNodes>("contact", "host_nodes"));
-  CHECK(std::string(to_string(s.eliminator)) == def("contact", "eliminator").get<std::string>());
+  CHECK(s.eliminator == def("contact", "eliminator").get<std::string>());
   CHECK(s.orient == word_of<Orient>("contact", "orient"));
   CHECK(s.two_sided == def("contact", "two_sided").get<bool>());
   CHECK(s.invert_push == def("contact", "invert_push").get<bool>());
