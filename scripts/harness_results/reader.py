@@ -348,7 +348,7 @@ def window_stat(d, key, what="mean"):
 
 
 def stability_inputs(s):
-    """What the studies' stability rule (rules.classify) reads from a summary, by name."""
+    """What the studies' stability columns (rules.stability_fields) read from a summary, by name."""
     w = window(s)
     return {"status": s.get("status"), "error": s.get("error"), "finite": s.get("finite"),
             "verdict": s.get("stability_verdict"),
@@ -418,7 +418,7 @@ def contact_time_us(s):
 
 def window_figures(s):
     """The measured figures of one run that the studies use (rules.py's docstring defines window and
-    error); lengths in mm. Without its stability judgement (rules.classify)."""
+    error); lengths in mm. Without its stability judgement (rules.stability_fields)."""
     p = pair(s)
     e = reference_errors(s)
     ew = e.get("window") or {}

@@ -4,7 +4,7 @@ summary.json, frames), written as RESULTS_DIR/tables/<name>.{md,tex,csv} (writer
   accuracy      per scenario and eliminator: truly penetrating nodes (guest + host) at the end and
                 at the peak (steps.csv, CGAL), deepest node at the end and its peak, the window's
                 position error against the reference and its chatter, recall, precision, tunnelled
-                nodes, stability (rules.classify)
+                nodes, stability (the run's C++ class: rules.stability_fields)
   deformation   per body: largest displacement max_i |x_i(end) - x_i(0)| over the surface vertices
                 (first and last frames), and largest deformation max_i |d_i - mean(d)| (d_i the
                 displacement: the rigid translation removed)
@@ -234,7 +234,7 @@ def accuracy_row(r, bases):
             mm(reader.pair_window_stat(s, "pos_err_max", "mean")) if k is not s else "-",
             writers.fmt(reader.pair_value(s, "recall"), ".3f"), writers.fmt(reader.pair_value(s, "precision"), ".4f"),
             writers.fmt(reader.tunnelled_peak(s), "d"),
-            rules.classify(s)[0], useless_of(r, bases)]
+            rules.stability_fields(s)["stability"], useless_of(r, bases)]
 
 
 # accuracy.tex's header spans two columns per pair of figures: the line below it names them.

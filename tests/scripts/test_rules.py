@@ -9,93 +9,56 @@ from harness_results import rules
 from harness_results.studies.common import figures
 
 NAN = float("nan")
-LOW = rules.INJECTION_LIMIT / rules.MARGIN    # 0.01: stable at or below (a run that does not settle)
-HIGH = rules.INJECTION_LIMIT * rules.MARGIN   # 0.04: unstable above; marginal in between
 
 
-def summary(status="ok", verdict="chatters", rho=None, growth=1.0, kicked=False, work=0.0, balance=0.0, guard=0,
-            finite=True):
-    """A summary.json holding only what the stability rule reads."""
+def summary(status="ok", verdict="steady", guard=0, finite=True, rho=None, growth=1.0):
+    """A summary.json holding what the stability columns read (rho and growth: ignored now)."""
     return {"status": status, "finite": finite, "stability_verdict": verdict,
-            "window": {"contact_power_ratio": rho, "kinetic_growth": growth, "kicked": kicked,
-                       "net_contact_work_J": work},
-            "energy": {"energy_balance_error": balance}, "stability": {"guard_violations": guard}}
-
-
-def cls(**kw):
-    return rules.classify(summary(**kw))[0]
+            "window": {"contact_power_ratio": rho, "kinetic_growth": growth},
+            "stability": {"guard_violations": guard}}
 
 
 # ---------------------------------------------------------------------------------------------
-# Stability: stable / marginal / unstable / failed, at and around the margin
-def test_margin_is_a_factor_two_around_the_harness_limit():
-    assert rules.INJECTION_LIMIT == 0.02 and rules.MARGIN == 2.0
-    assert LOW == pytest.approx(0.01) and HIGH == pytest.approx(0.04)
+# Stability: the run's C++ class decides; a run that did not end ok failed
+@pytest.mark.parametrize("verdict, stable", [("settled", "yes"), ("steady", "yes"), ("chatters", "no"),
+                                             ("injects", "no"), ("grows", "no"), ("forced", "no"), (None, "no")])
+def test_the_class_decides(verdict, stable):
+    f = rules.stability_fields(summary(verdict=verdict))
+    assert f["stable"] == stable and f["stability_class"] == (verdict or "")
+    assert (f["why_unstable"] == "") == (stable == "yes")
+    assert rules.is_stable(f) == (stable == "yes")
 
 
-@pytest.mark.parametrize("rho, expected", [
-    (None, "stable"),                 # no contact power measured
-    (0.0, "stable"),
-    (LOW, "stable"),                  # at the lower edge of the margin: still stable
-    (LOW * 1.0001, "marginal"),       # just above it
-    (0.02, "marginal"),               # the harness's own limit: inside the margin
-    (HIGH, "marginal"),               # at the upper edge: still marginal
-    (HIGH * 1.0001, "unstable"),      # just above it
-    (1.0, "unstable"),
-])
-def test_contact_power_classes_a_run_that_chatters(rho, expected):
-    assert cls(verdict="chatters", rho=rho) == expected
+def test_the_contact_power_no_longer_decides():
+    # what the old rule called unstable (rho 0.5, kinetic energy doubled) is stable when the class is steady
+    assert rules.stability_fields(summary(verdict="steady", rho=0.5, growth=2.06))["stable"] == "yes"
+    # and a chattering run with no contact power at all is not
+    assert rules.stability_fields(summary(verdict="chatters", rho=0.0))["stable"] == "no"
 
 
-@pytest.mark.parametrize("rho, expected", [(0.0, "stable"), (LOW * 1.5, "stable"), (HIGH, "stable"),
-                                           (HIGH * 1.0001, "unstable")])
-def test_a_settled_run_is_never_marginal(rho, expected):
-    assert cls(verdict="settled", rho=rho) == expected
-
-
-def test_marginal_says_why():
-    c, why = rules.classify(summary(rho=0.03))
-    assert c == "marginal" and "0.03" in why[0] and "factor 2" in why[0]
-
-
-@pytest.mark.parametrize("kw, reason", [
-    (dict(verdict="grows", growth=2.5), "kinetic energy grows"),
-    (dict(kicked=True, work=0.01), "kicked"),
-    (dict(guard=1), "dt above the limit"),
-    (dict(balance=0.0101), "energy audit open"),
-    (dict(balance=-0.0101), "energy audit open"),
-    (dict(rho=0.5), "contact power 0.5"),
-])
-def test_unstable_whatever_the_contact_power(kw, reason):
-    c, why = rules.classify(summary(**dict(dict(rho=0.0, verdict="settled"), **kw)))
-    assert c == "unstable"
-    assert any(reason in w for w in why)
-
-
-def test_the_energy_audit_closes_at_one_percent():
-    assert cls(verdict="settled", rho=0.0, balance=rules.BALANCE) == "stable"
-    assert cls(verdict="settled", rho=0.0, balance=-rules.BALANCE) == "stable"
-
-
-def test_reasons_add_up():
-    c, why = rules.classify(summary(verdict="grows", kicked=True, rho=0.5, guard=2, balance=0.5))
-    assert c == "unstable" and len(why) == 5
+def test_a_guard_violation_is_not_stable_whatever_the_class():
+    f = rules.stability_fields(summary(verdict="settled", guard=1))
+    assert f["stable"] == "no" and "dt above the limit" in f["why_unstable"]
 
 
 @pytest.mark.parametrize("status, finite, why", [("error", False, "not finite"), ("error", True, "error"),
                                                   ("interrupted", True, "interrupted")])
 def test_a_run_that_did_not_end_ok_failed(status, finite, why):
-    c, reasons = rules.classify(summary(status=status, finite=finite, rho=0.0, verdict="settled"))
-    assert (c, reasons) == ("failed", [why])
+    f = rules.stability_fields(summary(status=status, finite=finite, verdict="settled"))
+    assert (f["stable"], f["stability"], f["why_unstable"]) == ("no", "failed", why)
 
 
-def test_only_stable_rows_count_as_stable():
-    for kw, yes in [(dict(rho=0.0), "yes"), (dict(rho=0.03), "no"), (dict(rho=0.5), "no"), (dict(status="error"), "no")]:
-        f = rules.stability_fields(summary(**kw))
-        assert f["stable"] == yes
-        assert rules.is_stable(f) == (yes == "yes")
-    f = figures(summary(rho=0.03))  # a study's row: window figures with the judgement
-    assert (f["stable"], f["stability"]) == ("no", "marginal") and math.isnan(f["pos_err_max_mm"])
+def test_a_row_of_figures_carries_the_class():
+    f = figures(summary(verdict="chatters"))  # a study's row: window figures with the judgement
+    assert (f["stable"], f["stability"], f["stability_class"]) == ("no", "chatters", "chatters")
+    assert math.isnan(f["pos_err_max_mm"])
+
+
+def test_a_table_says_which_rule_made_its_rows():
+    new, old = {"stability_class": "steady"}, {"stability": "stable"}
+    assert rules.stability_source([new, new]).startswith("the run's C++ stability class")
+    assert rules.stability_source([old]).startswith("the rule these rows were written with")
+    assert "for the 1 rows that record it; for the other 2" in rules.stability_source([new, old, old])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -184,16 +147,16 @@ def test_pareto_only_evidence_and_measured():
     rows = [point("unstable", 0.1, 0.1, stable="no"), point("nan", NAN, 0.1), point("nan err", 0.1, NAN),
             point("tunnels", 0.1, 0.1, tunnelled=1), point("no help", 0.1, 0.1, helps="no"), point("a", 1.0, 1.0)]
     assert front(rows) == ["a"]
-    with rules.using(rules.Variant(tunnel_limit=10)):  # a tunnel allowance lets the tunnelling run in
-        assert front(rows) == ["tunnels"]
+    # a tunnel allowance lets the tunnelling run in
+    assert [r["name"] for r in rules.pareto(rows, rule=rules.TableRules(tunnel_limit=10))] == ["tunnels"]
 
 
 def test_pareto_errors_within_the_noise_are_equal():
     # 1.05 and 1.00 differ by less than 10 %: the faster one beats the slower, though its error is larger
     rows = [point("fast", 1.0, 1.05), point("slow", 2.0, 1.00)]
     assert front(rows) == ["fast"]
-    with rules.using(rules.Variant(tie=0.0)):  # strict: both stay
-        assert front(rows) == ["fast", "slow"]
+    # strict: both stay
+    assert [r["name"] for r in rules.pareto(rows, rule=rules.TableRules(tie=0.0))] == ["fast", "slow"]
     # the reference's floor makes a difference beyond the relative tie equal too
     rows = [point("fast", 1.0, 0.30), point("slow", 2.0, 0.10)]
     assert front(rows) == ["fast", "slow"]
@@ -224,8 +187,7 @@ def test_useless_words_and_marks():
     assert [r["helps"] for r in rows] == ["yes", "no", "no", "yes", "", ""]
     assert [r["useless"] for r in rows] == ["", rules.NO_HELP, rules.TUNNELS + "; " + rules.NO_HELP, rules.TUNNELS,
                                             "baseline", ""]
-    with rules.using(rules.Variant(tunnel_limit=10)):
-        assert rules.useless_text(rows[3]) == ""
+    assert rules.useless_text(rows[3], rules.TableRules(tunnel_limit=10)) == ""
     # no depth recorded: a row the depth alone could make help is not judged ("", not "no")
     assert rules.helps_word({"pos_err_max_mm": 9.5}, base) == ""
     assert rules.helps_word({"pos_err_max_mm": 10.5}, base) == "no"

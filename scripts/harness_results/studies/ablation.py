@@ -10,7 +10,6 @@ import json
 import os
 
 from .. import methods, reader, rules, runner, style, writers
-from ..rules import USEFUL
 from .accuracy import FOOTING_VOXELS
 from .common import (PARETO_CAP_MM, PENALTY, columns_of, combine, config_sets, figure_path, figures, footing_voxels,
                      force_label, is_user_row, mark_useless, no_force_bases, notes, paper_eliminator, read_rows,
@@ -96,13 +95,13 @@ def write(a, rows, baseline):
     md = ["# Ablation: force rule and magnitude by voxel size (the voxel model)\n\n",
           "The paper's voxel model with its eliminator for the scenario; constant force F (N per contact), "
           "`auto`, and the depth penalty k (N/m), by voxel size. Errors against the reference (mm) and "
-          "stability as in `accuracy_time.md` (ρ over the loading period); the paper's model is one-sided, so "
+          "stability as in `accuracy_time.md` (%s); the paper's model is one-sided, so "
           "its errors are against the one-sided reference where the scene has one (column `reference`; the "
           "error against the two-sided reference beside it in ablation.csv); useless (whatever the stability): "
           "tunnels, or no better than no force against the same kind of reference; time: detection and "
           "elimination per step, the median over the timing runs' medians (each the same work, run one at "
           "a time, as in the accuracy study; mean and 99th percentile in ablation.csv). Made by "
-          "`scripts/study.py ablation`.\n"]
+          "`scripts/study.py ablation`.\n" % rules.stability_source(rows)]
     reasons = ["% The voxel model's defaults chosen by the rule (made by scripts/study.py)\n"]
     chosen = {}
     for scene in scenes(a):
@@ -155,7 +154,7 @@ def default_text(scene, rows, best, base, footing=0.0):
            "position error; among those within 10 %% "
            "of it, the smallest gap; among those, the fastest. %d of %d settings are stable, %d of them clearly "
            "better than no force, %d of those with voxels at or above the node spacing (%g mm). " % (
-               100 * USEFUL, 100 * USEFUL, base["pos_err_max_mm"], base["depth_max_mm"],
+               100 * rules.WRITTEN.helps, 100 * rules.WRITTEN.helps, base["pos_err_max_mm"], base["depth_max_mm"],
                "two-sided" if (rows[0].get("reference") or "both ways") == "both ways" else "one-sided",
                len(stable), len(rows), len(good), sum(r["voxel_mm"] >= footing for r in good), round(footing, 3)))
     if best is None:
@@ -168,8 +167,7 @@ def default_text(scene, rows, best, base, footing=0.0):
 
 
 def fragility(rows, best, base, footing):
-    """Whether the default stands under the rule's other choices: the marginal band counted stable,
-    every setting and the run without force against the two-sided reference (their
+    """Whether the default stands under the rule's other choices: every setting and the run without force against the two-sided reference (their
     pos_err_max_both_ways_mm), and how many settings qualify at all; "" when there is nothing to say."""
     if base is None:
         return ""
@@ -181,10 +179,6 @@ def fragility(rows, best, base, footing):
                rules.useful(r, base_kind)]
     if best is not None and len(qualify) == 1:
         out.append("it is the only setting that qualifies")
-    with rules.using(rules.Variant(marginal="stable")):
-        other = rules.choose([rules.reclassify_row(r) for r in on], base)
-    if name(other) != name(best):
-        out.append("with the marginal band counted stable the default would be %s" % name(other))
     two = [rules.as_two_sided(r) for r in on]
     other = rules.choose(two, rules.as_two_sided(base))
     if name(other) != name(best):
@@ -192,7 +186,7 @@ def fragility(rows, best, base, footing):
     elif best is not None:
         b2 = next(r for r in two if name(r) == name(best))
         base2 = rules.as_two_sided(base)  # b2 is two-sided too: no mapping needed
-        if b2["pos_err_max_mm"] > USEFUL * base2["pos_err_max_mm"]:
+        if b2["pos_err_max_mm"] > rules.WRITTEN.helps * base2["pos_err_max_mm"]:
             out.append("against the two-sided reference it helps by depth alone (position error %.3g mm against "
                        "%.3g mm without force)" % (b2["pos_err_max_mm"], base2["pos_err_max_mm"]))
     if best is not None and reader.present(best.get("gap_max_mm")) and reader.num(best["gap_max_mm"]) > 0:

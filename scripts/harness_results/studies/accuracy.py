@@ -12,7 +12,6 @@ import math
 import os
 
 from .. import methods, reader, rules, runner, style, writers
-from ..rules import INJECTION_LIMIT, MARGIN
 from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
 from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, columns_of, combine, config_sets, figure_path, figures,
                      folder_name, footing_voxels, force_label, is_user_row, kind_floor_mm, notes, read_rows,
@@ -161,9 +160,7 @@ def write(a, rows):
           "the reference, window mean (max and chatter amplitude beside it); gap_max: largest gap where the "
           "reference has contact, window mean; depth_max: deepest node inside the other body, window maximum; "
           "tunnelled: nodes through the other body; all in mm. Time: detection plus elimination, µs per step, "
-          "median of %d runs (range over them)%s. Stability (scripts/study.py docstring): the contact's power "
-          "over the window against the power put in, rho, with a margin of a factor %g around %g: stable "
-          "(settled, or chatters with rho <= %g), marginal, unstable; chatter: the window's max - min of "
+          "median of %d runs (range over them)%s. Stability: %s; chatter: the window's max - min of "
           "the position error; tunnelled: nodes through the other body, window maximum. Useless, whatever "
           "the stability: \"%s\" (more than %d nodes through the other body) or \"%s\" (position error "
           "not at least %g %% below the run without contact force's, nor depth %g %% below it at no larger "
@@ -178,9 +175,9 @@ def write(a, rows):
              "references), executed one at a time; the error run is not timed; the pooled mean and the median 99th "
              "percentile in the CSV" if protocol else ": the first run settled and measured by CGAL, the others "
              "the scene's steps only, two at a time (the protocol before issue 32's; rerun the study for the "
-             "new one)", MARGIN, INJECTION_LIMIT, INJECTION_LIMIT / MARGIN, rules.TUNNELS,
-             rules.CURRENT.tunnel_limit, rules.NO_HELP, 100 * (1 - rules.USEFUL), 100 * (1 - rules.USEFUL),
-             100 * rules.CURRENT.tie)]
+             "new one)", rules.stability_source(rows), rules.TUNNELS,
+             rules.WRITTEN.tunnel_limit, rules.NO_HELP, 100 * (1 - rules.WRITTEN.helps),
+             100 * (1 - rules.WRITTEN.helps), 100 * rules.WRITTEN.tie)]
     for scene in scenes(a):
         sr = [r for r in rows if r["scene"] == scene]
         front = rules.pareto([r for r in sr if r["config"] != NO_FORCE], floor=kind_floor_mm(a, scene))
@@ -221,10 +218,8 @@ def front_text(rows, front, floor):
     runs = [r for r in rows if r["config"] != NO_FORCE]
     stable = [r for r in runs if r["stable"] == "yes"]
     useless = [r for r in stable if r["useless"]]
-    with rules.using(rules.Variant(tunnel_limit=10)):
-        loose = rules.pareto(runs, floor=floor)
-    with rules.using(rules.Variant(tie=0.0)):
-        no_tie = rules.pareto(runs, floor=0.0)
+    loose = rules.pareto(runs, floor=floor, rule=rules.TableRules(tunnel_limit=10))
+    no_tie = rules.pareto(runs, floor=0.0, rule=rules.TableRules(tie=0.0))
     ok = [r for r in runs if rules.is_evidence(r)]
     strict = [r for r in ok if not any(
         o is not r and o["pos_err_max_mm"] <= r["pos_err_max_mm"] and o["t_contact_us"] <= r["t_contact_us"]

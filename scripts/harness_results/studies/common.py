@@ -205,12 +205,11 @@ def folder_name(scene, label, elim, force):
 
 
 def figures(s):
-    """A run's row: its window figures (reader.window_figures), its stability by the studies' rule
-    (rules.classify), its C++ stability class (`stability_class`: summary.json's stability_verdict,
-    what the claims' judge reads; judge/measure.py) and `forced` ("yes" for a run stopped before its
-    forcing ended: runner.forcing_cut)."""
-    return dict(reader.window_figures(s), forced=runner.forced_text(s), stability_class=reader.stability_verdict(s)
-                or "", **rules.stability_fields(s))
+    """A run's row: its window figures (reader.window_figures), its stability columns from its C++
+    class (rules.stability_fields: stable, stability, stability_class, what the claims' judge reads,
+    judge/measure.py; why_unstable) and `forced` ("yes" for a run stopped before its forcing ended:
+    runner.forcing_cut)."""
+    return dict(reader.window_figures(s), forced=runner.forced_text(s), **rules.stability_fields(s))
 
 
 # ---------------------------------------------------------------------------------------------
