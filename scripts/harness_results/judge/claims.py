@@ -456,22 +456,40 @@ def claim_rt(data, spec):
 SIM_WITHIN = 1.5  # the real-time goal's accuracy (a settled error within 1.5 times the best exact one's)
 
 
+def sim_rows(data, scene):
+    """(row, label, real-time factor on the mean, on the p99) of `scene`'s one-thread CPU runs: the
+    real-time study's (realtime.csv) and the implicit grid's points (realtime_grid.csv), which replace
+    the real-time study's implicit rows where the grid has the scene (those were made before the
+    contact entered the implicit system)."""
+    grid = [r for r in data.csv("realtime_grid.csv") if r.get("scene") == scene
+            and r.get("integrator") == "implicit_euler"]
+    out = []
+    for r in data.csv("realtime.csv"):
+        if r.get("scene") != scene or r.get("device", "cpu") != "cpu" or str(r.get("threads")) not in ("1", "1.0"):
+            continue
+        if grid and r.get("integrator") == "implicit_euler":
+            continue
+        out.append((r, "%s, %s" % (r.get("method"), r.get("mode")), reader.num(r.get("realtime_factor_mean")),
+                    reader.num(r.get("realtime_factor_p99"))))
+    for r in grid:
+        out.append((r, "%s, implicit Euler at dt %s (grid)" % (r.get("method"), g(reader.num(r.get("dt")))),
+                    reader.num(r.get("realtime_factor_mean_t1")), reader.num(r.get("realtime_factor_p99_t1"))))
+    return out
+
+
 def claim_sim(data, spec):
     """Real time, the whole simulator: the step within its budget."""
     effects = []
     for scene in SCENES:
-        rows = [r for r in data.csv("realtime.csv") if r.get("scene") == scene and r.get("device", "cpu") == "cpu"
-                and str(r.get("threads")) in ("1", "1.0")]
         runs, fastest = [], None
-        for r in rows:
-            run = measure(r, spec, data.scenes, label="%s, %s" % (r.get("method"), r.get("mode")), kind="both ways")
-            mean = reader.num(r.get("realtime_factor_mean"))
+        for r, label, mean, p99 in sim_rows(data, scene):
+            run = measure(r, spec, data.scenes, label=label, kind="both ways")
             if not run.failed and (fastest is None or mean > fastest[0]):
                 fastest = (mean, run)
             over = reader.num(r.get("error_over_best"))
             if run.failed or not over == over or over > SIM_WITHIN:
                 continue
-            runs.append((mean, reader.num(r.get("realtime_factor_p99")), run))
+            runs.append((mean, p99, run))
         far = "" if fastest is None else "; at any accuracy: %s, %s" % (fastest[1].label, g(fastest[0]))
         if not runs:
             effects.append(Effect(scene, math.nan, math.nan, math.nan, 1.0, "above",
@@ -484,7 +502,8 @@ def claim_sim(data, spec):
                               runs=(run,)))
     return Result("sim", "Harness: the simulator is real time at the best accuracy",
                   "not the paper's claim: its real-time sentence read for the whole step the unit serves",
-                  "per scene, one thread, among the runs of the real-time study whose settled error is within %g times "
+                  "per scene, one thread, among the runs of the real-time study and the implicit grid (realtime_grid.csv) "
+                  "whose settled error is within %g times "
                   "the best exact method's: the largest real-time factor (budget over the mean step; the 99th "
                   "percentile's as the low end), claimed above 1" % SIM_WITHIN, effects)
 
