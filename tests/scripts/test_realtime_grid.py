@@ -28,3 +28,22 @@ def test_nothing_kept_nothing_chosen():
     assert rg.decide(rows) is None
     assert all(r["chosen"] == "" for r in rows)
     assert rows[2]["why_not"] == "no error measured"
+
+
+def test_the_front_over_the_step_by_hand():
+    # wall s per simulated s: baseline 50e-6/1e-4 = 0.5, k0 1.0, k1 0.5, k2 0.25, k3 0.125 (chatters), k4 0.0625
+    # (tunnels). k0 costs more for the same error: off. k1 ties the baseline in time and is within 10 % in
+    # error: both stay. k2 is faster and 2x farther: on. k3 and k4 are faster still but not evidence.
+    rows = [row("baseline", 1e-4, 1.0, t=50.0), row("k0", 1e-4, 1.0), row("k1", 2e-4, 1.05),
+            row("k2", 4e-4, 2.0), row("k3", 8e-4, 3.0, cls="chatters"), row("k4", 1.6e-3, 3.0, tunnelled=3)]
+    rg.mark_front(rows, 0.0)
+    by = {r["point"]: r for r in rows}
+    assert abs(by["k2"]["wall_per_sim_s"] - 0.25) < 1e-12
+    assert [by[p]["front"] for p in ("baseline", "k0", "k1", "k2", "k3", "k4")] == ["yes", "", "yes", "yes", "", ""]
+    # a reference floor of 1.5 mm makes k2's error equal to the baseline's: k2, now as good and faster, alone
+    rg.mark_front(rows, 1.5)
+    assert [r["point"] for r in rows if r["front"] == "yes"] == ["k2"]
+    # the repeats' ranges: a k2 whose range overlaps the baseline's is no faster, and (worse) drops off
+    rows[3]["t_step_mean_range_t1"] = "50-500"
+    rg.mark_front(rows, 0.0)
+    assert by["k2"]["front"] == ""

@@ -10,12 +10,12 @@ import sys
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 RESULTS = os.path.join(ROOT, "results")
 STUDIES = ["accuracy", "ablation", "convergence", "orient", "swap", "region", "detection", "restriction", "regime",
-           "bullet"]
+           "bullet", "realtime_grid"]
 CSVS = ["accuracy_time.csv", "ablation.csv", "convergence.csv", "orient.csv", "swap.csv", "region.csv", "detection.csv",
-        "restriction.csv", "regime.csv", "bullet.csv"]
+        "restriction.csv", "regime.csv", "bullet.csv", "realtime_grid.csv"]
 WRITTEN = CSVS + ["defaults.json"] + [os.path.join("tables", n) for n in (
     "accuracy_time.md", "accuracy_time_front.tex", "ablation.md", "ablation_defaults.tex", "convergence.md",
-    "orient.md", "swap.md", "region.md", "detection.md", "restriction.md", "regime.md", "bullet.md", "bullet.tex", "bullet_note.tex")]
+    "orient.md", "swap.md", "region.md", "detection.md", "restriction.md", "regime.md", "bullet.md", "bullet.tex", "bullet_note.tex", "realtime_grid.md")]
 
 
 def read(path):

@@ -10,14 +10,21 @@ timings from --repeats runs per thread count (1 and 2), every one the same work 
 time.steps at that dt, no settling, no references), one at a time, alternating the points. A point
 keeps the accuracy when it finished, let no node through, is not of an unstable class (the judge's
 UNSTABLE) nor stopped before its forcing ended, and its error is at most WITHIN times the baseline's; the chosen step is the largest grid
-step that keeps it (column chosen). -> realtime_grid.csv, tables/realtime_grid.md. Cached like
-every study run (results/sweeps/realtime/<scene>/grid_*).
+step that keeps it (column chosen). The front over the integrator and the step (column front, and
+figures/realtime_grid.pdf): per scene, the points that no other point beats on both the error and
+the wall time per simulated second (one thread), beyond the noise (rules.pareto: 10 % and the
+reference's floor on the error; the repeats' ranges on the time), among those that finished, let
+nothing through and are not unstable: what each millisecond buys. -> realtime_grid.csv,
+tables/realtime_grid.md, figures/realtime_grid.pdf; --plots-only writes the last two and the front
+again from the CSV. Cached like every study run (results/sweeps/realtime/<scene>/grid_*).
 """
+import math
 import os
+import re
 
-from .. import reader, writers
+from .. import reader, rules, style, writers
 from ..judge.measure import UNSTABLE
-from .common import figures, scene_doc, scenes, table_path
+from .common import figure_path, figures, reference_floor_mm, scene_doc, scenes, table_path
 from .realtime import realtime_run, timed_run, timing_of
 
 GRID_K = 6          # steps up to 64 times the scene's dt
@@ -107,6 +114,37 @@ def run(a):
     write_outputs(a, rows)
 
 
+def wall_range(r):
+    """(low, high) of the repeats' mean step times at one thread (t_step_mean_range_t1, "lo-hi"), µs;
+    the mean itself twice where the range is not recorded."""
+    m = re.match(r"^\s*([0-9.]+(?:e[+-]?[0-9]+)?)-([0-9.]+(?:e[+-]?[0-9]+)?)\s*$", str(r.get("t_step_mean_range_t1") or ""))
+    t = reader.num(r.get("t_step_mean_us_t1"))
+    return (float(m.group(1)), float(m.group(2))) if m else (t, t)
+
+
+def mark_front(srows, floor_mm):
+    """A scene's rows given wall_per_sim_s (wall seconds per simulated second at one thread: 1 / the
+    real-time factor on the mean) and front ("yes" on the front of error against it, module
+    docstring); returns the front."""
+    shadow = []
+    for r in srows:
+        dt = reader.num(r.get("dt"))
+        t = reader.num(r.get("t_step_mean_us_t1"))
+        lo, hi = wall_range(r)
+        r["wall_per_sim_s"] = t * 1e-6 / dt if dt > 0 else float("nan")
+        ok = (r.get("status") == "ok" and reader.num(r.get("tunnelled"), 0.0) == 0
+              and r.get("stability_class") not in UNSTABLE + ("forced", "failed"))
+        shadow.append({"row": r, "pos_err_max_mm": reader.num(r.get("pos_err_max_mm")), "stable": "yes" if ok else "no",
+                       "tunnelled": 0, "helps": "", "wall_us": r["wall_per_sim_s"],
+                       "wall_min_us": lo * 1e-6 / dt if dt > 0 else float("nan"),
+                       "wall_max_us": hi * 1e-6 / dt if dt > 0 else float("nan")})
+    shadow = [x for x in shadow if not (math.isnan(x["pos_err_max_mm"]) or math.isnan(x["wall_us"]))]
+    front = [x["row"] for x in rules.pareto(shadow, floor=floor_mm, x="wall")]
+    for r in srows:
+        r["front"] = "yes" if any(r is f for f in front) else ""
+    return front
+
+
 def decide(srows):
     """A scene's rows judged in place: each point's error over the baseline's (best_exact_mm,
     error_over_best), whether it keeps the accuracy (keeps, why_not), its step's cost in baseline
@@ -133,18 +171,68 @@ COLS = ["scene", "method", "point", "k", "dt", "integrator", "status", "steps", 
         "cg_mean_iterations", "cg_max_iterations", "cg_unconverged_solves", "t_step_mean_us_t1", "t_step_p99_us_t1",
         "realtime_factor_mean_t1", "realtime_factor_p99_t1", "t_step_mean_range_t1", "t_step_mean_us_t2",
         "t_step_p99_us_t2", "realtime_factor_mean_t2", "realtime_factor_p99_t2", "t_step_mean_range_t2",
-        "cost_in_explicit_steps", "repeats", "machine", "overrides"]
+        "cost_in_explicit_steps", "wall_per_sim_s", "front", "repeats", "machine", "overrides"]
+TEXT = ("scene", "method", "point", "k", "integrator", "status", "stability_class", "keeps", "why_not", "chosen",
+        "t_step_mean_range_t1", "t_step_mean_range_t2", "machine", "overrides", "front")
+
+
+def plots(a):
+    """--plots-only: the front, tables/realtime_grid.md and figures/realtime_grid.pdf again from
+    realtime_grid.csv (its rows as they are otherwise); runs nothing."""
+    rows = reader.read_csv(os.path.join(a.results, "realtime_grid.csv"), text=TEXT, missing=[])
+    if rows:
+        write_outputs(a, rows)
+
+
+def plot_front(a, rows):
+    """figures/realtime_grid.pdf: per scene, the error against the wall time per simulated second
+    (one thread), the explicit baseline and each implicit step, the front joined."""
+    plt = style.pyplot()
+    names = [sc for sc in scenes(a) if any(r["scene"] == sc for r in rows)]
+    if not names:
+        return
+    fig, axes = plt.subplots(1, len(names), figsize=(style.TEXT, 2.3), layout="constrained", squeeze=False)
+    for ax, scene in zip(axes[0], names):
+        sr = [r for r in rows if r["scene"] == scene and not math.isnan(reader.num(r.get("wall_per_sim_s")))]
+        for r in sr:
+            x, y = reader.num(r["wall_per_sim_s"]), reader.num(r["pos_err_max_mm"])
+            implicit = r.get("integrator") == "implicit_euler"
+            ok = r.get("status") == "ok" and reader.num(r.get("tunnelled"), 0.0) == 0 and \
+                r.get("stability_class") not in UNSTABLE
+            ax.plot([x], [y], "o" if implicit else "s", color="C0" if implicit else "C3",
+                    mfc=None if ok else "none", ms=4, zorder=3)
+            ax.annotate(r["point"].replace("baseline", "expl."), (x, y), fontsize=5, xytext=(2, 2),
+                        textcoords="offset points")
+        fr = sorted((r for r in sr if r.get("front") == "yes"), key=lambda r: reader.num(r["wall_per_sim_s"]))
+        if fr:
+            ax.step([reader.num(r["wall_per_sim_s"]) for r in fr], [reader.num(r["pos_err_max_mm"]) for r in fr],
+                    where="post", color="k", lw=0.7, zorder=2)
+        ax.axvline(1.0, color="0.5", lw=0.6, ls=":")  # real time
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(scene.replace("_", " "), fontsize=7)
+        ax.set_xlabel("wall s per simulated s (1 thread)", fontsize=6)
+        ax.tick_params(labelsize=5)
+    axes[0][0].set_ylabel("pos. error (mm)", fontsize=6)
+    fig.savefig(figure_path(a, "realtime_grid.pdf"))
+    plt.close(fig)
 
 
 def write_outputs(a, rows):
-    """realtime_grid.csv and tables/realtime_grid.md."""
+    """The front (mark_front), realtime_grid.csv, tables/realtime_grid.md and figures/realtime_grid.pdf."""
+    for scene in sorted({r["scene"] for r in rows}):
+        mark_front([r for r in rows if r["scene"] == scene], reference_floor_mm(a, scene))
     writers.write_csv(os.path.join(a.results, "realtime_grid.csv"), rows, COLS)
+    plot_front(a, rows)
     short = ["scene", "point", "dt", "integrator", "pos_err_max_mm", "error_over_best", "stability_class", "keeps",
              "why_not", "chosen", "cg_mean_iterations", "t_step_mean_us_t1", "realtime_factor_mean_t1",
-             "realtime_factor_p99_t1", "realtime_factor_mean_t2", "realtime_factor_p99_t2", "cost_in_explicit_steps"]
+             "realtime_factor_p99_t1", "realtime_factor_mean_t2", "realtime_factor_p99_t2", "cost_in_explicit_steps",
+             "wall_per_sim_s", "front"]
     heads = ["scene", "point", "dt (s)", "integrator", "pos. error (mm)", "error / baseline", "class", "keeps",
              "why not", "chosen", "CG iterations (mean)", "step mean, 1 thread (µs)", "RTF mean, 1 thread",
-             "RTF p99, 1 thread", "RTF mean, 2 threads", "RTF p99, 2 threads", "step in baseline steps"]
+             "RTF p99, 1 thread", "RTF mean, 2 threads", "RTF p99, 2 threads", "step in baseline steps",
+             "wall s per simulated s", "front"]
+    repeats = int(max((reader.num(r.get("repeats"), 0) for r in rows), default=0)) or a.repeats
     lines = ["# Real time by the step size", "",
              "The exact method (%s) with implicit Euler at the scene's dt x 2^k, beside the same method with the "
              "explicit integrator at the scene's dt (the baseline). A point keeps the accuracy when it finished, "
@@ -152,7 +240,11 @@ def write_outputs(a, rows):
              "baseline's; `chosen` is the largest step that keeps it. RTF = dt / step time, on the mean and the "
              "99th percentile of the steps, from %s timed runs per thread count, one at a time, each the scene's "
              "time.steps at that dt without settling or references; the error from one settled, measured run. "
+             "`front`: the points no other beats on both the error and the wall time per simulated second (one "
+             "thread) beyond the noise (10 %% and the reference's floor on the error, the repeats' ranges on the "
+             "time), among those that finished, let nothing through and are not unstable "
+             "(figures/realtime_grid.pdf). "
              "Made by `scripts/study.py realtime_grid`; the machine is shared: timings vary."
-             % (METHOD, ", ".join(UNSTABLE), WITHIN, a.repeats), ""]
+             % (METHOD, ", ".join(UNSTABLE), WITHIN, repeats), ""]
     with open(table_path(a, "realtime_grid.md"), "w") as f:
         f.write("\n".join(lines) + "\n" + writers.md_table(rows, short, heads))
