@@ -191,6 +191,12 @@ class Source {
     s.detector = "hash";
     s.cell_size = 0.0;
     add(s, "automatic cell");
+    for (double f : opt_.hash_cells) {  // the cell sweep (--hash-cells)
+      s.cell_size = f * current_surface_edge(w, pair.host);
+      char label[64];
+      std::snprintf(label, sizeof label, "cell x%g", f);
+      add(s, label);
+    }
     s = pair;
     s.detector = "fcl";
     add(s, "triangle pairs (AABB tree)");

@@ -47,6 +47,7 @@ struct DetectionOptions {
   int states = 20;
   int min_rounds = 5;
   double min_seconds = 0.5;  // of timed rounds per source
+  std::vector<double> hash_cells;  // more rows of the spatial hash: its cell at these multiples of the automatic one
   std::string out;
   bool progress = true;
 };

@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -342,6 +343,10 @@ struct DetectionCommand {
     cmd->add_option("--states", o.states, "states per scene, evenly spaced over its steps")->capture_default_str();
     cmd->add_option("--min-rounds", o.min_rounds, "timed rounds at least")->capture_default_str();
     cmd->add_option("--min-time", o.min_seconds, "seconds of timed rounds per source at least")->capture_default_str();
+    cmd->add_option("--hash-cells", o.hash_cells,
+                    "more rows of the spatial hash, its cell at these multiples of the automatic cell (the host's "
+                    "mean surface edge), e.g. 0.5,2,4: the cell sweep")
+        ->delimiter(',');
   }
   int exec() {
     if (o.states < 1) throw InputError("--states", "must be >= 1");
@@ -349,6 +354,8 @@ struct DetectionCommand {
     if (!(o.min_seconds >= 0.0)) throw InputError("--min-time", "must be >= 0");
     for (long long n : o.sizes)
       if (n < 8) throw InputError("--sizes", "nodes per body must be >= 8");
+    for (double f : o.hash_cells)
+      if (!(f > 0.0) || !std::isfinite(f)) throw InputError("--hash-cells", "each multiple must be a positive number");
     if (scenes.empty() && o.sizes.empty()) scenes = {"sphere_collision", "cylinder_press", "implant_expansion"};
     for (const std::string& s : scenes) o.scenes.emplace_back(s, edited_scene(s, sets, false, 0, 1, false, 0.0));
     return run_detection(o);

@@ -83,3 +83,38 @@ TEST_CASE("spatial hashing: inside sets equal CGAL's on 1200 random poses", "[ha
   CHECK(inside > points / 20);  // the test sees plenty of both
   CHECK(inside < points - points / 20);
 }
+
+TEST_CASE("spatial hashing: rays through edges and vertices along every axis and direction", "[hash]") {
+  // An axis-aligned box meshed 4 x 4 x 4 per face, and query points on the lattice of its vertices
+  // and edge midpoints: each point's ray (the shortest way out: any of the six directions) runs
+  // exactly along triangles' edges and through their vertices. The box is analytic: strictly
+  // inside when every coordinate is strictly within it; on a face, edge or corner: outside.
+  World w;
+  ContactSpec pair = contact_spec_defaults();
+  const Vec3 lo(-0.0625, -0.03125, -0.015625), hi = -lo;  // binary fractions: every lattice point exact
+  pair.host = add_body(w, "host", box_surface(lo, hi, Vec3i(4, 4, 4)));
+  Points pts;
+  const Vec3 step = (hi - lo) / 8.0;
+  for (int i = -1; i <= 9; ++i)
+    for (int j = -1; j <= 9; ++j)
+      for (int k = -1; k <= 9; ++k) pts.push_back(lo + Vec3(i * step.x(), j * step.y(), k * step.z()));
+  pair.guest = harness::test::add_body(w, "guest", harness::test::cloud(pts));
+  for (double cell : {0.0, 0.004, 0.011}) {
+    pair.cell_size = cell;
+    HashDetector hash;
+    hash.initialize(w, pair);
+    std::vector<Contact> contacts;
+    hash.detect(w, contacts);
+    std::vector<std::uint8_t> got(pts.size(), 0);
+    for (const Contact& c : contacts) got[c.guest - w.bodies[pair.guest].begin] = 1;
+    int inside = 0;
+    for (std::size_t n = 0; n < pts.size(); ++n) {
+      const Vec3& p = pts[n];
+      const bool truth = (p.array() > lo.array()).all() && (p.array() < hi.array()).all();
+      INFO("cell " << cell << " point " << p.transpose());
+      REQUIRE(static_cast<bool>(got[n]) == truth);
+      inside += truth;
+    }
+    CHECK(inside == 7 * 7 * 7);
+  }
+}

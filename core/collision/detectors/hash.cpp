@@ -87,49 +87,67 @@ void HashDetector::hash_host(const World& w) {
   }
 }
 
-// The signed crossing of the ray from p towards +x with triangle t: its orientation sign in the
-// (y, z) projection when the ray passes through it beyond p, 0 when it misses; 2 when p lies on
-// the triangle (the boundary: outside). Edges are evaluated in one canonical direction, so the
-// two triangles of an edge agree on which side a tie goes (an infinitesimal shift of the ray).
-int HashDetector::crossings(const World& w, const Vec3& p, const Tri& t) const {
+// The signed crossing of the ray from p along axis a (towards +a when up, -a otherwise) with
+// triangle t: its orientation sign in the projection onto the other two axes (b, c) = (a+1, a+2)
+// mod 3, cyclic so that the sign is that of the normal's a component, when the ray passes through
+// it beyond p (negated for a ray towards -a: leaving through a face whose normal points -a), 0
+// when it misses; 2 when p lies on the triangle (the boundary: outside). Edges are evaluated in one
+// canonical direction, so the two triangles of an edge agree on which side a tie goes (an
+// infinitesimal shift of the ray). Axis 0, up: the ray towards +x in the (y, z) projection.
+int HashDetector::crossings(const World& w, const Vec3& p, const Tri& t, int ax, bool up) const {
+  const int by = (ax + 1) % 3, bz = (ax + 2) % 3;
   const Vec3 &a = w.x[host_begin_ + t[0]], &b = w.x[host_begin_ + t[1]], &c = w.x[host_begin_ + t[2]];
-  const double area2 = (b.y() - a.y()) * (c.z() - a.z()) - (b.z() - a.z()) * (c.y() - a.y());
-  if (area2 == 0.0) return 0;  // parallel to x: its neighbours carry the crossing
+  const double area2 = (b[by] - a[by]) * (c[bz] - a[bz]) - (b[bz] - a[bz]) * (c[by] - a[by]);
+  if (area2 == 0.0) return 0;  // parallel to the ray: its neighbours carry the crossing
   const int s = area2 > 0.0 ? 1 : -1;
   auto edge_side = [&](int ip, int iq) {
     const bool canon = ip < iq;
     const Vec3& P = w.x[host_begin_ + (canon ? ip : iq)];
     const Vec3& Q = w.x[host_begin_ + (canon ? iq : ip)];
-    const double dy = Q.y() - P.y(), dz = Q.z() - P.z();
-    double e = dy * (p.z() - P.z()) - dz * (p.y() - P.y());
+    const double dy = Q[by] - P[by], dz = Q[bz] - P[bz];
+    double e = dy * (p[bz] - P[bz]) - dz * (p[by] - P[by]);
     if (e == 0.0) e = dz != 0.0 ? -dz : dy;
     return canon ? e : -e;
   };
   const double eab = s * edge_side(t[0], t[1]), ebc = s * edge_side(t[1], t[2]), eca = s * edge_side(t[2], t[0]);
   if (!(eab > 0.0 && ebc > 0.0 && eca > 0.0)) return 0;
   const double wa = std::fabs(ebc), wb = std::fabs(eca), wc = std::fabs(eab), sum = wa + wb + wc;
-  const double x = sum > 0.0 ? (wa * a.x() + wb * b.x() + wc * c.x()) / sum : (a.x() + b.x() + c.x()) / 3.0;
-  if (x == p.x()) return 2;
-  return x > p.x() ? s : 0;
+  const double x = sum > 0.0 ? (wa * a[ax] + wb * b[ax] + wc * c[ax]) / sum : (a[ax] + b[ax] + c[ax]) / 3.0;
+  if (x == p[ax]) return 2;
+  if (up) return x > p[ax] ? s : 0;
+  return x < p[ax] ? -s : 0;
 }
 
+// The ray goes along the axis and the direction of the shortest way out of the host's box (the
+// fewest cells to walk); x first on a tie.
 bool HashDetector::inside(const World& w, const Vec3& p) {
   if (!p.allFinite() || (p.array() <= lo_.array()).any() || (p.array() >= hi_.array()).any()) return false;
   if (++query_ == 0) std::fill(seen_.begin(), seen_.end(), 0), query_ = 1;
-  const Cell c = cell_of(p);
-  const long long end = cell_of(hi_).i;
+  int ax = 0;
+  bool up = true;
+  double shortest = hi_.x() - p.x();
+  for (int a = 0; a < 3; ++a) {
+    if (hi_[a] - p[a] < shortest) shortest = hi_[a] - p[a], ax = a, up = true;
+    if (p[a] - lo_[a] < shortest) shortest = p[a] - lo_[a], ax = a, up = false;
+  }
+  const Cell c = cell_of(p), far = cell_of(up ? hi_ : lo_);
+  long long cc[3] = {c.i, c.j, c.k};
+  const long long from = cc[ax], to = (ax == 0 ? far.i : ax == 1 ? far.j : far.k), step = up ? 1 : -1;
   int winding = 0;
-  for (long long i = c.i; i <= end; ++i) {
-    const std::size_t q = bucket(i, c.j, c.k);
-    if (stamp_[q] != now_) continue;
-    for (int e = head_[q]; e >= 0; e = entry_next_[e]) {
-      const int f = entry_tri_[e];
-      if (seen_[f] == query_) continue;
-      seen_[f] = query_;
-      const int s = crossings(w, p, faces_[f]);
-      if (s == 2) return false;  // on the surface
-      winding += s;
+  for (long long m = from;; m += step) {
+    cc[ax] = m;
+    const std::size_t q = bucket(cc[0], cc[1], cc[2]);
+    if (stamp_[q] == now_) {
+      for (int e = head_[q]; e >= 0; e = entry_next_[e]) {
+        const int f = entry_tri_[e];
+        if (seen_[f] == query_) continue;
+        seen_[f] = query_;
+        const int sgn = crossings(w, p, faces_[f], ax, up);
+        if (sgn == 2) return false;  // on the surface
+        winding += sgn;
+      }
     }
+    if (m == to) break;
   }
   return winding >= 1;
 }

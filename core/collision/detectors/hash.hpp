@@ -7,7 +7,8 @@
 //      prime of about four entries per triangle; buckets carry a time stamp instead of being
 //      cleared (an entry counts only when its bucket's stamp is this step's);
 //   2. each guest vertex inside the host's bounding box is tested exactly: the signed crossings of
-//      the ray from it towards +x with the triangles hashed along the cells it passes (parity of
+//      the ray from it along the shortest way out of the box (one of +-x, +-y, +-z: the fewest
+//      cells) with the triangles hashed along the cells it passes (parity of
 //      an outward-oriented closed surface: inside when they sum to one; ties, a ray through an
 //      edge or a vertex, are broken by simulating an infinitesimal shift of the ray); its depth and
 //      contact point come from the nearest triangle, searched in growing shells of cells.
@@ -47,7 +48,7 @@ class HashDetector final : public CollisionDetector {
   Cell cell_of(const Vec3& x) const;
   std::size_t bucket(long long i, long long j, long long k) const;
   void hash_host(const World& w);
-  int crossings(const World& w, const Vec3& p, const Tri& t) const;
+  int crossings(const World& w, const Vec3& p, const Tri& t, int axis, bool up) const;
 
   int guest_ = -1;  // the guest body
   int host_begin_ = 0;
