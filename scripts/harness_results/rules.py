@@ -74,7 +74,8 @@ NO_FORCE = "no contact force"
 # Stability of one run
 def stability_fields(s):
     """The stability columns of a study's row from a run's summary (stable above): stable (yes/no),
-    stability and stability_class (the C++ class; "failed" when the run did not end ok),
+    stability and stability_class (the C++ class; "failed" when the run did not end ok, whatever
+    class its window had),
     why_unstable (why it is not stable, "" when it is)."""
     x = reader.stability_inputs(s)
     cls = x["verdict"] or ""
@@ -83,7 +84,7 @@ def stability_fields(s):
             why = "refused: %s" % x["error"]
         else:
             why = "not finite" if x["finite"] is False else str(x["status"])
-        return {"stable": "no", "stability": FAILED, "stability_class": cls or FAILED, "why_unstable": why}
+        return {"stable": "no", "stability": FAILED, "stability_class": FAILED, "why_unstable": why}
     reasons = []
     if x["guard_violations"] > 0:
         reasons.append("dt above the limit")

@@ -46,6 +46,8 @@ def test_a_guard_violation_is_not_stable_whatever_the_class():
 def test_a_run_that_did_not_end_ok_failed(status, finite, why):
     f = rules.stability_fields(summary(status=status, finite=finite, verdict="settled"))
     assert (f["stable"], f["stability"], f["why_unstable"]) == ("no", "failed", why)
+    # the judge reads stability_class first: a run that did not end ok fails there too
+    assert f["stability_class"] == "failed"
 
 
 def test_a_row_of_figures_carries_the_class():
