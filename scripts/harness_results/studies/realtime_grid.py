@@ -122,6 +122,13 @@ def wall_range(r):
     return (float(m.group(1)), float(m.group(2))) if m else (t, t)
 
 
+def evidence(r):
+    """A point the front may rest on: it finished, let nothing through and is neither unstable nor
+    stopped before its forcing ended."""
+    return (r.get("status") == "ok" and reader.num(r.get("tunnelled"), 0.0) == 0
+            and r.get("stability_class") not in UNSTABLE + ("forced", "failed"))
+
+
 def mark_front(srows, floor_mm):
     """A scene's rows given wall_per_sim_s (wall seconds per simulated second at one thread: 1 / the
     real-time factor on the mean) and front ("yes" on the front of error against it, module
@@ -132,9 +139,8 @@ def mark_front(srows, floor_mm):
         t = reader.num(r.get("t_step_mean_us_t1"))
         lo, hi = wall_range(r)
         r["wall_per_sim_s"] = t * 1e-6 / dt if dt > 0 else float("nan")
-        ok = (r.get("status") == "ok" and reader.num(r.get("tunnelled"), 0.0) == 0
-              and r.get("stability_class") not in UNSTABLE + ("forced", "failed"))
-        shadow.append({"row": r, "pos_err_max_mm": reader.num(r.get("pos_err_max_mm")), "stable": "yes" if ok else "no",
+        shadow.append({"row": r, "pos_err_max_mm": reader.num(r.get("pos_err_max_mm")),
+                       "stable": "yes" if evidence(r) else "no",
                        "tunnelled": 0, "helps": "", "wall_us": r["wall_per_sim_s"],
                        "wall_min_us": lo * 1e-6 / dt if dt > 0 else float("nan"),
                        "wall_max_us": hi * 1e-6 / dt if dt > 0 else float("nan")})
@@ -197,8 +203,7 @@ def plot_front(a, rows):
         for r in sr:
             x, y = reader.num(r["wall_per_sim_s"]), reader.num(r["pos_err_max_mm"])
             implicit = r.get("integrator") == "implicit_euler"
-            ok = r.get("status") == "ok" and reader.num(r.get("tunnelled"), 0.0) == 0 and \
-                r.get("stability_class") not in UNSTABLE
+            ok = evidence(r)  # hollow: not evidence
             ax.plot([x], [y], "o" if implicit else "s", color="C0" if implicit else "C3",
                     mfc=None if ok else "none", ms=4, zorder=3)
             ax.annotate(r["point"].replace("baseline", "expl."), (x, y), fontsize=5, xytext=(2, 2),
@@ -214,8 +219,7 @@ def plot_front(a, rows):
         ax.set_xlabel("wall s per simulated s (1 thread)", fontsize=6)
         ax.tick_params(labelsize=5)
     axes[0][0].set_ylabel("pos. error (mm)", fontsize=6)
-    fig.savefig(figure_path(a, "realtime_grid.pdf"))
-    plt.close(fig)
+    style.save(fig, figure_path(a, "realtime_grid"), width=style.TEXT)
 
 
 def write_outputs(a, rows):
