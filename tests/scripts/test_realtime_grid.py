@@ -47,3 +47,23 @@ def test_the_front_over_the_step_by_hand():
     rows[3]["t_step_mean_range_t1"] = "50-500"
     rg.mark_front(rows, 0.0)
     assert by["k2"]["front"] == ""
+
+
+def test_the_explicit_point_at_its_critical_step_is_judged_never_chosen():
+    # the explicit integrator at 0.9 dt_crit: its dt from the baseline's smallest dt_crit, the guard
+    # substepping; judged like a grid point (here it keeps the accuracy at the largest dt) but the
+    # chosen step is the largest implicit one
+    label, k, dt, integrator, args = rg.crit_point(2e-4)
+    assert label == rg.EXPLICIT_CRIT and k == "" and integrator == "symplectic_euler"
+    assert abs(dt - 1.8e-4) < 1e-15 and args == ["--dt", "0.00018", "--set", 'time.guard="substep"']
+    assert rg.crit_point(0.0) is None and rg.crit_point(float("nan")) is None
+    rows = [row("baseline", 1e-4, 1.0, t=50.0), row("k0", 1e-4, 1.0), row("k1", 2e-4, 1.2),
+            row(rg.EXPLICIT_CRIT, 1.8e-4, 1.0, t=60.0), row("k2", 4e-4, 2.0)]
+    chosen = rg.decide(rows)
+    by = {r["point"]: r for r in rows}
+    assert by[rg.EXPLICIT_CRIT]["keeps"] == "yes" and by[rg.EXPLICIT_CRIT]["chosen"] == ""
+    assert chosen["point"] == "k1"
+    assert rg.on_grid(by["k2"]) and not rg.on_grid(by["baseline"]) and not rg.on_grid(by[rg.EXPLICIT_CRIT])
+    # on the front: as accurate as the baseline and 0.9 x its wall time per simulated second
+    rg.mark_front(rows, 0.0)
+    assert abs(by[rg.EXPLICIT_CRIT]["wall_per_sim_s"] - 60e-6 / 1.8e-4) < 1e-12

@@ -4,7 +4,9 @@ real-time factor.
 Per scene, the exact method as the scene writes it (CGAL both ways, the penalty in the implicit
 system: core/implicit.hpp) with implicit Euler on a fixed grid of steps, the scene's dt x 2^k for
 k = 0..GRID_K (--quick: 0..2), beside the same method with the scene's explicit integrator at the
-scene's dt (the baseline, the best exact method's error). Each point's error comes from one run on
+scene's dt (the baseline, the best exact method's error) and at 0.9 of the smallest dt_crit the
+baseline met (EXPLICIT_CRIT, the guard substepping: the explicit integrator's largest safe step,
+judged like the grid's points but never chosen). Each point's error comes from one run on
 one thread, settled and measured against the reference over its final window (not timed); its
 timings from --repeats runs per thread count (1 and 2), every one the same work (the scene's
 time.steps at that dt, no settling, no references), one at a time, alternating the points. A point
@@ -37,9 +39,28 @@ def grid(a):
     return list(range(3 if a.quick else GRID_K + 1))
 
 
+EXPLICIT_CRIT = "explicit 0.9 dt_crit"  # the explicit integrator at its largest safe step, beside the grid
+CRIT_SHARE = 0.9
+
+
+def crit_point(dt_crit_min):
+    """The explicit point at CRIT_SHARE of the smallest dt_crit the baseline met (the guard substeps
+    where a step would pass it), as realtime.csv's mode "0.9 dt_crit"; None when it reported none."""
+    if not dt_crit_min > 0:
+        return None
+    dt = CRIT_SHARE * dt_crit_min
+    return (EXPLICIT_CRIT, "", dt, "symplectic_euler", ["--dt", "%.4g" % dt, "--set", 'time.guard="substep"'])
+
+
+def on_grid(r):
+    """A point of the implicit grid (k0, k1, ...), not the baseline nor the explicit 0.9 dt_crit."""
+    return re.fullmatch(r"k\d+", str(r.get("point", ""))) is not None
+
+
 def points(a, scene):
     """(label, k, dt, integrator, arguments after `harness run SCENE`) of a scene: the explicit
-    baseline, then the implicit grid."""
+    baseline, then the implicit grid (the explicit point at 0.9 dt_crit follows the baseline's run:
+    crit_point)."""
     dt0 = scene_doc(a, scene)["time"]["dt"]
     out = [("baseline", 0, dt0, "symplectic_euler", [])]
     for k in grid(a):
@@ -80,8 +101,13 @@ def run(a):
     """The error runs (-j at once), then the timed repeats one at a time, then the rows."""
     from .. import runner
     plan = [(scene,) + p for scene in scenes(a) for p in points(a, scene)]
-    stem = lambda p: "%s/grid_%s" % (p[0], p[1])  # noqa: E731
+    stem = lambda p: "%s/grid_%s" % (p[0], p[1].replace(" ", "_").replace(".", ""))  # noqa: E731
     errs = runner.parallel(a, lambda p: realtime_run(a, p[0], stem(p) + "_t1", p[5], 1, True), plan)
+    # The explicit point at 0.9 dt_crit: its dt comes from the baseline's run, so its error run follows.
+    crit = [(p[0],) + c for p, s in zip(plan, errs) if p[1] == "baseline"
+            for c in [crit_point(reader.stepping(s)["dt_crit_min"])] if c]
+    plan += crit
+    errs += runner.parallel(a, lambda p: realtime_run(a, p[0], stem(p) + "_t1", p[5], 1, True), crit)
     timed = {}
     for r in range(a.repeats):
         for p in plan:
@@ -95,7 +121,7 @@ def run(a):
             if p[0] != scene:
                 continue
             f = figures(s)
-            r = {"scene": scene, "method": METHOD, "point": p[1], "k": p[2] if p[1] != "baseline" else "",
+            r = {"scene": scene, "method": METHOD, "point": p[1], "k": p[2] if on_grid({"point": p[1]}) else "",
                  "dt": p[3], "integrator": p[4], "status": reader.status(s), "steps": reader.steps_run_or_none(s),
                  "pos_err_max_mm": f["pos_err_max_mm"], "tunnelled": f["tunnelled"],
                  "stability_class": f.get("stability_class", ""), "overrides": " ".join(p[5])}
@@ -153,19 +179,20 @@ def mark_front(srows, floor_mm):
 
 def decide(srows):
     """A scene's rows judged in place: each point's error over the baseline's (best_exact_mm,
-    error_over_best), whether it keeps the accuracy (keeps, why_not), its step's cost in baseline
-    steps (one thread), and the chosen point: the largest step that keeps it (none: no row chosen)."""
+    error_over_best), whether it keeps the accuracy (keeps, why_not; the explicit point at 0.9
+    dt_crit too), its step's cost in baseline steps (one thread), and the chosen point: the largest
+    implicit grid step that keeps it (none: no row chosen)."""
     base = next(r for r in srows if r["point"] == "baseline")
     best = reader.num(base["pos_err_max_mm"])
     base_t = reader.num(base.get("t_step_mean_us_t1"))
     for r in srows:
-        grid_point = r["point"] != "baseline"
+        judged = r["point"] != "baseline"
         r["best_exact_mm"] = best
         r["error_over_best"] = reader.num(r["pos_err_max_mm"]) / best if best > 0 else float("nan")
-        r["why_not"] = keeps(r, best) if grid_point else ""
-        r["keeps"] = ("no" if r["why_not"] else "yes") if grid_point else ""
+        r["why_not"] = keeps(r, best) if judged else ""
+        r["keeps"] = ("no" if r["why_not"] else "yes") if judged else ""
         r["cost_in_explicit_steps"] = reader.num(r.get("t_step_mean_us_t1")) / base_t if base_t > 0 else float("nan")
-    kept = [r for r in srows if r["keeps"] == "yes"]
+    kept = [r for r in srows if r["keeps"] == "yes" and on_grid(r)]
     chosen = max(kept, key=lambda r: r["dt"]) if kept else None
     for r in srows:
         r["chosen"] = "yes" if r is chosen else ""
@@ -206,7 +233,8 @@ def plot_front(a, rows):
             ok = evidence(r)  # hollow: not evidence
             ax.plot([x], [y], "o" if implicit else "s", color="C0" if implicit else "C3",
                     mfc=None if ok else "none", ms=4, zorder=3)
-            ax.annotate(r["point"].replace("baseline", "expl."), (x, y), fontsize=5, xytext=(2, 2),
+            ax.annotate(r["point"].replace("baseline", "expl.").replace(EXPLICIT_CRIT, "expl. 0.9 crit"), (x, y),
+                        fontsize=5, xytext=(2, 2),
                         textcoords="offset points")
         fr = sorted((r for r in sr if r.get("front") == "yes"), key=lambda r: reader.num(r["wall_per_sim_s"]))
         if fr:
@@ -239,9 +267,10 @@ def write_outputs(a, rows):
     repeats = int(max((reader.num(r.get("repeats"), 0) for r in rows), default=0)) or a.repeats
     lines = ["# Real time by the step size", "",
              "The exact method (%s) with implicit Euler at the scene's dt x 2^k, beside the same method with the "
-             "explicit integrator at the scene's dt (the baseline). A point keeps the accuracy when it finished, "
+             "explicit integrator at the scene's dt (the baseline) and at 0.9 of the smallest dt_crit the baseline "
+             "met (`%s`, the guard substepping). A point keeps the accuracy when it finished, "
              "let no node through, is not of an unstable class (%s) and its error is at most %.1f x the "
-             "baseline's; `chosen` is the largest step that keeps it. RTF = dt / step time, on the mean and the "
+             "baseline's; `chosen` is the largest implicit step that keeps it. RTF = dt / step time, on the mean and the "
              "99th percentile of the steps, from %s timed runs per thread count, one at a time, each the scene's "
              "time.steps at that dt without settling or references; the error from one settled, measured run. "
              "`front`: the points no other beats on both the error and the wall time per simulated second (one "
@@ -249,6 +278,6 @@ def write_outputs(a, rows):
              "time), among those that finished, let nothing through and are not unstable "
              "(figures/realtime_grid.pdf). "
              "Made by `scripts/study.py realtime_grid`; the machine is shared: timings vary."
-             % (METHOD, ", ".join(UNSTABLE), WITHIN, repeats), ""]
+             % (METHOD, EXPLICIT_CRIT, ", ".join(UNSTABLE), WITHIN, repeats), ""]
     with open(table_path(a, "realtime_grid.md"), "w") as f:
         f.write("\n".join(lines) + "\n" + writers.md_table(rows, short, heads))
