@@ -46,7 +46,7 @@ double median_of(std::vector<double> v) {
 }
 
 // The generated contact scene of about n nodes per body (bench.hpp).
-Scene make_bench_scene(long long n) {
+Scene make_bench_scene(long long n, bool scene_laws) {
   using nlohmann::json;
   const double s = 1e-3;  // host lattice spacing, m
   const int a = std::max(4, static_cast<int>(std::lround(std::cbrt(4.0 * static_cast<double>(n)))) - 1);
@@ -57,11 +57,15 @@ Scene make_bench_scene(long long n) {
   const double pi = std::acos(-1.0);
   const double R = 0.15 * W, len = 2.0 * pi * R;  // guest cylinder: square cells
   const double zc = D + 0.8 * R - 0.0173 * s;     // lowest 0.2 R inside the layer
-  const json mat = {{"density", 1000}, {"stiffness", 100}, {"law", "cubic"}, {"nonlinearity", 2.0}};
+  const json mat = scene_laws ? json{{"density", 1000}, {"stiffness", 100}, {"law", "exponential"}, {"nonlinearity", 3.0},
+                                      {"damping", 0.0005}, {"mass_damping", 20}}
+                              : json{{"density", 1000}, {"stiffness", 100}, {"law", "cubic"}, {"nonlinearity", 2.0}};
+  const json effects = scene_laws ? json{"springs", "damping", "gravity", "pins", "contact"}
+                                  : json{"springs", "pins", "contact"};
   json doc = {
       {"name", "bench_" + std::to_string(n)},
       {"time", {{"dt", 1e-6}, {"steps", 0}}},
-      {"effects", {"springs", "pins", "contact"}},
+      {"effects", effects},
       {"bodies",
        {{{"name", "layer"},
          {"shape", {{"type", "box"}, {"min", {-0.5 * W, -0.5 * W, 0.0}}, {"max", {0.5 * W, 0.5 * W, D}},
@@ -270,7 +274,7 @@ const std::vector<std::string>& bench_methods() {
                                                  "stream_positions", "step", "step_audited", "stream_step", "arith_floor", "pass_floor",
                                                  "step_order_scene", "step_order_rcm", "step_order_morton",
                                                  "step_shuffled_order_scene", "step_shuffled_order_rcm",
-                                                 "step_shuffled_order_morton", "fcl", "cgal",
+                                                 "step_shuffled_order_morton", "step_scene_laws", "fcl", "cgal",
                                                  "bullet_collide"};
   return names;
 }
@@ -394,6 +398,31 @@ class BenchSize {
                std::string("per step from the initial state; nodes ") + (v.seed ? "shuffled then " : "") + "laid out in " +
                    node_order_name(v.order) + " order" + reps + ratio);
     }
+  }
+
+  // The step on what users run (make_bench_scene's scene_laws: the bundled scenes' exponential law,
+  // dashpots, mass damping and gravity) on the same lattice, timed side by side with the step row
+  // (repetitions taking turns, one thread, each from its initial state); its row's note gives their
+  // ratio and its ns_per_spring is set against pass_floor like the step's (tables/bench.md).
+  void scene_laws_row() {
+    if (!wanted("step_scene_laws")) return;
+    SimulationOptions so;
+    so.audit = false;
+    Simulation laws(make_bench_scene(n_, true), so);
+    const Points x0 = sim_->world().x, v0 = sim_->world().v;
+    std::vector<Timed> t = {{[&] { for (int k = 0; k < StabilityGuard::kEvery; ++k) sim_->step(); }, 1, starter(*sim_)},
+                            {[&] { for (int k = 0; k < StabilityGuard::kEvery; ++k) laws.step(); }, 1, starter(laws)}};
+    std::vector<int> nrep;
+    const std::vector<double> us = time_steps(t, opt_, 1e30, nrep);
+    std::copy(x0.begin(), x0.end(), sim_->world().x.begin());
+    std::copy(v0.begin(), v0.end(), sim_->world().v.begin());
+    char ratio[200];
+    std::snprintf(ratio, sizeof ratio, "; %.3f x the step row side by side (%.1f against %.1f us)", us[1] / us[0],
+                  us[1] / StabilityGuard::kEvery, us[0] / StabilityGuard::kEvery);
+    emit_row("step_scene_laws", 1, us[1] / StabilityGuard::kEvery, nrep[1], 0,
+             std::string("per step from the initial state with the bundled scenes' law and effects (exponential, "
+                         "nonlinearity 3; dashpots 0.0005; mass damping 20; gravity); repetitions of ") +
+                 std::to_string(StabilityGuard::kEvery) + " steps taking turns with the step row" + ratio);
   }
 
   // The paper's grid with the exact narrow phase (detectors/voxel_exact.hpp) on the same state and
@@ -593,6 +622,7 @@ int run_bench(const BenchOptions& opt) {
     BenchSize b(n, opt, out);
     b.core_rows();
     b.order_rows();
+    b.scene_laws_row();
     b.voxel_exact_rows();
     set_threads(1);
     if (opt.references) b.reference_rows();

@@ -80,8 +80,10 @@ const std::vector<std::string>& bench_methods();
 int run_bench(const BenchOptions& options);
 
 struct Scene;
-// The generated contact scene of about n nodes per body (above).
-Scene make_bench_scene(long long n);
+// The generated contact scene of about n nodes per body (above). With `scene_laws`, the same
+// lattice with what the bundled scenes write: the exponential law (nonlinearity 3), a dashpot
+// along each spring (damping 0.0005) and mass damping 20 (the `damping` effect), gravity.
+Scene make_bench_scene(long long n, bool scene_laws = false);
 
 // `harness bench --device cuda`: per size, the device step of the bench scene (rows `step`,
 // median of timed batches of steps, each batch waited for at its end: throughput) and `copy` (one

@@ -165,6 +165,11 @@ def step_ratios(rows, sizes, row):
             row("step / stream over what it reads (%dT)" % t, at, ratio(v, us(rows, "stream_step", n, t)),
                 "<= 3" if goal else "-", (lambda v: v <= 3) if goal else None)
             row("step / force pass floor (%dT)" % t, at, ratio(v, us(rows, "pass_floor", n, t)), "(distance)", None)
+        laws = us(rows, "step_scene_laws", n, 1)
+        row("step with the scenes' laws and effects / force pass floor (1T)", at,
+            ratio(laws, us(rows, "pass_floor", n, 1)), "<= 2.5" if goal else "(distance)", None)
+        row("step with the scenes' laws and effects / step (1T)", at, ratio(laws, us(rows, "step", n, 1)),
+            "(the law's and the dashpots' cost)", None)
         row("energy audit: step_audited / step - 1 (1T)", at,
             (lambda a, b: a / b - 1.0 if a and b else None)(us(rows, "step_audited", n, 1), us(rows, "step", n, 1)),
             "<= 0.1", lambda v: v <= 0.1)
