@@ -27,6 +27,9 @@ fi
 for m in step_order_rcm step_order_morton step_shuffled_order_scene step_shuffled_order_rcm step_shuffled_order_morton; do
   grep -q "^$m,1000,1,[0-9.]*,[0-9]*,.*x the step row's layout side by side" "$T/bench.csv" && ok || bad "row $m"
 done
+# the step with the bundled scenes' law and effects (one thread): timed side by side with the step row
+grep -q "^step_scene_laws,1000,1,[0-9.]*,[0-9]*,.*exponential.*x the step row side by side" "$T/bench.csv" && ok \
+  || bad "row step_scene_laws"
 # step rows carry their ns per spring and their ratio to stream_step of the same run
 head -1 "$T/bench.csv" | grep -q ',ns_per_spring,step_over_stream,device,machine$' && ok \
   || bad "bench ns_per_spring, step_over_stream, device, machine columns"
