@@ -93,6 +93,10 @@ def main():
     ap.add_argument("--cached-only", action="store_true",
                     help="run nothing: write the study's files from the runs already in results/sweeps/, a "
                          "configuration not run yet listed with status 'not run' (stability: failed)")
+    ap.add_argument("--classes-only", action="store_true",
+                    help="accuracy: make the error runs again (so that every row carries the C++ stability class) "
+                         "and keep each row's timings from the committed file where its error reproduces its "
+                         "committed twin's (column timings says which); runs no timing repeat")
     ap.add_argument("--plots-only", action="store_true",
                     help="only redraw the figures of the named studies from their CSVs in --results "
                          "(accuracy_time.csv, ablation.csv, convergence.csv); runs nothing")
@@ -121,6 +125,8 @@ def main():
     if a.user_methods and not set(a.what) <= set(METHOD_STUDIES):
         method_error("is taken by %s only (not %s)" % (", ".join(METHOD_STUDIES),
                                                       ", ".join(w for w in a.what if w not in METHOD_STUDIES)))
+    if a.classes_only and set(a.what) != {"accuracy"}:
+        ap.error("--classes-only: the accuracy study only (got %s)" % ", ".join(a.what))
     if a.voxel is not None and (not a.scene or not a.voxel > 0):
         ap.error("--voxel: a size in m above 0, with --scene (got %g%s)" % (a.voxel, "" if a.scene else ", no --scene"))
     if "card" in a.what or "scorecard" in a.what:

@@ -152,8 +152,8 @@ def repeated(a, scene, folder, sets, repeats=None, compare=True):
     timing runs, folder_t1, folder_t2, ..., every one the same work (the scene's time.steps, no
     references, no settling: a step's time includes no measurement), which run_all executes one at
     a time. The job tuples: (scene, out, sets, compare, timing round or 0); `compare`: the error
-    run's references (run)."""
-    n = a.repeats if repeats is None else repeats
+    run's references (run). study.py --classes-only: the error run alone (common.committed_timings)."""
+    n = 0 if getattr(a, "classes_only", False) else a.repeats if repeats is None else repeats
     timing = [x for x in sets if not x.startswith("references.")] + ["references.solvers=[]", "time.settle=null"]
     return [(scene, os.path.join(a.results, "sweeps", folder), sets, compare, 0)] + [
         (scene, os.path.join(a.results, "sweeps", folder + "_t%d" % r), timing, False, r) for r in range(1, n + 1)]

@@ -13,7 +13,8 @@ import os
 
 from .. import methods, reader, rules, runner, style, writers
 from ..style import DETECTOR_COLOUR, ELIMINATOR_MARKER
-from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, columns_of, combine, config_sets, figure_path, figures,
+from .common import (PARETO_CAP_MM, PENALTY, STUDY_EVERY, columns_of, combine, committed_timings, config_sets,
+                     figure_path, figures,
                      folder_name, footing_voxels, force_label, is_user_row, kind_floor_mm, notes, read_rows,
                      reference_of_kind, resolved_force_label, scenes, table_path, user_fields, user_method_sets,
                      user_methods, user_two_sided, with_both_kinds)
@@ -30,6 +31,7 @@ FOOTING_FORCES = ["0.0005", "0.001", "0.003", "0.01", "auto"]
 BOTH_WAYS = ["contacts.0.two_sided=true"]
 BOUND = "references.volume=true"
 NO_FORCE = rules.NO_FORCE
+TWIN_KEYS = ("scene", "config", "detector", "eliminator", "force", "two_sided", "reference")  # a row's identity
 USELESS_FILL = "0.8"  # the fill of a stable run that tunnels or is no better than no force
 
 
@@ -106,7 +108,7 @@ def run(a):
         with_both_kinds(row, sums[i], kind)  # the other kind, measured on the same steps
         row["one_sided_cost_mm"] = one_sided_cost_mm(a, scene)
         rows.append(row)
-    write(a, rows)
+    write(a, committed_timings(a, "accuracy_time.csv", rows, TWIN_KEYS))
 
 
 def user_row(a, scene, m, s):
@@ -157,16 +159,16 @@ def write(a, rows):
           "converges to; a method both ways against `references/<scene>`; the position error against both beside "
           "it, and one_sided_cost, the two references apart: what one-sidedness alone costs) over the run's final window (`time.window` steps after every driver and "
           "load has finished; CGAL every %d steps): pos_err_max: largest distance of a surface vertex from "
-          "the reference, window mean (max and chatter amplitude beside it); gap_max: largest gap where the "
+          "the reference, window mean (max and swing beside it); gap_max: largest gap where the "
           "reference has contact, window mean; depth_max: deepest node inside the other body, window maximum; "
           "tunnelled: nodes through the other body; all in mm. Time: detection plus elimination, µs per step, "
-          "median of %d runs (range over them)%s. Stability: %s; chatter: the window's max - min of "
-          "the position error; tunnelled: nodes through the other body, window maximum. Useless, whatever "
+          "median of %d runs (range over them)%s. Stability: %s; swing: the window's max - min of "
+          "the position error (the class's chatter is the nodes' motion, not this); tunnelled: nodes through the other body, window maximum. Useless, whatever "
           "the stability: \"%s\" (more than %d nodes through the other body) or \"%s\" (position error "
           "not at least %g %% below the run without contact force's, nor depth %g %% below it at no larger "
           "error). The Pareto front (error against time) is drawn from the evidence only: stable and not "
           "useless. A row is off it when another is no worse on both and better beyond the noise on one "
-          "(error: the larger of %g %% of it, the two chatters summed and the floor of the references the two rows "
+          "(error: the larger of %g %% of it, the two swings summed and the floor of the references the two rows "
           "are measured against; time: the "
           "medians apart and the ranges over the runs disjoint); rows within the noise of each other on both "
           "stay on it together. Every row is listed with its rho and reason. Made by "
@@ -192,7 +194,7 @@ def write(a, rows):
                                     "tunnelled", "t_contact_us", "t_contact_range", "front", "why_unstable"],
                                    ["method", "elim.", "force", "stability", "useless", "reference",
                                     "pos. error max (mm)", "against one-sided (mm)", "against both ways (mm)",
-                                    "chatter (mm)", "gap max (mm)", "depth max (mm)", "tunnelled",
+                                    "error swing (mm)", "gap max (mm)", "depth max (mm)", "tunnelled",
                                     "detect+elim (µs/step)", "range", "front", "why unstable"]))
         md.append(notes(sr))
         plot_pareto(a, scene, sr, front)
@@ -228,7 +230,7 @@ def front_text(rows, front, floor):
               if isinstance(floor, rules.KindFloor) else "reference floor %.3g mm" % floor)
     return ("Front: %d points, from %d stable runs of %d less the %d useless ones (%s). "
             "Allowing up to 10 tunnelled nodes it would have %d points; with no relative tie and no floor "
-            "(the chatters and the times' ranges still counted) %d; under strict dominance on the figures "
+            "(the swings and the times' ranges still counted) %d; under strict dominance on the figures "
             "as written %d." % (len(front), len(stable), len(runs), len(useless), floors, len(loose), len(no_tie),
                                 len(strict)))
 

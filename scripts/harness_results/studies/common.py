@@ -7,7 +7,7 @@ import os
 import subprocess
 import tempfile
 
-from .. import methods, reader, rules, runner
+from .. import methods, reader, rules, runner, writers
 
 SCENES = ["sphere_collision", "cylinder_press", "implant_expansion"]
 # The paper's eliminator for each scenario (line for the spheres and the cylinder, plane for the implant).
@@ -245,7 +245,7 @@ def resolved_force_label(c):
     return force_label(f if isinstance(f, str) else json.dumps(f))
 
 
-OPTIONAL_COLUMNS = ("method", "overrides", "forced", "stability_class")
+OPTIONAL_COLUMNS = ("method", "overrides", "forced", "stability_class", "timings")
 
 
 def is_user_row(r):
@@ -262,7 +262,8 @@ def columns_of(cols, rows, optional=OPTIONAL_COLUMNS):
     """A study's CSV columns: `cols`, then those of `optional` (OPTIONAL_COLUMNS) some row fills (method and
     overrides, the user's method's name and overrides on its rows and empty on the built-in ones,
     where a --method added rows; forced where a run was stopped before its forcing
-    ended): the files of runs without them are as they were."""
+    ended; stability_class where the runs carry the C++ class; timings where --classes-only kept
+    the committed timings, committed_timings): the files of runs without them are as they were."""
     return list(cols) + [c for c in optional if c not in cols and
                          any(isinstance(r.get(c), str) and r.get(c) for r in rows)]
 
@@ -307,6 +308,42 @@ def timing_runs(summaries):
     """The timing repeats of runner.repeated's runs that ran (a repeat not run, study.py --cached-only,
     or refused has no time); the error run where there are none."""
     return [s for s in summaries[1:] if reader.status(s) not in ("not run", "refused")] or summaries[:1]
+
+
+# study.py --classes-only: the error runs made again (the binary as it stands: every run then carries
+# the C++ stability class), the timings kept from the committed file. The same states give the same
+# errors: a row whose error does not reproduce its committed twin's to the digits the file keeps is
+# reported, and its timings are not kept (they would describe other runs).
+
+
+def committed_timings(a, name, rows, keys):
+    """With --classes-only, each row's timing columns (t_*_us and their ranges, repeats, machine) taken
+    from its committed twin in results/NAME (the same `keys`), where the row's pos_err_max_mm and
+    tunnelled reproduce the twin's; rows stamped `timings` ("committed" or why not). Returns the rows;
+    prints the rows that do not reproduce. Without --classes-only the rows as they are."""
+    if not getattr(a, "classes_only", False):
+        return rows
+    old = read_rows(a, name) or []
+    key = lambda r: tuple(str(r.get(k, "")) for k in keys)  # noqa: E731
+    twins = {key(r): r for r in old}
+    for r in rows:
+        t = twins.get(key(r))
+        if t is None:
+            r["timings"] = "no committed twin: timings of the error run"
+            continue
+        # as the file writes them (writers.cell: six digits), the error and the tunnelled nodes
+        e, e0 = reader.num(r.get("pos_err_max_mm")), reader.num(t.get("pos_err_max_mm"))
+        same = writers.cell(e) == writers.cell(e0) and \
+            writers.cell(reader.num(r.get("tunnelled"), 0.0)) == writers.cell(reader.num(t.get("tunnelled"), 0.0))
+        if not same:
+            r["timings"] = "error %s mm does not reproduce the committed %s mm: timings of the error run" % (e, e0)
+            print("study: %s %s: %s" % (name, " / ".join(key(r)), r["timings"]))
+            continue
+        for c, v in t.items():
+            if c.startswith("t_") or c in ("repeats", "machine"):
+                r[c] = v
+        r["timings"] = "committed"
+    return rows
 
 
 def combine(summaries):
