@@ -1,7 +1,7 @@
 """study.py card: one scene's verdict at a glance (docs/tutorial.md). The scene's contact run with
 each detector (its own eliminator and force), beside the same scene with no contact force, every
 run compared with the scene's converged reference and judged as the studies judge (rules.py):
-error over the final window, chatter, stability class, tunnelling, "helps" (rules.useful against
+error over the final window, its swing, stability class, tunnelling, "helps" (rules.useful against
 the no-force run), time per step (mean and 99th percentile of steps.csv's t_step_us: one run at a
 time, one thread). Writes OUT/card.md, OUT/card.csv, OUT/card.{png,pdf}; the runs are a
 `harness sweep --baseline` in OUT/runs/ (cached: delete it to rerun), the reference (when none is
@@ -115,7 +115,7 @@ def row(folder, method, overrides=()):
 
 def judge(rows, base, floor_mm=0.0):
     """Each row's helps / useless words, and the one-sentence verdict: the closest of the stable
-    methods that help, or those within the noise of it (rules.noise: 10 %, the two chatters, the
+    methods that help, or those within the noise of it (rules.noise: 10 %, the two swings, the
     reference's floor `floor_mm`) with the fastest of them named."""
     for r in rows:
         r["helps"] = "yes" if rules.useful(r, base) else "no"
@@ -167,7 +167,7 @@ def describe(r):
 
 COLUMNS = ["method", "pos_err_max_mm", "pos_err_amp_mm", "depth_max_mm", "stability", "tunnelled_total", "helps",
            "useless", "t_mean_us", "t_p99_us", "t_max_us", "why_unstable", "forced", "folder", "overrides"]
-HEADS = ["method", "error (mm)", "chatter (mm)", "depth (mm)", "stability", "tunnelled", "helps", "useless",
+HEADS = ["method", "error (mm)", "error swing (mm)", "depth (mm)", "stability", "tunnelled", "helps", "useless",
          "step mean (µs)", "step p99 (µs)", "step max (µs)", "why unstable", "still forced", "run", "overrides"]
 
 
@@ -207,7 +207,7 @@ def write(out, name, ref, rows, base, sentence, card_sets=(), user=()):
           forced_text(all_rows),
           writers.md_table([dict(r, overrides=r["overrides"].replace("|", "\\|")) for r in all_rows], COLUMNS, HEADS),
           "\nError: the largest node distance from the reference's settled surfaces, mean over the final window "
-          "(chatter: its max - min there); depth: the deepest true penetration (CGAL) in the window. Reference: `%s`, "
+          "(swing: its max - min there); depth: the deepest true penetration (CGAL) in the window. Reference: `%s`, "
           "%s, floor %.3g mm (%s): errors closer than that are not told apart. Stability and \"helps\" by the studies' "
           "rules (`scripts/study.py --help`); times from one run at a time on one thread, measurement excluded (the "
           "run with no contact force still detects: no time is given for it). "
@@ -238,7 +238,7 @@ def plot(out, name, rows, base, floor_mm, card_sets=(), user=()):
     if floor_mm == floor_mm:
         ax1.axvspan(0, floor_mm, color="0.85", label="reference floor")
     ax1.set_yticks(ys, [r["method"] for r in rows])
-    ax1.set_xlabel("error over the window (mm; whisker: chatter)")
+    ax1.set_xlabel("error over the window (mm; whisker: swing)")
     ax1.legend(loc="best", fontsize=style.SMALL)
     ax2.barh(ys, [r["t_mean_us"] for r in rows], color=colour)
     ax2.plot([r["t_p99_us"] for r in rows], ys, "k|", markersize=8, label="p99")

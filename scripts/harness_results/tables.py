@@ -3,7 +3,7 @@ summary.json, frames), written as RESULTS_DIR/tables/<name>.{md,tex,csv} (writer
 
   accuracy      per scenario and eliminator: truly penetrating nodes (guest + host) at the end and
                 at the peak (steps.csv, CGAL), deepest node at the end and its peak, the window's
-                position error against the reference and its chatter, recall, precision, tunnelled
+                position error against the reference and its swing, recall, precision, tunnelled
                 nodes, stability (the run's C++ class: rules.stability_fields)
   deformation   per body: largest displacement max_i |x_i(end) - x_i(0)| over the surface vertices
                 (first and last frames), and largest deformation max_i |d_i - mean(d)| (d_i the
@@ -238,7 +238,7 @@ def accuracy_row(r, bases):
 
 
 # accuracy.tex's header spans two columns per pair of figures: the line below it names them.
-ACCURACY_SUBHEADER = " & & & & & final & peak & final & peak & window & chatter & & (mm) & & & & & \\\\\n"
+ACCURACY_SUBHEADER = " & & & & & final & peak & final & peak & window & swing & & (mm) & & & & & \\\\\n"
 
 
 def accuracy_table(root, data):
@@ -249,13 +249,13 @@ def accuracy_table(root, data):
         "inside the other body (CGAL), at the last step and the peak over the measured steps. "
         "Depth: deepest node inside the other body (mm), at the last step and its peak over the run. "
         "Position error against the reference of the run's kind (the paper's model is one-sided: against the "
-        "one-way reference where the scene has one, measured beside the both-ways one): window mean and chatter "
+        "one-way reference where the scene has one, measured beside the both-ways one): window mean and swing "
         "(max - min over the window), mm; the reference it is against, and the error against the both-ways "
         "reference beside. "
         "Tunnelled: peak of the nodes that passed through. Stability: the studies' rule (rules.py); "
         "useless, whatever the stability: tunnels (over the window) or no better than no force.",
         ["scenario", "eliminator", "force", "voxel (mm)", "steps", "pen. final", "pen. peak",
-         "depth final (mm)", "depth peak (mm)", "pos. error (mm)", "chatter (mm)", "reference",
+         "depth final (mm)", "depth peak (mm)", "pos. error (mm)", "error swing (mm)", "reference",
          "pos. error both ways (mm)", "recall", "precision", "tunnelled", "stability", "useless"],
         [accuracy_row(r, bases) for r in data],
         tex_header=["scenario", "elim.", "force", "$v$ (mm)", "steps", "\\multicolumn{2}{c}{penetrating}",

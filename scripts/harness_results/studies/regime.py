@@ -204,7 +204,7 @@ def write(a, rows):
                                         "ep_episodes", "ep_p90", "ep_failed_frac", "ep_peak_frac", "why_unstable",
                                         "reference", "pos_err_max_both_ways_mm"],
                                    ["regime", "elim.", "force", "voxel (mm)", "swapped", "stability", "useless",
-                                    "pos. error max (mm)", "chatter (mm)", "depth max (mm)", "tunnelled",
+                                    "pos. error max (mm)", "error swing (mm)", "depth max (mm)", "tunnelled",
                                     "episodes", "p90 (scene steps)", "failed", "peak share", "why unstable",
                                     "reference", "pos. error both ways (mm)"]))
         md.append("\n")

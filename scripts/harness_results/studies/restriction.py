@@ -121,7 +121,7 @@ def write(a, rows):
                                         "t_contact_p99_us", "t_contact_us", "t_eliminate_mean_us", "t_bound_us",
                                         "why_unstable"],
                                    ["detector", "response", "stability", "useless", "pos. error max (mm)",
-                                    "chatter (mm)", "depth max (mm)", "tunnelled", "steps run", "mean (µs)",
+                                    "error swing (mm)", "depth max (mm)", "tunnelled", "steps run", "mean (µs)",
                                     "p99 (µs)", "median (µs)", "response alone, mean (µs)", "bound (µs)",
                                     "why unstable"]))
         md.append("\n")
