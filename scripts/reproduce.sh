@@ -14,7 +14,7 @@
 #                 runs (minutes, not hours), and nothing written into results/ or paper/ but
 #                 paper/main.pdf: in a folder of its own (build/paper-only/, a copy of results/ and
 #                 paper/) it redraws every figure from the committed runs and CSVs (figures.py;
-#                 plot_bench.py; study.py accuracy ablation convergence realtime --plots-only),
+#                 plot_bench.py; study.py accuracy ablation convergence realtime realtime_grid --plots-only),
 #                 rewrites tables/counts.tex (counts.py) and runs latexmk, then copies main.pdf to
 #                 paper/. Installs LaTeX and matplotlib if missing (install-deps.sh --latex). The
 #                 tables are the committed ones.
@@ -87,7 +87,7 @@ if [[ $paper_only -eq 1 ]]; then
   # the report prints them; then the counts the text quotes.
   "$PYTHON" scripts/figures.py "$stage/results"
   [[ -f "$stage/results/bench.csv" ]] && "$PYTHON" scripts/plot_bench.py "$stage/results/bench.csv" "$stage/results"
-  "$PYTHON" scripts/study.py accuracy ablation convergence realtime --plots-only --results "$stage/results"
+  "$PYTHON" scripts/study.py accuracy ablation convergence realtime realtime_grid --plots-only --results "$stage/results"
   "$PYTHON" scripts/counts.py "$stage/results"
   build_paper "$stage/paper"
   cp "$stage/paper/main.pdf" paper/main.pdf

@@ -273,16 +273,17 @@ def test_reversals_name_the_specification():
 
 
 def test_claim_sim_reads_the_implicit_grid(tmp_path):
-    """(sim): the implicit grid's points enter and replace the real-time study's implicit rows (made
-    before the contact was in the implicit system); a point beyond 1.5x the best error does not count."""
+    """(sim): where the implicit grid has the scene its points alone are read (one timing session;
+    the real-time study's rows were timed on another day, its implicit rows before the contact was in
+    the implicit system); a point beyond 1.5x the best error does not count."""
     def rt(mode, integrator, factor, over, stability="stable"):
         return {"scene": "sphere_collision", "method": "cgal", "mode": mode, "threads": 1, "integrator": integrator,
                 "realtime_factor_mean": factor, "realtime_factor_p99": factor / 2, "error_over_best": over,
                 "pos_err_max_mm": 1.0, "pos_err_amp_mm": 0.0, "tunnelled": 0, "stability": stability,
                 "status": "ok"}
 
-    def pt(dt, factor, over, cls="steady"):
-        return {"scene": "sphere_collision", "method": "cgal", "integrator": "implicit_euler", "dt": dt,
+    def pt(dt, factor, over, cls="steady", integrator="implicit_euler"):
+        return {"scene": "sphere_collision", "method": "cgal", "integrator": integrator, "dt": dt,
                 "realtime_factor_mean_t1": factor, "realtime_factor_p99_t1": factor / 2, "error_over_best": over,
                 "pos_err_max_mm": 1.0, "tunnelled": 0, "stability_class": cls, "status": "ok"}
     write_csv(str(tmp_path / "realtime.csv"), [rt("scene dt", "symplectic_euler", 0.2, 1.0),
@@ -295,3 +296,7 @@ def test_claim_sim_reads_the_implicit_grid(tmp_path):
     e = effect([pt(1e-4, 0.5, 1.4), pt(2e-4, 3.0, 2.0)])  # the stale row goes; 3.0 is too inaccurate
     assert e.value == pytest.approx(0.5) and "grid" in e.note and e.outcome == claims.AGAINST
     assert effect([pt(1e-4, 1.2, 1.4), pt(2e-4, 4.0, 1.3, cls="chatters")]).value == pytest.approx(1.2)
+    # the study's explicit row (0.2, another session) is not read beside the grid; the grid's own explicit point is
+    assert effect([pt(1e-4, 0.1, 1.4)]).value == pytest.approx(0.1)
+    e = effect([pt(1e-4, 0.1, 1.4), pt(5e-5, 0.3, 1.0, integrator="symplectic_euler")])
+    assert e.value == pytest.approx(0.3) and "explicit" in e.note
