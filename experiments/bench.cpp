@@ -420,8 +420,8 @@ class BenchSize {
     std::snprintf(ratio, sizeof ratio, "; %.3f x the step row side by side (%.1f against %.1f us)", us[1] / us[0],
                   us[1] / StabilityGuard::kEvery, us[0] / StabilityGuard::kEvery);
     emit_row("step_scene_laws", 1, us[1] / StabilityGuard::kEvery, nrep[1], 0,
-             std::string("per step from the initial state with the bundled scenes' law and effects (exponential, "
-                         "nonlinearity 3; dashpots 0.0005; mass damping 20; gravity); repetitions of ") +
+             std::string("per step from the initial state with the bundled scenes' law and effects (exponential "
+                         "law of nonlinearity 3; dashpots 0.0005; mass damping 20; gravity); repetitions of ") +
                  std::to_string(StabilityGuard::kEvery) + " steps taking turns with the step row" + ratio);
   }
 

@@ -94,9 +94,12 @@ Scene edited_scene(const std::string& scene, const std::vector<std::string>& set
   }
   SceneSource src = read_scene_source(resolve_scene(scene));
   for (const auto& [k, v] : overrides) apply_override(src.doc, k, v);
-  if (dt_given) rescale_to_dt(src.doc, dt);
+  std::vector<std::string> rounded;
+  if (dt_given) rounded = rescale_to_dt(src.doc, dt);
   else rescale_steps(src.doc, dt_divide);
-  return scene_from_source(src);
+  Scene out = scene_from_source(src);
+  out.edit_warnings = std::move(rounded);
+  return out;
 }
 
 #ifndef HARNESS_HAVE_BULLET

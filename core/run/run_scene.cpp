@@ -131,6 +131,11 @@ std::unique_ptr<Comparison> open_comparison(const std::string& dir, const char* 
 // The warnings before the first step, printed (input errors with --strict: nothing written yet).
 std::vector<std::string> take_start_warnings(const Scene& scene, const Simulation& sim, bool strict) {
   std::vector<std::string> warnings;
+  for (const std::string& e : scene.edit_warnings) {  // --dt: a count rounded (the scene's times changed)
+    if (strict) throw InputError("--dt", e + " (--strict)");
+    std::fprintf(stderr, "harness: warning: --dt: %s\n", e.c_str());
+    warnings.push_back("--dt: " + e);
+  }
   for (const Warning& wn : start_warnings(sim)) {
     if (strict) throw InputError(scene.file + ": " + wn.key, wn.message + " (--strict)");
     std::fprintf(stderr, "harness: warning: %s: %s\n", wn.key.c_str(), wn.message.c_str());

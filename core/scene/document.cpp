@@ -6,8 +6,10 @@
 
 #include "core/scene/check.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -176,7 +178,22 @@ long long scaled(long long n, double ratio, bool first_step) {
   return std::max<long long>(1, std::llround(v));
 }
 
-void scale_count(json& obj, const SceneKey& k, double ratio) {
+// A count of the scene's forcing (a driver's steps, a load's or a pressure's ramp) that the ratio
+// does not carry to a whole number of steps: the forcing changes (a driver's travel, a ramp's
+// length) by the rounding; said (path, old count, exact value, new count) so that the run can warn.
+// Counts of running and measuring (time.steps, the window, settling, references.every, frames) are
+// rounded without a word: they change what is recorded, not the scene.
+bool forcing_kind(const std::string& kind) { return kind == "driver" || kind == "load" || kind == "pressure"; }
+
+void note_rounding(std::vector<std::string>* notes, const std::string& path, long long n, double exact, long long m) {
+  if (!notes || std::fabs(exact - static_cast<double>(m)) <= 1e-9 * std::max(1.0, exact)) return;
+  char b[200];
+  std::snprintf(b, sizeof b, "%lld steps at the scene's time.dt are %.6g at --dt, rounded to %lld (%+.2g %%)", n, exact, m,
+                100.0 * (static_cast<double>(m) - exact) / exact);
+  notes->push_back(path + ": " + b);
+}
+
+void scale_count(json& obj, const SceneKey& k, double ratio, const std::string& path, std::vector<std::string>* notes) {
   auto it = obj.find(k.name);
   if (it == obj.end()) {
     // Left out: its default counts steps too.
@@ -186,27 +203,36 @@ void scale_count(json& obj, const SceneKey& k, double ratio) {
   long long n = 0;
   if (!integral(*it, n) || n <= 0 || static_cast<double>(n) * ratio > 9.0e15) return;  // the loader's to report
   const long long whole = std::llround(ratio);
-  if (static_cast<double>(whole) == ratio)  // whole: exact integer arithmetic
+  if (static_cast<double>(whole) == ratio) {  // whole: exact integer arithmetic
     *it = k.steps == StepCount::first_step ? (n - 1) * whole + 1 : n * whole;
-  else
-    *it = scaled(n, ratio, k.steps == StepCount::first_step);
+  } else {
+    const bool first = k.steps == StepCount::first_step;
+    const long long m = scaled(n, ratio, first);
+    if (forcing_kind(k.kind))
+      note_rounding(notes, path + k.name, n, first ? static_cast<double>(n - 1) * ratio + 1.0 : static_cast<double>(n) * ratio, m);
+    *it = m;
+  }
 }
 
-void rescale_object(json& obj, const std::string& kind, double factor) {
+// `path`: the key path of `obj` with its trailing dot ("" at the top); `notes` (may be null): the
+// counts that were rounded (note_rounding).
+void rescale_object(json& obj, const std::string& kind, double factor, const std::string& path = "",
+                    std::vector<std::string>* notes = nullptr) {
   for (const SceneKey& k : scene_keys()) {
     if (kind != k.kind) continue;
     if (k.steps != StepCount::none) {
-      scale_count(obj, k, factor);
+      scale_count(obj, k, factor, path, notes);
     } else if (k.type == KeyType::object) {
       auto it = obj.find(k.name);
       if (it == obj.end() && k.presence == Presence::defaulted && positive_step_default(k.of))
         it = obj.emplace(k.name, json::object()).first;
-      if (it != obj.end() && it->is_object()) rescale_object(*it, k.of, factor);
+      if (it != obj.end() && it->is_object()) rescale_object(*it, k.of, factor, path + k.name + ".", notes);
     } else if (k.type == KeyType::list) {
       auto it = obj.find(k.name);
       if (it != obj.end() && it->is_array())
-        for (json& e : *it)
-          if (e.is_object()) rescale_object(e, k.of, factor);
+        for (std::size_t i = 0; i < it->size(); ++i)
+          if ((*it)[i].is_object())
+            rescale_object((*it)[i], k.of, factor, path + k.name + "." + std::to_string(i) + ".", notes);
     }
   }
 }
@@ -224,13 +250,14 @@ void rescale_steps(json& doc, int factor) {
   rescale_object(doc, "scene", factor);
 }
 
-void rescale_to_dt(json& doc, double dt) {
+std::vector<std::string> rescale_to_dt(json& doc, double dt) {
+  std::vector<std::string> notes;
   if (!(dt > 0.0) || !std::isfinite(dt)) throw InputError("--dt", "must be a time step > 0, s");
   if (!doc.is_object() || !doc.contains("time") || !doc["time"].is_object() || !doc["time"].contains("dt") ||
       !doc["time"]["dt"].is_number())
-    return;  // the loader reports the scene's time.dt
+    return notes;  // the loader reports the scene's time.dt
   const double scene_dt = doc["time"]["dt"].get<double>();
-  if (!(scene_dt > 0.0) || !std::isfinite(scene_dt)) return;  // the loader reports it
+  if (!(scene_dt > 0.0) || !std::isfinite(scene_dt)) return notes;  // the loader reports it
   const double ratio = scene_dt / dt;
   const double n = std::round(ratio);
   if (!(ratio <= 1e6) || !(ratio >= 1e-6))
@@ -239,9 +266,10 @@ void rescale_to_dt(json& doc, double dt) {
   if (n >= 1.0 && std::fabs(ratio - n) <= 1e-9 * ratio) {
     rescale_steps(doc, static_cast<int>(n));  // a whole divisor: exact
   } else {
-    rescale_object(doc, "scene", ratio);  // any other: every count rounded
+    rescale_object(doc, "scene", ratio, "", &notes);  // any other: every count rounded, the roundings said
   }
   doc["time"]["dt"] = dt;
+  return notes;
 }
 
 Scene rescale_dt(const Scene& scene, int factor) {

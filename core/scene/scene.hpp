@@ -150,6 +150,9 @@ struct Scene {
   FrameFormat frame_format{};
   bool trajectory = false;  // output.trajectory: DIR/trajectory.bin (run/surfaces.hpp)
   nlohmann::json resolved;  // the scene with every default written in
+  // What the command line's edits changed beyond what was asked (rescale_to_dt's rounded counts):
+  // a run prints each as a warning, records it in summary.json `warnings`, refuses it with --strict.
+  std::vector<std::string> edit_warnings;
 
   bool has(EffectFlag e) const { return (effects & e) != 0; }
 };
@@ -193,8 +196,11 @@ void rescale_steps(nlohmann::json& doc, int factor);
 // The same scene at time step `dt` (s) over the same physical time: every step count times
 // ratio = the scene's time.dt / dt, exactly when the ratio is whole (rescale_steps), rounded to
 // the nearest count (at least 1) otherwise; then time.dt = dt. Throws InputError("--dt", ...) for
-// a dt that is not positive or is more than 1e6 times off.
-void rescale_to_dt(nlohmann::json& doc, double dt);
+// a dt that is not positive or is more than 1e6 times off. Returns one line per count of the scene's
+// forcing (drivers' steps, load and pressure ramps) the ratio did not carry to a whole number
+// ("KEY.PATH: N steps at the scene's time.dt are X at --dt, rounded to M (...)"): there the forcing
+// changes (a driver's travel, a ramp's length); a run warns of each (Scene::edit_warnings).
+std::vector<std::string> rescale_to_dt(nlohmann::json& doc, double dt);
 // rescale_steps on a validated scene's resolved document, validated again (tests).
 Scene rescale_dt(const Scene& scene, int factor);
 

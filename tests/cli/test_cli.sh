@@ -38,8 +38,8 @@ grep -q 'type="PolyData"' "$f" && grep -q 'Name="signed_distance"' "$f" && ok ||
   && f=$(ls "$T"/legacy/frames/*_000000.vtk | head -1) && head -5 "$f" | grep -q "DATASET POLYDATA" \
   && grep -q "^POLYGONS" "$f" && ! ls "$T"/legacy/frames/*.pvd >/dev/null 2>&1 && ok || bad "legacy VTK polydata"
 # --dt S runs the scene at time step S over the same physical time: the same state as --dt-divide
-# with the same factor (every step count scaled from the key table), and a step that does not
-# divide the scene's is refused.
+# with the same factor (every step count scaled from the key table); a step that is not positive
+# is refused.
 "$H" run cylinder_press --out "$T/div" --steps 10 --dt-divide 2 --set 'references.solvers=[]' --quiet \
   && "$H" run cylinder_press --out "$T/dt" --steps 10 --dt 2.5e-5 --set 'references.solvers=[]' --quiet \
   && [[ "$(grep -o '"state_hash": "[0-9a-f]*"' "$T/div/summary.json")" == "$(grep -o '"state_hash": "[0-9a-f]*"' "$T/dt/summary.json")" ]] \
@@ -47,6 +47,16 @@ grep -q 'type="PolyData"' "$f" && grep -q 'Name="signed_distance"' "$f" && ok ||
 # --dt not a divisor of the scene's dt: every count rounded (10 steps of 5e-5 s: 17 of 3e-5 s).
 "$H" run cylinder_press --out "$T/dt3" --steps 10 --dt 3e-5 --quiet 2>"$T/err"; rc=$?
 [[ $rc -eq 0 ]] && grep -q '"steps_run": 17' "$T/dt3/summary.json" && ok || bad "--dt not a divisor: exit $rc"
+# ... and each rounded count of the forcing (the cylinder's driver) is a warning naming its key (stderr and
+# summary.json), refused with --strict; the run's own counts (time.steps) round silently; a whole divisor
+# rounds nothing
+grep -q "warning: --dt: bodies.1.drivers.0.to_step: 4000 steps at the scene's time.dt are 6666.67 at --dt, rounded to 6667" "$T/err" \
+  && grep -q -- '"--dt: bodies.1.drivers.0.to_step: 4000 steps' "$T/dt3/summary.json" && ! grep -q -- '"--dt: ' "$T/dt/summary.json" \
+  && ! grep -q -- "--dt: time.steps" "$T/err" \
+  && ok || { bad "--dt rounding warning"; cat "$T/err"; }
+"$H" run cylinder_press --out "$T/dt3s" --steps 10 --dt 3e-5 --quiet --strict 2>"$T/err"; rc=$?
+[[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 && ! -e "$T/dt3s/summary.json" ]] && grep -q -- "--dt: bodies.1.drivers.0.to_step" "$T/err" \
+  && ok || { bad "--dt rounding with --strict: exit $rc"; cat "$T/err"; }
 "$H" run cylinder_press --out "$T/dt0" --steps 10 --dt 0 --quiet 2>"$T/err"; rc=$?
 [[ $rc -eq 2 && $(wc -l < "$T/err") -eq 1 ]] && grep -q -- "--dt" "$T/err" && ok || bad "--dt 0: exit $rc"
 # harness schema prints the scene format's JSON Schema.

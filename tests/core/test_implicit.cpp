@@ -116,3 +116,53 @@ TEST_CASE("implicit Euler: a contact's stiffness in the system gives backward Eu
   CHECK(w2.v[0].z() == Approx(v0.z() + h * 1.5 / m).epsilon(1e-12));
   CHECK(std::fabs(w2.v[0].z() - w.v[0].z()) > 1e-3);
 }
+
+TEST_CASE("implicit Euler over a grid of steps: a linear oscillator's closed form and its first order",
+          "[implicit][grid]") {
+  // The real-time grid's axes on a case with a known answer: one free node held by a linear
+  // stiffness k along n (the contact block: the implicit system's only stiffness), the force -k x
+  // given each step. Backward Euler's step matrix is closed form: (m + h^2 k) v1 = m v0 - h k x0,
+  // x1 = x0 + h v1 (per step, to rounding); its error against the exact cos(w t) at a fixed time grows
+  // with the step at first order: halving h halves it (ratio -> 2), as the grid's error against its
+  // step must. Hand computed, not a rerun.
+  const double m = 0.01, k = 40.0, w = std::sqrt(k / m), T = 0.5;  // 3.2 periods
+  auto run = [&](double h, double& x_closed) {
+    World wd;
+    wd.x = {Vec3(0, 0, 0.001), Vec3(0, 0, 0)};
+    wd.x0 = wd.x;
+    wd.v = {Vec3::Zero(), Vec3::Zero()};
+    wd.f = {Vec3::Zero(), Vec3::Zero()};
+    wd.m = {m, m};
+    wd.inv_m = {1.0 / m, 1.0 / m};
+    wd.kinematic = {Kinematic::free, Kinematic::pinned};
+    wd.kin_v = {Vec3::Zero(), Vec3::Zero()};
+    ImplicitEuler ie;
+    ie.tolerance = 1e-14;
+    double xc = 0.001, vc = 0.0;
+    const int n = static_cast<int>(std::lround(T / h));
+    for (int s = 0; s < n; ++s) {
+      LinearSystem sys;
+      sys.reset(wd);
+      ContactBlock cb;
+      cb.node[0] = 0, cb.c[0] = 1.0, cb.node[1] = 1, cb.c[1] = -1.0, cb.count = 2;
+      cb.n = Vec3(0, 0, 1);
+      cb.k = k;
+      sys.contacts.push_back(cb);
+      wd.f[0] = Vec3(0, 0, -k * wd.x[0].z());
+      REQUIRE(ie.step(wd, h, sys).converged);
+      const double v1 = (m * vc - h * k * xc) / (m + h * h * k);
+      xc += h * v1, vc = v1;
+      REQUIRE(wd.x[0].z() == Approx(xc).epsilon(1e-9).margin(1e-15));
+    }
+    x_closed = xc;
+    return std::fabs(wd.x[0].z() - 0.001 * std::cos(w * n * h));
+  };
+  double prev = 0.0, xc = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    const double h = 2e-4 / (1 << j);  // 0.2, 0.1, 0.05, 0.025 ms (h w 0.013 to 0.0016)
+    const double err = run(h, xc);
+    INFO("h " << h << " error " << err << " m");
+    if (j > 0) CHECK(prev / err == Approx(2.0).epsilon(0.15));  // first order
+    prev = err;
+  }
+}
