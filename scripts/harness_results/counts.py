@@ -19,8 +19,9 @@ after every study, scripts/reproduce.sh before it builds the report.
   convergence.csv            \\ConvPoints, \\ConvVoxels, \\ConvVoxelRange ("32 to 2")
   realtime.csv               \\RealtimeScenes, \\RealtimeMethods
   realtime_grid.csv          per scene (Sphere, Cylinder, Implant) the chosen implicit step \\GridDt (ms),
-                             \\GridErrOverBase, \\GridIterations, \\GridCost (baseline steps),
-                             \\GridWallPerSim; the explicit step at 0.9 dt_crit's \\GridCritWallPerSim,
+                             \\GridErrOverBase, \\GridMaxOverBase (window max), \\GridIterations, \\GridCost (baseline steps),
+                             \\GridWallPerSim (\\GridWallPerSimTwo: two threads); the explicit step at 0.9 dt_crit's
+                             \\GridCritWallPerSim (\\GridCritWallPerSimTwo),
                              \\GridCritErrOverBase; \\GridMachine
   bench.csv                  \\BenchSizeMin, \\BenchSizeMax (as powers of ten in math), \\BenchThreads;
                              per size (Thousand ... Million) \\BenchNsPerSpring, \\BenchStepOverStream,
@@ -360,12 +361,17 @@ def grid_counts(rows, text):
         def fig(r, key, f="%.2g", scale=1.0):
             return None if rows is None else f % (scale * float(r[key])) if r and reader.present(r.get(key)) else "--"
         text("GridDt" + word, fig(chosen, "dt", "%.2g", 1e3))
-        text("GridErrOverBase" + word, fig(chosen, "error_over_best", "%.2f"))
+        text("GridErrOverBase" + word, fig(chosen, "error_over_best", "%.3g"))
+        text("GridMaxOverBase" + word, fig(chosen, "max_over_best", "%.3g"))
         text("GridIterations" + word, fig(chosen, "cg_mean_iterations", "%.0f"))
         text("GridCost" + word, fig(chosen, "cost_in_explicit_steps", "%.1f"))
         text("GridWallPerSim" + word, fig(chosen, "wall_per_sim_s", "%.3g"))
         text("GridCritWallPerSim" + word, fig(crit, "wall_per_sim_s", "%.3g"))
-        text("GridCritErrOverBase" + word, fig(crit, "error_over_best", "%.2f"))
+        text("GridCritErrOverBase" + word, fig(crit, "error_over_best", "%.3g"))
+        text("GridCritWallPerSimTwo" + word, None if rows is None else "%.3g" % (
+            float(crit["t_step_mean_us_t2"]) * 1e-6 / float(crit["dt"])) if crit and reader.present(crit.get("t_step_mean_us_t2")) else "--")
+        text("GridWallPerSimTwo" + word, None if rows is None else "%.3g" % (
+            float(chosen["t_step_mean_us_t2"]) * 1e-6 / float(chosen["dt"])) if chosen and reader.present(chosen.get("t_step_mean_us_t2")) else "--")
     machine = sorted({r["machine"] for r in rows or [] if r.get("machine")})
     text("GridMachine", None if rows is None else ", ".join(machine) or "--")
 

@@ -300,3 +300,5 @@ def test_claim_sim_reads_the_implicit_grid(tmp_path):
     assert effect([pt(1e-4, 0.1, 1.4)]).value == pytest.approx(0.1)
     e = effect([pt(1e-4, 0.1, 1.4), pt(5e-5, 0.3, 1.0, integrator="symplectic_euler")])
     assert e.value == pytest.approx(0.3) and "explicit" in e.note
+    # a point the grid does not keep (here: a driver's steps rounded, not the scene's loading) does not count
+    assert effect([pt(1e-4, 0.1, 1.4), dict(pt(2e-4, 0.4, 1.0), keeps="no")]).value == pytest.approx(0.1)

@@ -55,8 +55,16 @@ def test_the_explicit_point_at_its_critical_step_is_judged_never_chosen():
     # chosen step is the largest implicit one
     label, k, dt, integrator, args = rg.crit_point(2e-4)
     assert label == rg.EXPLICIT_CRIT and k == "" and integrator == "symplectic_euler"
-    assert abs(dt - 1.8e-4) < 1e-15 and args == ["--dt", "0.00018", "--set", 'time.guard="substep"']
+    assert abs(dt - 1.8e-4) < 1e-15 and args[2:] == ["--set", 'time.guard="substep"'] and float(args[1]) == dt
     assert rg.crit_point(0.0) is None and rg.crit_point(float("nan")) is None
+    # with the scene's forcing (the spheres: drivers to step 2400 of 5e-5 s, the second from 2401) the
+    # largest dt at or below 0.9 dt_crit that keeps 2400 steps whole: 2400 x 5e-5 / 1048 (0.9 x 1.273e-4 s
+    # allows 1047.4 steps)
+    doc = {"bodies": [{"drivers": [{"to_step": 2400, "from_step": 1}, {"from_step": 2401, "to_step": -1}]},
+                      {"pressure": {"ramp_steps": 0}}]}
+    assert rg.forcing_counts(doc) == [2400, 2400]
+    dt = rg.crit_point(1.273e-4, 5e-5, rg.forcing_counts(doc))[2]
+    assert dt <= 0.9 * 1.273e-4 and abs(2400 * 5e-5 / dt - 1048) < 1e-9
     rows = [row("baseline", 1e-4, 1.0, t=50.0), row("k0", 1e-4, 1.0), row("k1", 2e-4, 1.2),
             row(rg.EXPLICIT_CRIT, 1.8e-4, 1.0, t=60.0), row("k2", 4e-4, 2.0)]
     chosen = rg.decide(rows)
@@ -67,3 +75,33 @@ def test_the_explicit_point_at_its_critical_step_is_judged_never_chosen():
     # on the front: as accurate as the baseline and 0.9 x its wall time per simulated second
     rg.mark_front(rows, 0.0)
     assert abs(by[rg.EXPLICIT_CRIT]["wall_per_sim_s"] - 60e-6 / 1.8e-4) < 1e-12
+
+
+def test_a_drifting_point_is_judged_by_its_window_max_and_a_rounded_scene_is_not_the_scene():
+    # k1's window mean is within 1.5x but it drifts to 1.6x the baseline's largest error: not kept;
+    # k2 ran with a driver's step count rounded by --dt (another scene): not kept, not on the front
+    rows = [row("baseline", 1e-4, 1.0, t=50.0), row("k0", 1e-4, 1.0), row("k1", 2e-4, 1.2), row("k2", 4e-4, 1.0)]
+    rows[0]["pos_err_max_max_mm"] = 1.0
+    rows[2]["pos_err_max_max_mm"] = 1.6
+    rows[3]["rounded"] = "bodies.0.drivers.0.to_step: 2400 steps at the scene's time.dt are 37.5 at --dt, rounded to 38"
+    chosen = rg.decide(rows)
+    by = {r["point"]: r for r in rows}
+    assert chosen["point"] == "k0"
+    assert by["k1"]["why_not"].startswith("error (window max)") and abs(by["k1"]["max_over_best"] - 1.6) < 1e-12
+    assert by["k2"]["why_not"].startswith("not the scene") and not rg.evidence(by["k2"])
+    assert rg.rounded_counts({"warnings": ["--dt: a: x", "contacts.0: y"]}) == "a: x"
+    # a rounded pressure ramp reaches the same load: kept
+    rows[3]["rounded"] = "bodies.1.pressure.ramp_steps: 5000 steps at the scene's time.dt are 312.5 at --dt, rounded to 313"
+    assert rg.decide(rows)["point"] == "k2" and rg.evidence(rows[3])
+
+
+def test_the_swings_widen_the_fronts_noise():
+    # k1 is 1.8x the baseline's error and twice as fast: on the front; with swings of 0.5 mm each the two
+    # errors are within the noise, and the faster k1 alone stays
+    rows = [row("baseline", 1e-4, 1.0, t=50.0), row("k1", 2e-4, 1.8, t=50.0)]
+    rg.mark_front(rows, 0.0)
+    assert [r["front"] for r in rows] == ["yes", "yes"]
+    for r in rows:
+        r["pos_err_amp_mm"] = 0.5
+    rg.mark_front(rows, 0.0)
+    assert [r["front"] for r in rows] == ["", "yes"]

@@ -462,9 +462,13 @@ def sim_rows(data, scene):
     at the scene's dt and at 0.9 dt_crit and implicit on the grid, timed in one session, one at a
     time (the real-time study's rows were timed on another day, up to 2.3x apart on the same
     configuration, and its implicit rows before the contact entered the implicit system); the
-    real-time study's rows (realtime.csv) for a scene the grid lacks."""
-    grid = [r for r in data.csv("realtime_grid.csv") if r.get("scene") == scene]
-    if grid:
+    real-time study's rows (realtime.csv) for a scene the grid lacks. The grid's points it does not
+    keep (column keeps: realtime_grid.keeps) are left out."""
+    rows = [r for r in data.csv("realtime_grid.csv") if r.get("scene") == scene]
+    # the grid's own judgement first: a point it does not keep (its error over the whole window beyond
+    # 1.5x, a driver's steps rounded by --dt so that it is not the scene's loading, ...) does not count
+    grid = [r for r in rows if r.get("keeps") != "no"]
+    if rows:
         return [(r, "%s, %s at dt %s (grid)" % (r.get("method"), "implicit Euler" if r.get("integrator") == "implicit_euler"
                                                  else "explicit", g(reader.num(r.get("dt")))),
                  reader.num(r.get("realtime_factor_mean_t1")), reader.num(r.get("realtime_factor_p99_t1")))
