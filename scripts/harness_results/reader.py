@@ -446,6 +446,23 @@ def window_figures(s):
     }
 
 
+def class_figures(s):
+    """The figures the run's C++ stability class was decided on (summary `window`, core/run/window.hpp),
+    so that a reader can check it from the row: the chatter's amplitude and its length L (mm) and
+    where L came from (voxel, reference floor or edge share), the contact's injection share (against
+    contact_input_share), the kinetic energy's growth (against growth_factor) with the window's
+    largest kinetic energy and the growth's floor (J: growth counts only when the second half's
+    kinetic energy, at most that largest, is above the floor). Empty strings / NaN for runs that
+    did not record them (before the class)."""
+    w = window(s)
+    if "chatter_length_m" not in w:
+        return {}
+    return {"chatter_amp_mm": 1e3 * num(w.get("chatter_amplitude_m")), "chatter_length_mm": 1e3 * num(w.get("chatter_length_m")),
+            "chatter_length_from": w.get("chatter_length_from") or "",
+            "injection_share": num(w.get("contact_input_share")), "kinetic_growth": num(w.get("kinetic_growth")),
+            "kinetic_max_J": window_stat(w, "kinetic_energy", "max"), "growth_floor_J": num(w.get("growth_floor_J"))}
+
+
 def pair_figures(s):
     """The pair's figures over the whole run that some studies add: peak depth (mm), region rebuilds."""
     p = pair(s)

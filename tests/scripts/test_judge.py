@@ -74,12 +74,60 @@ def test_stability_from_the_error_motion_against_the_stated_length():
     assert measure.measure(row(detector="cgal", pos_err_amp_mm=1.2), choices.DEFAULT, sc).cls == "chatters"
     assert measure.measure(row(detector="cgal", pos_err_amp_mm=0.9), choices.DEFAULT, sc).cls == "steady"
     # L halved and doubled
-    assert measure.measure(row(pos_err_amp_mm=5), choices.Spec(chatter_scale=0.5), sc).cls == "chatters"
+    assert measure.measure(row(pos_err_amp_mm=5), choices.Spec(chatter_length="half"), sc).cls == "chatters"
+    # the edge share for every detector: L = spacing/4 = 1 mm for the grid too
+    assert measure.measure(row(pos_err_amp_mm=1.2), choices.Spec(chatter_length="edge"), sc).cls == "chatters"
     # an unstable run compared when unstable runs do not fail
     assert measure.measure(row(pos_err_amp_mm=9), choices.Spec(unstable_fails=False), sc).failed == ""
     # the C++ class wins where the row records it
     assert measure.measure(row(pos_err_amp_mm=9, stability_class="steady"), choices.DEFAULT, sc).cls == "steady"
     assert measure.measure(row(stability_class="grows"), choices.DEFAULT, sc).failed == "grows"
+
+
+def classed(**kw):
+    """A row with its C++ class and the figures it was decided on (a grid detector, L the voxel)."""
+    r = row(stability_class="steady", chatter_amp_mm=4.0, chatter_length_mm=7.8, chatter_length_from="voxel",
+            injection_share=0.015, kinetic_growth=1.2, kinetic_max_J=1e-6, growth_floor_J=1e-3)
+    r.update(kw)
+    return r
+
+
+def test_the_class_again_from_its_figures_under_the_specification():
+    sc = FakeScenes()
+    sc.stated_edge_mm = lambda scene: 1.0
+    # as written: the run's class, from the run
+    r = measure.measure(classed(), choices.DEFAULT, sc)
+    assert (r.cls, r.cls_from, r.length) == ("steady", "run", 7.8)
+    # the chatter length: the edge share the scene's exact runs state (1 mm), or the stated L halved
+    r = measure.measure(classed(), choices.Spec(chatter_length="edge"), sc)
+    assert (r.cls, r.cls_from, r.length) == ("chatters", "run's figures", 1.0) and r.failed.startswith("chatters")
+    assert measure.measure(classed(), choices.Spec(chatter_length="half"), sc).cls == "chatters"
+    assert measure.measure(classed(), choices.Spec(chatter_length="double"), sc).cls == "steady"
+    # the injection share: 1.5 % injects against 1 %, a recorded injects is steady against 5 %
+    assert measure.measure(classed(), choices.Spec(contact_input_share=0.01), sc).cls == "injects"
+    assert measure.measure(classed(stability_class="injects", injection_share=0.03), choices.Spec(
+        contact_input_share=0.05), sc).cls == "steady"
+    # ... or grows where its kinetic energy grew above the floor, or chatters beyond L
+    assert measure.measure(classed(stability_class="injects", injection_share=0.03, kinetic_growth=3.0,
+                                   kinetic_max_J=1e-2), choices.Spec(contact_input_share=0.05), sc).cls == "grows"
+    assert measure.measure(classed(stability_class="injects", injection_share=0.03, chatter_amp_mm=9.0),
+                           choices.Spec(contact_input_share=0.05), sc).cls == "chatters"
+    # settled, forced and failed stay; a row without the figures keeps its class whatever the choice
+    assert measure.measure(classed(stability_class="settled", chatter_amp_mm=9.0), choices.Spec(
+        chatter_length="edge"), sc).cls == "settled"
+    assert measure.measure(row(stability_class="steady", pos_err_amp_mm=5.0), choices.Spec(
+        chatter_length="edge"), sc).cls == "steady"
+
+
+def test_the_committed_classes_are_their_figures_under_the_choices_as_written():
+    """Every accuracy row that records the class's figures gets its C++ class back from them."""
+    data = claims.Data(RESULTS)
+    rows = [r for r in data.csv("accuracy_time.csv") if isinstance(r.get("chatter_length_from"), str)
+            and r.get("chatter_length_from")]
+    assert len(rows) > 100
+    for r in rows:
+        assert measure.run_class(r, choices.DEFAULT, data.scenes)[0] == r["stability_class"], (r["scene"], r["config"])
+    assert set(data.scenes.edge) == {"sphere_collision", "cylinder_press", "implant_expansion"}
 
 
 def test_failures_tunnelling_and_blow_ups():

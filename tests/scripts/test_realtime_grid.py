@@ -95,13 +95,28 @@ def test_a_drifting_point_is_judged_by_its_window_max_and_a_rounded_scene_is_not
     assert rg.decide(rows)["point"] == "k2" and rg.evidence(rows[3])
 
 
-def test_the_swings_widen_the_fronts_noise():
-    # k1 is 1.8x the baseline's error and twice as fast: on the front; with swings of 0.5 mm each the two
-    # errors are within the noise, and the faster k1 alone stays
-    rows = [row("baseline", 1e-4, 1.0, t=50.0), row("k1", 2e-4, 1.8, t=50.0)]
+def test_the_front_reads_the_window_max_so_a_swing_is_no_reward():
+    # k1 is twice as fast; its window mean is within 10 % of the baseline's error but it swings to
+    # 1.8x: on the front beside the baseline (worse and faster), and a swing does not widen the noise
+    rows = [row("baseline", 1e-4, 1.0, t=50.0), row("k1", 2e-4, 1.05, t=50.0)]
+    rows[0]["pos_err_max_max_mm"], rows[1]["pos_err_max_max_mm"] = 1.0, 1.8
     rg.mark_front(rows, 0.0)
     assert [r["front"] for r in rows] == ["yes", "yes"]
     for r in rows:
-        r["pos_err_amp_mm"] = 0.5
+        r["pos_err_amp_mm"] = 0.8
+    rg.mark_front(rows, 0.0)
+    assert [r["front"] for r in rows] == ["yes", "yes"]
+    # without the maximum the mean ties the baseline's and the faster k1 alone stays
+    rows[1]["pos_err_max_max_mm"] = float("nan")
     rg.mark_front(rows, 0.0)
     assert [r["front"] for r in rows] == ["", "yes"]
+
+
+def test_a_grid_step_that_would_round_a_drivers_steps_is_brought_down_to_whole_ones():
+    doc = {"bodies": [{"drivers": [{"to_step": 2400, "from_step": 1}, {"from_step": 2401, "to_step": -1}]},
+                      {"pressure": {"ramp_steps": 5000}}]}
+    assert rg.driver_counts(doc) == [2400, 2400]
+    # 64 x 5e-5 s would make 2400 steps 37.5: the largest step at or below it with whole ones is 2400 x
+    # 5e-5 / 38; 32 x keeps 75 whole steps; no drivers: the step as it is
+    assert abs(rg.whole_dt(5e-5, 3.2e-3, rg.driver_counts(doc)) - 2400 * 5e-5 / 38) < 1e-18
+    assert rg.whole_dt(5e-5, 1.6e-3, [2400]) == 1.6e-3 and rg.whole_dt(1e-4, 0.0128, []) == 0.0128

@@ -22,12 +22,19 @@ class Choice:
 
 
 CHOICES = [
-    Choice("chatter_scale", 1.0,
-           "a run chatters when its error moves by more than the stated length L over the final window "
-           "(L: the largest of a grid detector's voxel, the reference's floor and a quarter of the scene's "
-           "node spacing, as the C++ stability class states it, core/run/window.hpp)",
-           {0.5: "L halved: chatter of half a voxel is already visible in a figure",
-            2.0: "L doubled: the error's chatter is an upper bound on a node's motion about its mean"}),
+    Choice("chatter_length", "stated",
+           "a run chatters when a node's motion about its window mean exceeds the length L its C++ class "
+           "states (the largest of a grid detector's voxel, the reference's floor and a quarter of the mean "
+           "spring length, core/run/window.hpp; rows made before the class: the error's motion against it)",
+           {"half": "L halved: chatter of half a voxel is already visible in a figure",
+            "double": "L doubled: the error's chatter is an upper bound on a node's motion about its mean",
+            "edge": "a quarter of the mean spring length for every detector, not the voxel: a node moving "
+                    "a few mm is visible to a user whatever the grid's resolution"}),
+    Choice("contact_input_share", 0.02,
+           "a run injects when the contact's net work per time scale over the window exceeds 2 % of the "
+           "energy the bodies store (the C++ class's threshold, core/run/window.hpp)",
+           {0.01: "1 %: half the gain already multiplies the stored energy 2.7 times over 100 crossings",
+            0.05: "5 %: only a gain that would be seen within a few crossing times counts"}),
     Choice("floor", "reference",
            "an error's interval is its range over the final window widened by the floor of the reference "
            "it is measured against (reader.reference_floor: the last level's change, the larger of the last "

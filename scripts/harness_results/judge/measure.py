@@ -6,10 +6,12 @@ an error), when it lets a node through the other body (more than Spec.tunnel_lim
 window), or, with Spec.unstable_fails, when it is unstable.
 
 Its stability class is the C++ class (core/run/window.hpp) where the row records it (a column
-`stability_class`, written by the studies from summary.json's stability_verdict since that class);
+`stability_class`, written by the studies from summary.json's stability_verdict since that class),
+decided again from the figures it was decided on where the row records them too (run_class: the
+chatter length and the injection share are choices of the specification);
 the committed studies' rows were made before it and record the error's motion over the window
 instead, so for them the class is read from that motion alone: "chatters" when the largest
-position error moves by more than the stated length L over the window (L times Spec.chatter_scale),
+position error moves by more than the stated length L over the window (L as Spec.chatter_length says),
 else "steady" (the class's energy terms are not in those rows; the table says "from the error's
 motion" where this is so).
 
@@ -53,7 +55,9 @@ def stability_thresholds(path=OUTPUTS_PAGE):
 
 
 # The C++ class's length without a voxel or floor: this share of the node spacing (kEdgeShare).
-EDGE_SHARE = stability_thresholds()["edge_share"]
+THRESHOLDS = stability_thresholds()
+EDGE_SHARE = THRESHOLDS["edge_share"]
+GROWTH_FACTOR = THRESHOLDS["growth_factor"]
 
 
 class Scenes:
@@ -64,11 +68,20 @@ class Scenes:
         self.root = root
         self._floor, self._spacing = {}, {}
         self.ensembles = []  # results/ensembles.csv's rows (judge.claims.Data reads them)
+        self.edge = {}  # scene: the stated edge-share chatter length, mm (judge.claims.Data fills it)
 
     def ensemble_of(self, row):
-        """The ensemble study's row for a study row (same file and configuration), None without one."""
-        key = ensemble_key(row)
-        return next((e for e in self.ensembles if ensemble_key(e, row_file=e.get("file")) == key), None)
+        """The ensemble study's row for a study row (same file and configuration), None without one.
+        The keys are made once: every specification measures the same rows."""
+        if getattr(self, "_ens_of", None) is None or self._ens_of[0] is not self.ensembles:
+            by = {}
+            for e in self.ensembles:
+                by.setdefault(ensemble_key(e, row_file=e.get("file")), e)
+            self._ens_of = (self.ensembles, by, {})
+        _, by, rows = self._ens_of
+        if id(row) not in rows:
+            rows[id(row)] = (row, by.get(ensemble_key(row)))
+        return rows[id(row)][1]
 
     def floor_mm(self, scene, kind):
         """The floor of the reference a row of `kind` ("one-sided" or "both ways") is measured against."""
@@ -76,6 +89,12 @@ class Scenes:
         if name not in self._floor:
             self._floor[name] = reader.reference_floor_mm(self.root, name)
         return self._floor[name]
+
+    def stated_edge_mm(self, scene):
+        """The chatter length the C++ class states for the scene where no voxel or floor sets it (a
+        quarter of the mean spring length of the bodies in contact: the accuracy study's rows with
+        chatter_length_from "edge share"), NaN where no row states it."""
+        return self.edge.get(scene, math.nan)
 
     def mesh_floor_mm(self):
         """The spheres' refined reference against its own (references_differences.csv), NaN without it."""
@@ -143,14 +162,47 @@ def num(row, key):
     return reader.num(row.get(key))
 
 
+SCALE = {"stated": 1.0, "half": 0.5, "double": 2.0}
+
+
 def chatter_length(row, scene, kind, scenes, spec):
-    """L in mm: the larger of a grid detector's voxel, the reference's floor and EDGE_SHARE of the
-    node spacing, times spec.chatter_scale."""
+    """L in mm for a row made before the C++ class: the larger of a grid detector's voxel (not with
+    spec.chatter_length "edge"), the reference's floor and EDGE_SHARE of the node spacing, times
+    the choice's scale."""
     parts = [EDGE_SHARE * scenes.spacing_mm(scene), scenes.floor_mm(scene, kind)]
-    if row.get("detector") in GRID_DETECTORS or (row.get("detector") is None and reader.present(row.get("voxel_mm"))):
+    if spec.chatter_length != "edge" and (row.get("detector") in GRID_DETECTORS or (
+            row.get("detector") is None and reader.present(row.get("voxel_mm")))):
         parts.append(num(row, "voxel_mm"))
     parts = [p for p in parts if p == p]
-    return spec.chatter_scale * max(parts) if parts else math.nan
+    return SCALE.get(spec.chatter_length, 1.0) * max(parts) if parts else math.nan
+
+
+def run_class(row, spec, scenes):
+    """(class, L mm) of a row that records its C++ class: the class again from the figures it was
+    decided on (the row's chatter_amp_mm, chatter_length_mm, injection_share, kinetic_growth,
+    kinetic_max_J, growth_floor_J, reader.class_figures) under spec's chatter_length and
+    contact_input_share, the rules' order as in core/run/window.hpp (injects, grows, chatters, steady);
+    the class as recorded where the row lacks those figures or the class is settled, forced or failed.
+    Growth is read from the window's largest kinetic energy, which bounds its second half's: a run the
+    C++ called grows stays so unless it injects. Under the choices as written the class is the run's."""
+    cls = row["stability_class"]
+    length = num(row, "chatter_length_mm")
+    if cls not in UNSTABLE + ("steady",) or not reader.present(row.get("chatter_length_from")):
+        return cls, length
+    if spec.chatter_length == "edge":
+        edge = scenes.stated_edge_mm(row.get("scene", "")) if hasattr(scenes, "stated_edge_mm") else math.nan
+        length = edge if edge == edge else length
+    else:
+        length *= SCALE[spec.chatter_length]
+    inj, amp = num(row, "injection_share"), num(row, "chatter_amp_mm")
+    if inj == inj and inj > spec.contact_input_share:
+        return "injects", length
+    growth, ke, floor = num(row, "kinetic_growth"), num(row, "kinetic_max_J"), num(row, "growth_floor_J")
+    if cls == "grows" or (cls == "injects" and growth > GROWTH_FACTOR and ke > floor):
+        return "grows", length
+    if amp == amp and amp > length:
+        return "chatters", length
+    return "steady", length
 
 
 def measure(row, spec, scenes, label="", kind=None, time_key="t_contact"):
@@ -178,7 +230,9 @@ def measure(row, spec, scenes, label="", kind=None, time_key="t_contact"):
     if ens is not None:
         return measure_ensemble(row, ens, spec, label, floor, length, time_key)
     if reader.present(row.get("stability_class")):
-        cls, cls_from = row["stability_class"], "run"
+        cls, stated = run_class(row, spec, scenes)
+        cls_from = "run" if cls == row["stability_class"] else "run's figures"
+        length = stated if stated == stated else length
     elif row.get("stability") == "failed" or row.get("status") == "error":
         cls, cls_from = "failed", "run"
     else:
@@ -193,7 +247,13 @@ def measure(row, spec, scenes, label="", kind=None, time_key="t_contact"):
     elif cls == "forced":
         failed = "ended before its loading did"
     elif spec.unstable_fails and cls in UNSTABLE:
-        failed = cls + (" (%.2g mm > %.2g mm)" % (amp, length) if cls_from == "error motion" else "")
+        failed = cls
+        if cls_from == "error motion":
+            failed += " (%.2g mm > %.2g mm)" % (amp, length)
+        elif cls_from == "run's figures" and cls == "chatters":
+            failed += " (%.2g mm > %.2g mm)" % (num(row, "chatter_amp_mm"), length)
+        elif cls_from == "run's figures" and cls == "injects":
+            failed += " (%.2g > %.2g)" % (num(row, "injection_share"), spec.contact_input_share)
     t = num(row, time_key + "_us")
     t_lo, t_hi = num(row, time_key + "_min_us"), num(row, time_key + "_max_us")
     if t == t and not t_lo == t_lo:

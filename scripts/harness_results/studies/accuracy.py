@@ -163,7 +163,7 @@ def write(a, rows):
           "reference has contact, window mean; depth_max: deepest node inside the other body, window maximum; "
           "tunnelled: nodes through the other body; all in mm. Time: detection plus elimination, µs per step, "
           "median of %d runs (range over them)%s. Stability: %s; swing: the window's max - min of "
-          "the position error (the class's chatter is the nodes' motion, not this); tunnelled: nodes through the other body, window maximum. Useless, whatever "
+          "the position error (the class's chatter is the nodes' motion, not this: chatter, the largest node's motion about its window mean, against L, the length it is judged by, and injection, the contact's net work per time scale over the stored energy, are the figures the class was decided on, with the kinetic energy's growth in the CSV); tunnelled: nodes through the other body, window maximum. Useless, whatever "
           "the stability: \"%s\" (more than %d nodes through the other body) or \"%s\" (position error "
           "not at least %g %% below the run without contact force's, nor depth %g %% below it at no larger "
           "error). The Pareto front (error against time) is drawn from the evidence only: stable and not "
@@ -186,15 +186,18 @@ def write(a, rows):
         for r in front:
             r["front"] = "yes"
         md.append("\n## %s\n\n%s\n\n" % (scene, front_text(sr, front, kind_floor_mm(a, scene))))
+        md.append(step_front_text(a, scene))
         md.append(writers.md_table(sorted(sr, key=lambda r: (r["stable"] != "yes", bool(r["useless"]),
                                                             r["pos_err_max_mm"])),
                                    ["config", "eliminator", "force", "stability", "useless", "reference", "pos_err_max_mm",
                                     "pos_err_max_one_sided_mm", "pos_err_max_both_ways_mm", "pos_err_amp_mm",
                                     "gap_max_mm", "depth_max_mm",
-                                    "tunnelled", "t_contact_us", "t_contact_range", "front", "why_unstable"],
+                                    "tunnelled", "chatter_amp_mm", "chatter_length_mm", "injection_share",
+                                    "t_contact_us", "t_contact_range", "front", "why_unstable"],
                                    ["method", "elim.", "force", "stability", "useless", "reference",
                                     "pos. error max (mm)", "against one-sided (mm)", "against both ways (mm)",
                                     "error swing (mm)", "gap max (mm)", "depth max (mm)", "tunnelled",
+                                    "chatter (mm)", "L (mm)", "injection",
                                     "detect+elim (µs/step)", "range", "front", "why unstable"]))
         md.append(notes(sr))
         plot_pareto(a, scene, sr, front)
@@ -211,6 +214,32 @@ def write(a, rows):
                                   ["scenario", "method", "elim.", "force", "pos. err. (mm)", "gap (mm)",
                                    "detect+elim ($\\mu$s)", "range (%d runs)" % repeats],
                                   "Pareto front of error against time (evidence only; ties within the noise kept)"))
+
+
+def step_front_text(a, scene):
+    """The front over the integrator and the step (realtime_grid.csv's column front: the scene's exact
+    method explicit and implicit at each step, the error's window maximum against the wall seconds per
+    simulated second on one thread) in one paragraph, what each millisecond buys; "" without the file
+    or the scene."""
+    rows = [r for r in read_rows_or_none(a, "realtime_grid.csv") if r.get("scene") == scene]
+    front = sorted((r for r in rows if r.get("front") == "yes"), key=lambda r: reader.num(r.get("wall_per_sim_s")))
+    if not front:
+        return ""
+    def err(r):
+        m = reader.num(r.get("pos_err_max_max_mm"))
+        return m if m == m else reader.num(r.get("pos_err_max_mm"))
+    items = ["%s at %.3g ms: %.3g s, %.3g mm" % ("implicit" if r.get("integrator") == "implicit_euler" else "explicit",
+                                                1e3 * reader.num(r.get("dt")), reader.num(r.get("wall_per_sim_s")),
+                                                err(r)) for r in front]
+    return ("Over the integrator and the step (realtime_grid.csv: %s, wall seconds per simulated second on one "
+            "thread and the error's window maximum; %d points of %d on the front): %s.\n\n"
+            % (str(front[0].get("method")), len(front), len(rows), "; ".join(items)))
+
+
+def read_rows_or_none(a, name):
+    """A study's CSV in --results, [] without it."""
+    return reader.read_csv(os.path.join(a.results, name), text=reader.STUDY_TEXT | {"point", "integrator", "method",
+                                                                                     "front"}, missing=[]) or []
 
 
 def front_text(rows, front, floor):

@@ -205,11 +205,13 @@ def folder_name(scene, label, elim, force):
 
 
 def figures(s):
-    """A run's row: its window figures (reader.window_figures), its stability columns from its C++
+    """A run's row: its window figures (reader.window_figures), the figures its C++ class was decided on
+    (reader.class_figures: chatter amplitude and length, injection share, growth), its stability columns from its C++
     class (rules.stability_fields: stable, stability, stability_class, what the claims' judge reads,
     judge/measure.py; why_unstable) and `forced` ("yes" for a run stopped before its forcing ended:
     runner.forcing_cut)."""
-    return dict(reader.window_figures(s), forced=runner.forced_text(s), **rules.stability_fields(s))
+    return dict(reader.window_figures(s), forced=runner.forced_text(s), **reader.class_figures(s),
+                **rules.stability_fields(s))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -246,6 +248,10 @@ def resolved_force_label(c):
 
 
 OPTIONAL_COLUMNS = ("method", "overrides", "forced", "stability_class", "timings")
+# The figures the C++ class was decided on (reader.class_figures), after the optional columns where
+# the runs recorded them.
+CLASS_COLUMNS = ("chatter_amp_mm", "chatter_length_mm", "chatter_length_from", "injection_share", "kinetic_growth",
+                 "kinetic_max_J", "growth_floor_J")
 
 
 def is_user_row(r):
@@ -263,9 +269,13 @@ def columns_of(cols, rows, optional=OPTIONAL_COLUMNS):
     overrides, the user's method's name and overrides on its rows and empty on the built-in ones,
     where a --method added rows; forced where a run was stopped before its forcing
     ended; stability_class where the runs carry the C++ class; timings where --classes-only kept
-    the committed timings, committed_timings): the files of runs without them are as they were."""
-    return list(cols) + [c for c in optional if c not in cols and
-                         any(isinstance(r.get(c), str) and r.get(c) for r in rows)]
+    the committed timings, committed_timings), then CLASS_COLUMNS where the runs recorded the figures
+    their class was decided on: the files of runs without them are as they were."""
+    out = list(cols) + [c for c in optional if c not in cols and
+                        any(isinstance(r.get(c), str) and r.get(c) for r in rows)]
+    if any(r.get("chatter_length_from") for r in rows):  # the runs recorded their class's figures
+        out += [c for c in CLASS_COLUMNS if c not in out]
+    return out
 
 
 def notes(rows, name="config"):
