@@ -60,6 +60,7 @@ from . import reader
 from .reference_kind import OF_ITS_KIND, KindFloor, as_two_sided, same_kind_base  # noqa: F401 (re-exported)
 from .loading_period import forcing_end, forcing_end_of, scene_window  # noqa: F401
 from .judge.choices import WRITTEN, TableRules  # noqa: F401 (the tables' rules; TableRules re-exported)
+from .judge.measure import nodes_through
 
 STABLE, UNSTABLE, FAILED = "stable", "unstable", "failed"
 # The C++ classes a stable run has (the others: chatters, injects, grows; forced: still loaded).
@@ -123,7 +124,7 @@ def evidence_gap(row, rule=WRITTEN):
     force"; None when it is. A row that does not record tunnelling or helping is not held to it."""
     if not is_stable(row):
         return NOT_STABLE
-    if reader.num(row.get("tunnelled"), 0.0) > rule.tunnel_limit:
+    if nodes_through(row)[0] > rule.tunnel_limit:  # a one-sided method's host nodes through: beside
         return TUNNELS
     if row.get("helps") == "no":
         return NO_HELP
@@ -193,10 +194,11 @@ def helps_word(row, base, rule=WRITTEN):
 
 def useless_text(row, rule=WRITTEN):
     """What makes a run useless whatever its stability, as the tables print it beside the stability:
-    TUNNELS (more nodes through the other body than the rule allows, its `tunnelled` column) and
+    TUNNELS (more nodes through the other body than the rule allows: its `tunnelled` column, the
+    guest's alone for a one-sided method whose row records them by body, judge/measure.nodes_through) and
     NO_HELP (its `helps` column is "no"), joined by "; "; "" when neither is known to hold."""
     words = []
-    if reader.num(row.get("tunnelled"), 0.0) > rule.tunnel_limit:
+    if nodes_through(row)[0] > rule.tunnel_limit:
         words.append(TUNNELS)
     if row.get("helps") == "no":
         words.append(NO_HELP)

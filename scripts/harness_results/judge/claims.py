@@ -232,6 +232,7 @@ def report_run_rows(data, scene):
                  if isinstance(reader.contact(s, strict=False).get("force"), (int, float)) else "auto",
                  ep_p90=gst["p90"] if gst["p90"] is not None else math.nan, ep_peak_frac=gst["peak_frac"],
                  ep_failed_frac=gst["open_frac"], regime=key,
+                 two_sided="yes" if reader.contact(s, strict=False).get("two_sided") else "no",
                  stability_class=reader.stability_verdict(s) or "")  # the C++ class the run recorded
         out.append(r)
     return out
@@ -435,7 +436,12 @@ def claim_rt(data, spec):
     effects = []
     for scene in SCENES:
         budget = budget_us(data, scene)
-        b0 = best(voxel_pool(data, spec, scene))
+        pool = voxel_pool(data, spec, scene)
+        if spec.rt_setting == "best":
+            b0 = best(pool)
+        else:  # the fastest setting that does not fail and helps
+            ok = [r for r in pool if not r.failed and r.row.get("helps") == "yes" and r.t == r.t]
+            b0 = min(ok, key=lambda r: r.t) if ok else None
         if b0 is None or budget != budget:
             continue
         if spec.rt_statistic == "p99":
@@ -449,9 +455,10 @@ def claim_rt(data, spec):
         effects.append(e)
     return Result("rt", "The unit detects and eliminates collisions in real time",
                   "'This work is about creating program unit that can detect and eliminate collisions in real time'",
-                  "per scene, the paper's model at its best constant-force setting that does not fail (the accuracy "
+                  "per scene, the paper's model at its %s constant-force setting that does not fail (the accuracy "
                   "study's timing runs, one thread): the step's budget (the scene's dt) over the collision unit's %s "
-                  "time per step, claimed above 1" % ("median" if spec.rt_statistic == "median" else "99th-percentile"),
+                  "time per step, claimed above 1" % ("most accurate" if spec.rt_setting == "best" else "fastest helping",
+                                                    "median" if spec.rt_statistic == "median" else "99th-percentile"),
                   effects)
 
 

@@ -3,7 +3,9 @@ its stability class, and its error and time with their intervals. Nothing here c
 
 A run fails when it blew up (the study recorded it failed: a state not finite, a guard violation,
 an error), when it lets a node through the other body (more than Spec.tunnel_limit over the final
-window), or, with Spec.unstable_fails, when it is unstable.
+window: a guest node through the host for any method, a host node through the guest for a method that
+acts both ways; a one-sided method's host nodes through are reported beside, nodes_through), or, with
+Spec.unstable_fails, when it is unstable.
 
 Its stability class is the C++ class (core/run/window.hpp) where the row records it (a column
 `stability_class`, written by the studies from summary.json's stability_verdict since that class),
@@ -134,8 +136,10 @@ class Run:
     cls: its stability class; cls_from: 'run' (the C++ class) or 'error motion' (the stand-in);
     err, err_lo, err_hi (mm; NaN without a reference); t, t_lo, t_hi (µs per step; NaN when untimed)."""
 
-    def __init__(self, row, label, failed, cls, cls_from, err, err_lo, err_hi, t, t_lo, t_hi, length):
+    def __init__(self, row, label, failed, cls, cls_from, err, err_lo, err_hi, t, t_lo, t_hi, length,
+                 host_beside=0.0):
         self.row, self.label, self.failed, self.cls, self.cls_from = row, label, failed, cls, cls_from
+        self.host_beside = host_beside  # a one-sided method's host nodes through the guest (not a failure)
         self.err, self.err_lo, self.err_hi = err, err_lo, err_hi
         self.t, self.t_lo, self.t_hi = t, t_lo, t_hi
         self.length = length
@@ -205,6 +209,31 @@ def run_class(row, spec, scenes):
     return "steady", length
 
 
+def one_sided(row):
+    """Whether the row's method acts on the guest alone: its `two_sided` column says no, or it is the
+    paper's grid (voxel, voxel_exact) with line or plane and the row does not say (regime.csv,
+    the report's runs record no two_sided column: the grid's responses push the guest only)."""
+    ts = row.get("two_sided")
+    if ts in ("yes", "no"):
+        return ts == "no"
+    return row.get("detector") in ("voxel", "voxel_exact") and row.get("eliminator") in ("line", "plane")
+
+
+def nodes_through(row):
+    """(the nodes through that fail the run, a one-sided method's host nodes reported beside). The
+    window's largest count (column tunnelled, guest and host together) fails a method that acts both
+    ways. For a one-sided method whose row records the count by body at the end (tunnelled_guest,
+    tunnelled_host), the guest's count fails it: the larger of the guest's at the end and the window's
+    largest less the host's at the end (a count that fell in the window is laid on the guest); its host
+    nodes are reported beside. A row without the split keeps the count together (fails on either)."""
+    total = num(row, "tunnelled")
+    g, h = num(row, "tunnelled_guest"), num(row, "tunnelled_host")
+    if not (one_sided(row) and g == g and h == h):
+        return total, 0.0
+    through = max(g, total - h) if total == total else g
+    return through, h
+
+
 def measure(row, spec, scenes, label="", kind=None, time_key="t_contact"):
     """A Run from a study row. kind: the reference's kind (default the row's `reference` column,
     else both ways); time_key: the time column's stem (t_contact or t_step)."""
@@ -238,7 +267,7 @@ def measure(row, spec, scenes, label="", kind=None, time_key="t_contact"):
     else:
         cls = "chatters" if (amp == amp and length == length and amp > length) else "steady"
         cls_from = "error motion"
-    tunnelled = num(row, "tunnelled")
+    tunnelled, host_beside = nodes_through(row)
     failed = ""
     if cls == "failed":
         failed = "blew up or failed (%s)" % (row.get("why_unstable") or "status error")
@@ -258,7 +287,8 @@ def measure(row, spec, scenes, label="", kind=None, time_key="t_contact"):
     t_lo, t_hi = num(row, time_key + "_min_us"), num(row, time_key + "_max_us")
     if t == t and not t_lo == t_lo:
         t_lo = t_hi = t
-    return Run(row, label, failed, cls, cls_from, err, max(0.0, low - floor), top + floor, t, t_lo, t_hi, length)
+    return Run(row, label, failed, cls, cls_from, err, max(0.0, low - floor), top + floor, t, t_lo, t_hi, length,
+               host_beside)
 
 
 def measure_ensemble(row, ens, spec, label, floor, length, time_key):

@@ -264,6 +264,11 @@ def user_fields(m):
     return {"method": m.name, "overrides": methods.text(m.sets)}
 
 
+# The nodes through at the end by body (reader.window_figures): the judge fails a one-sided method on
+# the guest's alone (judge/measure.py nodes_through).
+SPLIT_COLUMNS = ("tunnelled_guest", "tunnelled_host")
+
+
 def columns_of(cols, rows, optional=OPTIONAL_COLUMNS):
     """A study's CSV columns: `cols`, then those of `optional` (OPTIONAL_COLUMNS) some row fills (method and
     overrides, the user's method's name and overrides on its rows and empty on the built-in ones,
@@ -275,6 +280,8 @@ def columns_of(cols, rows, optional=OPTIONAL_COLUMNS):
                         any(isinstance(r.get(c), str) and r.get(c) for r in rows)]
     if any(r.get("chatter_length_from") for r in rows):  # the runs recorded their class's figures
         out += [c for c in CLASS_COLUMNS if c not in out]
+    if any(reader.present(r.get(c)) for r in rows for c in SPLIT_COLUMNS):  # the nodes through by body
+        out += [c for c in SPLIT_COLUMNS if c not in out]
     return out
 
 

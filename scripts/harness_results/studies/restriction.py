@@ -72,6 +72,8 @@ def run(a):
                  response=response_name(elim, extra) if label != NO_FORCE else "none",
                  force=force_label(force) if elim == "line" else ("positions" if elim == "projection" else elim),
                  voxel_mm=1e3 * v if v else float("nan"),
+                 # the volume's Newton step moves both bodies; the penalty and projection the guest alone
+                 two_sided="yes" if elim == "volume" else "no",
                  t_bound_us=rules.median([bound_time_us(j[1]) for j in jobs[i + 1:i + n]] or
                                          [bound_time_us(jobs[i][1])]) if BOUND in extra else float("nan"))
         for key in ("contact_mean", "contact_p99", "eliminate_mean", "eliminate_p99", "eliminate_median"):
@@ -81,7 +83,7 @@ def run(a):
     write(a, rows)
 
 
-COLUMNS = ["scene", "config", "detector", "eliminator", "response", "force", "voxel_mm", "stable", "stability",
+COLUMNS = ["scene", "config", "detector", "eliminator", "response", "force", "voxel_mm", "two_sided", "stable", "stability",
            "why_unstable", "helps", "useless", "pos_err_max_mm", "pos_err_amp_mm", "gap_max_mm", "depth_max_mm",
            "tunnelled", "contact_power_ratio", "rho_norm", "t_contact_us", "t_contact_min_us", "t_contact_max_us",
            "t_contact_mean_us", "t_contact_mean_min_us", "t_contact_mean_max_us", "t_contact_p99_us",
@@ -96,7 +98,7 @@ def write(a, rows):
     study's own run with no contact force)."""
     bases = {r["scene"]: r for r in rows if r["config"] == NO_FORCE}
     rules.mark_useless(rows, bases)
-    writers.write_csv(os.path.join(a.results, "restriction.csv"), rows, columns_of(COLUMNS, rows, ("forced",)))
+    writers.write_csv(os.path.join(a.results, "restriction.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
     rows = read_rows(a, "restriction.csv")  # the table from the file as written: --plots-only gives the same
     for r in rows:
         r["steps"] = "%d" % r["steps"] if reader.present(r.get("steps")) else ""
