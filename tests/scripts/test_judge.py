@@ -307,6 +307,30 @@ def test_an_ensemble_widens_the_interval_and_decides_the_class():
     assert r.failed == "2 nodes through"
     assert measure.ensemble_key(dict(row(), _file="f.csv", voxel_mm=8.0)) == \
         measure.ensemble_key(dict(row(), voxel_mm="8"), row_file="f.csv")
+    # a one-sided method's members: the guest's nodes through fail it, the host's are reported beside
+    split = dict(ens, classes="steady:5", tunnelled_max=2, tunnelled_guest_max=0, tunnelled_host_max=2)
+    r = measure.measure(row(two_sided="no", eliminator="line"), choices.DEFAULT, Ens(split))
+    assert r.failed == "" and r.host_beside == 2
+    r = measure.measure(row(two_sided="yes", eliminator="line"), choices.DEFAULT, Ens(split))
+    assert r.failed == "2 nodes through"
+    # restriction.csv's projection with and without its bound are two configurations
+    assert measure.ensemble_key(dict(row(), response="projection")) != \
+        measure.ensemble_key(dict(row(), response="projection + exact bound"))
+
+
+def test_the_ensemble_study_keeps_its_rows_and_names_each_configuration(tmp_path):
+    """study.py ensemble: the rows already in ensembles.csv stand (only the missing runs are made), and
+    restriction.csv's two projections get folders of their own."""
+    from harness_results.studies import ensemble
+    r = {"_file": "restriction.csv", "scene": "s", "config": "cgal", "eliminator": "projection",
+         "force": "positions", "voxel_mm": float("nan"), "two_sided": "no"}
+    assert ensemble.folder_of(dict(r, response="projection")) != \
+        ensemble.folder_of(dict(r, response="projection + exact bound"))
+    path = os.path.join(RESULTS, "ensembles.csv")
+    kept = ensemble.committed(path)
+    with open(path) as f:
+        assert len(kept) == len(list(csv.DictReader(f)))
+    assert ensemble.committed(str(tmp_path / "none.csv")) == {}
 
 
 def test_a_universal_claim_is_refuted_by_one_case():

@@ -148,7 +148,7 @@ class Run:
         return "Run(%r, err=%.3g, failed=%r)" % (self.label, self.err, self.failed)
 
 
-KEY_COLUMNS = ("scene", "config", "detector", "eliminator", "force", "voxel_mm", "two_sided", "regime")
+KEY_COLUMNS = ("scene", "config", "detector", "eliminator", "response", "force", "voxel_mm", "two_sided", "regime")
 
 
 def ensemble_key(row, row_file=None):
@@ -301,7 +301,12 @@ def measure_ensemble(row, ens, spec, label, floor, length, time_key):
             classes[k] = int(n)
     unstable = sum(n for k, n in classes.items() if k in UNSTABLE)
     cls = ens.get("stability_verdict") or "failed"
-    tunnelled = reader.num(ens.get("tunnelled_max"))
+    # the nodes through: the members' largest; a one-sided method's the guest's where the file records
+    # them by body (nodes_through, on the members' largest counts)
+    tunnelled, host_beside = nodes_through({"two_sided": row.get("two_sided"), "detector": row.get("detector"),
+                                            "eliminator": row.get("eliminator"), "tunnelled": ens.get("tunnelled_max"),
+                                            "tunnelled_guest": ens.get("tunnelled_guest_max"),
+                                            "tunnelled_host": ens.get("tunnelled_host_max")})
     failed = ""
     if int(reader.num(ens.get("failed_members"), 0)):
         failed = "blew up or failed in %d of %d members" % (int(reader.num(ens.get("failed_members"))), members)
@@ -318,7 +323,7 @@ def measure_ensemble(row, ens, spec, label, floor, length, time_key):
     if t == t and not t_lo == t_lo:
         t_lo = t_hi = t
     return Run(row, label, failed, cls, "ensemble of %d" % members, err, max(0.0, lo - floor), hi + floor,
-               t, t_lo, t_hi, length)
+               t, t_lo, t_hi, length, host_beside)
 
 
 def is_constant(force):
