@@ -409,3 +409,15 @@ def test_claim_sim_reads_the_implicit_grid(tmp_path):
     assert e.value == pytest.approx(0.3) and "explicit" in e.note
     # a point the grid does not keep (here: a driver's steps rounded, not the scene's loading) does not count
     assert effect([pt(1e-4, 0.1, 1.4), dict(pt(2e-4, 0.4, 1.0), keeps="no")]).value == pytest.approx(0.1)
+
+
+def test_claim_c_a_failing_run_loses():
+    """(c) with c_failures=lose: every restriction fails and the penalty does not -> for the claim; the
+    penalty fails and a restriction does not -> against; both fail -> not compared."""
+    def run(failed, t=10.0):
+        return measure.Run({}, "r", failed, "steady", "run", 1.0, 0.9, 1.1, t, t, t, 1.0)
+    pen_ok, pen_bad = run(""), run("injects")
+    assert claims.failure_effect("s/voxel", pen_ok, [("volume", run("3 nodes through"))]).outcome == claims.FOR
+    assert claims.failure_effect("s/voxel", pen_bad, [("volume", run(""))]).outcome == claims.AGAINST
+    assert claims.failure_effect("s/voxel", pen_bad, [("volume", run("3 nodes through"))]) is None
+    assert claims.failure_effect("s/voxel", pen_ok, [("volume", run("")), ("projection", run("x"))]) is None

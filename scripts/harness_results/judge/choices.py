@@ -60,6 +60,11 @@ CHOICES = [
            "area'): the shared volume, or projection with its exact bound's time added",
            {"not required": "projection onto the exact surface moves points out of the other body "
                             "without computing a bound, and counts as a restriction"}),
+    Choice("c_failures", "lose",
+           "(c): a failing run loses: where every restriction fails and the penalty does not, the "
+           "restriction is improper there (for the claim); where the penalty fails and a restriction does "
+           "not, it is not (against); two failing runs are not compared",
+           {"no cost": "a failing run's time is no cost: a place where either fails is listed, not compared"}),
     Choice("much", 2.0,
            "(c): a restriction costs much time when its collision unit takes at least twice the "
            "penalty's",

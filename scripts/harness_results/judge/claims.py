@@ -296,6 +296,24 @@ def claim_b(data, spec):
 RESTRICTIONS_WITH_BOUND = ("volume (LDI bound)", "projection + exact bound")
 
 
+def failure_effect(where, pen, failing):
+    """(c) where no pair could be timed: a failing run loses. Every restriction fails and the penalty
+    does not: for (the restriction is improper there); the penalty fails and a restriction does not:
+    against; both fail, or a run untimed: None (not compared)."""
+    ok = [(resp, r) for resp, r in failing if not r.failed and r.t == r.t]
+    if pen.failed and ok:
+        resp, r = ok[0]
+        return Effect(where, math.nan, math.nan, math.nan, 1.0, "above",
+                      "the penalty fails (%s), %s does not: the restriction wins" % (pen.failed, resp),
+                      AGAINST, runs=(r, pen))
+    if not pen.failed and pen.t == pen.t and all(r.failed for _resp, r in failing):
+        return Effect(where, math.nan, math.nan, math.nan, 1.0, "above",
+                      "every restriction fails (%s), the penalty does not" % "; ".join(
+                          "%s: %s" % (resp, r.failed) for resp, r in failing), FOR, runs=(pen,) + tuple(
+                              r for _resp, r in failing))
+    return None
+
+
 def claim_c(data, spec):
     """(c) Restrictions cost much time."""
     effects, listed, dropped = [], [], []
@@ -308,7 +326,7 @@ def claim_c(data, spec):
                 continue
             p = measure(pen[0], spec, data.scenes, label="%s penalty" % det, kind="both ways")
             listed.append((scene, p))
-            cands = []
+            cands, failing = [], []
             for r in rs:
                 resp = r.get("response", "")
                 if resp in ("penalty", "none"):
@@ -324,10 +342,15 @@ def claim_c(data, spec):
                     why = ("the penalty fails (%s)" % p.failed if p.failed else
                            "the restriction fails (%s)" % run.failed if run.failed else "untimed")
                     dropped.append("%s/%s %s: %s" % (scene, det, resp, why))
+                    failing.append((resp, run))
                 else:
                     cands.append(e)
             if cands:
                 effects.append(min(cands, key=lambda e: e.value))
+            elif spec.c_failures == "lose" and failing:
+                lost = failure_effect("%s/%s" % (scene, det), p, failing)
+                if lost is not None:
+                    effects.append(lost)
     return Result("c", "Restrictions cost much time",
                   "'All methods based on restrictions are improper for this case because collision joint bound "
                   "calculation is hard and costs much time'",

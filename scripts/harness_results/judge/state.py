@@ -20,7 +20,8 @@ REACHES = {
     "a": MEASURE + ["auto_force"],
     "b": ["chatter_length", "contact_input_share", "tunnel_limit", "unstable_fails", "auto_force", "b_reading", "p90_steps", "peak_share",
           "open_share"],
-    "c": ["chatter_length", "contact_input_share", "tunnel_limit", "unstable_fails", "restriction_bound", "much"],
+    "c": ["chatter_length", "contact_input_share", "tunnel_limit", "unstable_fails", "restriction_bound",
+          "c_failures", "much"],
     "d": ["exact_set"],
     "e": ["e_reading", "e_miss"],
     "rt": MEASURE + ["auto_force", "rt_statistic", "rt_setting"],
@@ -180,8 +181,8 @@ def realtime_line(data):
             parts.append("%s %s" % (scene, ", ".join(bits)))
     if not parts:
         return None
-    return ("- **Real time**, wall s per simulated s (error mm; CGAL, one thread, explicit at 0.9 dt_crit; "
-            "[realtime_grid.csv](realtime_grid.csv)): %s." % "; ".join(parts))
+    return ("- **Real time**, wall s per simulated s (error mm; CGAL, one thread, explicit at 0.9 dt_crit): "
+            "%s." % "; ".join(parts))
 
 
 def machines(rows):
@@ -191,7 +192,7 @@ def machines(rows):
 
 def works_line(cost):
     """What the paper's model does, in words, from the cost lines: the share of the error without
-    contact force its best setting removes per scene, and where CGAL with the same push ends and at
+    contact force its best setting removes per scene, and where CGAL at its best ends and at
     what time against it; None where a scene lacks either."""
     gains, cgal, times = [], [], []
     for scene, items, base, _const in cost:
@@ -199,14 +200,14 @@ def works_line(cost):
         paper, exact = pm.get("paper's model"), pm.get("CGAL")
         if paper is None or exact is None or not base == base or base <= 0:
             return None
-        gains.append("%s %% (%s)" % (g(100 * (base - paper.err) / base, 2), scene))
+        gains.append(g(100 * (base - paper.err) / base, 2))
         cgal.append(exact.err)
         times.append(exact.t / paper.t)
     if not gains:
         return None
-    return ("Its best removes %s of the no-force error; CGAL, same push: %s to %s mm, %s to "
+    return ("Its best removes %s %% of the no-force error; CGAL at its best: %s to %s mm, %s to "
             "%s times its time." % (
-                ", ".join(gains), g(min(cgal), 2), g(max(cgal), 2), g(min(times), 2), g(max(times), 2)))
+                "/".join(gains), g(min(cgal), 2), g(max(cgal), 2), g(min(times), 2), g(max(times), 2)))
 
 
 def summary_md(results, cost, counted, data=None):
@@ -228,7 +229,7 @@ def summary_md(results, cost, counted, data=None):
     lines += ["", "## The paper's model", ""]
     if dv:
         lines.append("- **Detection.** The grid takes 1/%s to 1/%s of the fastest exact detector's time, recall %s "
-                     "to %s (d); a grid over the host's box finds %s to %s of the penetrating nodes under "
+                     "to %s (d); over the host's box, %s to %s of the penetrating nodes under "
                      "%d deformations (e)." % (
                          g(min(dv), 2), g(max(dv), 3), g(min(rec)), g(max(rec)), g(min(ev)), g(max(ev)), len(ev)))
         box = box_text(d)
@@ -237,14 +238,14 @@ def summary_md(results, cost, counted, data=None):
     parts = ["%s %d/%d/%d" % (scene, through, farther, unstable)
              for scene, _i, _base, (n, through, farther, unstable) in cost]
     sizes = sorted({n for _s, _i, _b, (n, _t, _f, _u) in cost})
-    lines.append("- **Constant forces** (%s per scene, line and plane; through/no closer than no force/"
+    lines.append("- **Constant forces** (%s per scene, line, plane; through/no closer than no force/"
                  "unstable): %s." % ("/".join(str(n) for n in sizes), "; ".join(parts)))
     works = works_line(cost)
     if works:
         lines[-1] += " " + works
     lines += ["", "## What accuracy costs", "",
               "Per scene and method, its fastest setting tied with its best (one-sided, not failing): "
-              "error [interval] mm, collision unit's µs per step%s." % (
+              "error [interval] mm, µs per step%s." % (
                   " (%s)" % ", ".join(machines(data.csv("accuracy_time.csv"))) if data is not None else ""), ""]
     for scene, items, base, _const in cost:
         parts = []
@@ -253,12 +254,15 @@ def summary_md(results, cost, counted, data=None):
                 parts.append("%s: all %d fail" % (label, n) if n else "%s: not run" % label)
             else:
                 parts.append("%s %s [%s, %s], %s" % (label, g(run.err), g(run.err_lo, 2), g(run.err_hi, 2), g(run.t)))
-        lines.append("- **%s** (no force %s): %s." % (scene, g(base), "; ".join(parts)))
+        beside = ["%s %d" % (label, run.host_beside) for label, run, _n, _nf in items
+                  if run is not None and run.host_beside > 0]
+        lines.append("- **%s** (no force %s): %s%s." % (scene, g(base), "; ".join(parts),
+                                                       " (host nodes through: %s)" % ", ".join(beside) if beside else ""))
     rt = realtime_line(data) if data is not None else None
     if rt:
         lines.append(rt)
-    lines += ["", "Fragile: a defensible specification reverses it (named in claims.md; %d distinct of %d: "
-              "[specifications.csv](specifications.csv)). Times: within one session." % (distinct, judged), ""]
+    lines += ["", "Fragile: a defensible specification ([specifications.csv](specifications.csv): %d distinct; "
+              "claims.md names it) reverses it. Times: within one session." % distinct, ""]
     return "\n".join(lines)
 
 
@@ -279,7 +283,7 @@ def claim_md(res, judged, specs, revs):
                                                       res.extra["counts"]["plane"]))
         out.append("")
     if res.extra.get("dropped"):
-        out.append("Not compared (a failing run's time is no cost): %s." % "; ".join(res.extra["dropped"]))
+        out.append("Not timed (a failing run's time is no cost): %s." % "; ".join(res.extra["dropped"]))
         out.append("")
     if res.runs:
         why = {}
@@ -354,7 +358,8 @@ def claims_md(results_specs, counted, data=None):
            "claimed side, against when on the other, straddles when it contains it. A claim is supported "
            "when every effect is for it, not supported when every one is against (a claim about every case, "
            "as (e), when one is), inconclusive otherwise.", "",
-           "A run fails when it blows up, lets a node through or is unstable, and a failing run loses to "
+           "A run fails when it blows up, lets a node through (a guest node; a host node too for a method "
+           "that acts both ways, reported beside a one-sided one) or is unstable, and a failing run loses to "
            "one that does not. An error's interval is its range over the final window widened by the "
            "reference's floor; a time's is the range over the repeats. The choices left and their "
            "alternatives are in judge/choices.py: %d specifications judged, %d distinct." % counted, "",

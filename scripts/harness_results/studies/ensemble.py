@@ -114,11 +114,11 @@ def run(a, rounds=3):
     members = getattr(a, "ensemble", None) or MEMBERS
     t0 = time.monotonic()
     path = os.path.join(a.results, "ensembles.csv")
-    done = committed(path)  # the ensembles already in the file stand; the study runs the missing ones
-    wanted = set()
+    # The ensembles already in the file stand and stay (a run an ensemble showed failing is no longer
+    # decisive, but the judge still reads its ensemble); the study runs the missing ones.
+    done = committed(path)
     for k in range(rounds):
         rows = decisive_rows(a.results)
-        wanted |= {folder_of(r) for r in rows}
         todo = [r for r in rows if folder_of(r) not in done]
         print("study: ensemble, round %d: %d runs the claims' effects compare, %d not yet run as ensembles of %d" % (
             k + 1, len(rows), len(todo), members))
@@ -137,8 +137,8 @@ def run(a, rounds=3):
             return row_of(r, s, members, time.monotonic() - start)
         for r, out in zip(todo, runner.parallel(a, one, todo)):
             done[folder_of(r)] = out
-        writers.write_csv(path, [done[f] for f in done if f in wanted], COLUMNS)
-    print("study: ensemble: %d runs in %.0f s -> %s" % (len(wanted & set(done)), time.monotonic() - t0, path))
+        writers.write_csv(path, list(done.values()), COLUMNS)
+    print("study: ensemble: %d runs in %.0f s -> %s" % (len(done), time.monotonic() - t0, path))
 
 
 def committed(path):
