@@ -303,10 +303,9 @@ def measure_ensemble(row, ens, spec, label, floor, length, time_key):
     cls = ens.get("stability_verdict") or "failed"
     # the nodes through: the members' largest; a one-sided method's the guest's where the file records
     # them by body (nodes_through, on the members' largest counts)
-    tunnelled, host_beside = nodes_through({"two_sided": row.get("two_sided"), "detector": row.get("detector"),
-                                            "eliminator": row.get("eliminator"), "tunnelled": ens.get("tunnelled_max"),
-                                            "tunnelled_guest": ens.get("tunnelled_guest_max"),
-                                            "tunnelled_host": ens.get("tunnelled_host_max")})
+    tunnelled, host_beside = nodes_through(dict(row, tunnelled=ens.get("tunnelled_max"),
+                                                tunnelled_guest=ens.get("tunnelled_guest_max"),
+                                                tunnelled_host=ens.get("tunnelled_host_max")))
     failed = ""
     if int(reader.num(ens.get("failed_members"), 0)):
         failed = "blew up or failed in %d of %d members" % (int(reader.num(ens.get("failed_members"))), members)

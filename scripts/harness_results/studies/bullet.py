@@ -62,7 +62,7 @@ def run(a):
                          max_depth_peak_mm=reader.pair_figures(s)["max_depth_peak_mm"],
                          reference_converged="yes" if conv is True else "no",
                          machine=reader.step_distribution(s)["machine"], jobs=a.jobs))
-    writers.write_csv(os.path.join(a.results, "bullet.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "bullet.csv"), rows, columns_of(COLUMNS, rows))
     tables(a, read_rows(a, "bullet.csv"))
 
 

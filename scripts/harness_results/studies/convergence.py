@@ -78,7 +78,7 @@ def write(a, rows):
     """convergence.csv, tables/convergence.md and the figure from the study's rows (helps and
     useless: common.mark_useless)."""
     mark_useless(a, rows)
-    writers.write_csv(os.path.join(a.results, "convergence.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "convergence.csv"), rows, columns_of(COLUMNS, rows))
     plot_convergence(a, rows)
     cols = [c for c in MD_COLUMNS if c in rows[0]] if rows else MD_COLUMNS
     with open(table_path(a, "convergence.md"), "w") as f:

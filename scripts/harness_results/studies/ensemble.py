@@ -144,7 +144,5 @@ def run(a, rounds=3):
 def committed(path):
     """{folder: row} of the ensembles already in `path` (none without the file): a run made once is
     not made again (delete its row to make it again)."""
-    if not os.path.exists(path):
-        return {}
-    rows = reader.read_csv(path, text=tuple(COLUMNS))
+    rows = reader.read_csv(path, text=tuple(COLUMNS), missing=[])
     return {folder_of(dict(r, _file=r["file"])): {c: r.get(c, "") for c in COLUMNS} for r in rows}

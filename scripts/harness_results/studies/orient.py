@@ -43,7 +43,7 @@ COLUMNS = ["scene", "eliminator", "orient", "force", "voxel_mm", "stable", "stab
 def write(a, rows):
     """orient.csv and tables/orient.md from the study's rows (helps and useless: common.mark_useless)."""
     mark_useless(a, rows)
-    writers.write_csv(os.path.join(a.results, "orient.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "orient.csv"), rows, columns_of(COLUMNS, rows))
     md = ["# Claim (a) without its confound: line and plane, each oriented both ways\n\n",
           "The voxel model on %s: line and plane with `orient` `guest` (pushed from the host node, or the plane, "
           "toward the guest node: the paper's line) and `outward` (agreeing with the host's outward normals: the "

@@ -248,7 +248,7 @@ def write_outputs(a, rows):
     no better than no force: common.mark_useless against the accuracy study's runs without force)."""
     cols = COLS
     mark_useless(a, rows)
-    writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, columns_of(cols, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "realtime.csv"), rows, columns_of(cols, rows))
     heads = ["scene", "method", "kind", "mode", "threads", "dt (s)", "integrator", "substeps (error run's max)",
              "step median (µs)",
              "detect+response median (µs)", "detect+response mean / dt", "RTF (median)", "pos. error (mm)", "tunnelled",

@@ -29,7 +29,7 @@ def run(a):
         row["vs_x1"] = row["max_displacement_mm"] / base[0]["max_displacement_mm"] if base and base[0][
             "max_displacement_mm"] > 0 else float("nan")
     cols = ["scene", "resolution", "nodes", "body", "max_displacement_mm", "vs_x1", "settled", "steps"]
-    writers.write_csv(os.path.join(a.results, "refinement.csv"), rows, columns_of(cols, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "refinement.csv"), rows, columns_of(cols, rows))
     text = ("# Mesh refinement\n\nEach scenario with its default contact at its resolution and twice as fine (box "
             "cells, cylinder segments and rings doubled, one more icosphere subdivision; dt halved, every step "
             "count doubled: the same physical time). Settled shape: the largest displacement of each body's "

@@ -179,7 +179,7 @@ def write(a, rows):
     """regime.csv and tables/regime.md (helps and useless against the study's run without contact force)."""
     bases = {r["scene"]: r for r in rows if r["regime"] == NO_FORCE}
     rules.mark_useless(rows, bases)
-    writers.write_csv(os.path.join(a.results, "regime.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "regime.csv"), rows, columns_of(COLUMNS, rows))
     rows = read_rows(a, "regime.csv")  # the table from the file as written: --plots-only gives the same
     md = ["# The paper's model at its best: a search over regimes\n\n",
           "The paper's voxel model (line and plane; constant forces and `auto`: %s; the footing voxels) in each regime: "

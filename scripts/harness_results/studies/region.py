@@ -98,7 +98,7 @@ def write(a, rows):
     """region.csv and tables/region.md from the study's rows; useless: tunnels (common.mark_useless;
     the scene has no reference, so no run is judged against no force; force 0 is the baseline)."""
     mark_useless(a, rows, {})
-    writers.write_csv(os.path.join(a.results, "region.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "region.csv"), rows, columns_of(COLUMNS, rows))
     md = ["# Claim (e): the region of the grid under the deformations of a surgeon's scene\n\n",
           "Deformations: %s (scripts/harness_results/studies/region.py says how each is made). The paper's voxel "
           "model (line, %g mm voxels) with the grid over half of the host's box facing the guest, the whole box, "

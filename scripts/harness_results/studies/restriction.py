@@ -98,7 +98,7 @@ def write(a, rows):
     study's own run with no contact force)."""
     bases = {r["scene"]: r for r in rows if r["config"] == NO_FORCE}
     rules.mark_useless(rows, bases)
-    writers.write_csv(os.path.join(a.results, "restriction.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "restriction.csv"), rows, columns_of(COLUMNS, rows))
     rows = read_rows(a, "restriction.csv")  # the table from the file as written: --plots-only gives the same
     for r in rows:
         r["steps"] = "%d" % r["steps"] if reader.present(r.get("steps")) else ""

@@ -58,7 +58,7 @@ COLUMNS = ["scene", "eliminator", "force", "voxel_mm", "host", "guest", "swapped
 def write(a, rows):
     """swap.csv and tables/swap.md from the study's rows (helps and useless: common.mark_useless)."""
     mark_useless(a, rows)
-    writers.write_csv(os.path.join(a.results, "swap.csv"), rows, columns_of(COLUMNS, rows, ("forced", "stability_class")))
+    writers.write_csv(os.path.join(a.results, "swap.csv"), rows, columns_of(COLUMNS, rows))
     md = ["# Which body carries the grid\n\n",
           "The voxel model with host and guest as the scene has them and swapped (the grid on the other body), "
           "against the scene's two-sided reference, which both placements share (references.csv says whether it "
